@@ -1,0 +1,51 @@
+#pragma once
+/// @file
+/// The state of every gap element: which linear phase it is in (its mode) and, for elements that
+/// separated under the force criterion, the relaxation of their own spring.
+///
+/// Modes and the events that change them (see docs/model.md for the reasoning):
+///
+///     open ──contact (s ↑ 0)──▶ contact ──impact (s ↑ ε)──▶ contact (velocities jump)
+///       ▲                         │   │                      or locked (chatter suppressed)
+///       └──separation (s ↓ 0 or F ↓ 0)┘   └◀──unlock (stop reaction λ ↓ 0)── locked
+///
+/// For a rigid stop (ε = 0) there is no contact phase: open ──impact──▶ open or locked, and
+/// unlock returns to open.
+
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+namespace poundsim {
+
+enum class GapMode : std::uint8_t {
+  open,     ///< s ≤ 0 (or the element separated and has not touched again): no force.
+  contact,  ///< 0 < s < ε: spring and dashpot act, F = c ṡ + k s.
+  locked,   ///< s = ε held by the stop: the floors move together; the stop reaction λ ≥ 0.
+};
+
+[[nodiscard]] std::string_view to_string(GapMode mode);
+
+/// One mode per gap element, in Model::gaps order. It selects the linear system of the phase.
+using ContactConfiguration = std::vector<GapMode>;
+
+/// How a gap element in contact separates (input key analysis.separation).
+enum class SeparationCriterion : std::uint8_t {
+  /// The paper's criterion: contact ends when s returns to 0. The dashpot may pull (F < 0) just
+  /// before separation.
+  displacement,
+  /// Contact ends when F = c ṡ + k s would become tensile. The massless element then relaxes on
+  /// its own, c ṡ_e + k s_e = 0, and touches again when the floors close on its free end.
+  force,
+};
+
+/// Memory of an element that separated with compressed spring under the force criterion: its
+/// own shortening is s_e(t) = released_shortening · exp(−k (t − release_time) / c).
+struct GapMemory {
+  double released_shortening = 0.0;  ///< s_e at release [m]; 0 when the element is relaxed.
+  double release_time = 0.0;         ///< [s]
+  /// Shortening of the element's free end at time t [m] (0 for a plain open element).
+  [[nodiscard]] double free_end_shortening(double t, double stiffness, double damping) const;
+};
+
+}  // namespace poundsim

@@ -1,0 +1,55 @@
+#pragma once
+/// @file
+/// A planar shear-type frame (Pasquino, Santini & Caliò, Fig. 1).
+///
+/// Floors are numbered 1..n from the ground up; internally they are 0-based. Floor i carries the
+/// lumped mass M_i [kg]; storey i, between floor i−1 and floor i (floor 0 is the ground), has the
+/// lateral stiffness K_i [N/m] and the viscous dashpot C_i [N·s/m]. The degrees of freedom are the
+/// floor displacements relative to the ground, positive to the right.
+///
+/// Example:
+/// @code
+///   Frame f = make_uniform_frame(3, /*mass=*/1.0, /*stiffness=*/400.0, /*damping=*/2.0);
+///   double w1 = fundamental_frequency(f);  // rad/s
+/// @endcode
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace poundsim {
+
+struct Frame {
+  std::string name;               ///< Optional label, used in messages only.
+  std::vector<double> mass;       ///< M_i [kg] of each floor, bottom up; M_i > 0.
+  std::vector<double> stiffness;  ///< K_i [N/m] of the storey below floor i; K_i > 0.
+  std::vector<double> damping;    ///< C_i [N·s/m] of the storey below floor i; C_i ≥ 0.
+
+  [[nodiscard]] int storeys() const { return static_cast<int>(mass.size()); }
+};
+
+/// A frame whose floors and storeys are all equal (the paper's "periodic" frames).
+Frame make_uniform_frame(int storeys, double mass, double stiffness, double damping,
+                         std::string name = {});
+
+/// Throws std::invalid_argument naming the field when the frame is not physical: no storeys,
+/// vectors of different lengths, M_i ≤ 0, K_i ≤ 0, C_i < 0 or any non-finite value.
+void validate(const Frame& frame);
+
+/// Tridiagonal stiffness matrix of the frame alone on a fixed base [N/m].
+Eigen::MatrixXd stiffness_matrix(const Frame& frame);
+/// Tridiagonal damping matrix of the frame alone on a fixed base [N·s/m].
+Eigen::MatrixXd damping_matrix(const Frame& frame);
+
+/// Undamped natural circular frequencies [rad/s] of the frame alone on a fixed base, ascending.
+Eigen::VectorXd natural_frequencies(const Frame& frame);
+
+/// ω₁: the smallest natural circular frequency [rad/s].
+double fundamental_frequency(const Frame& frame);
+
+/// Storey dashpots that give the damping ratio ζ in the fundamental mode with damping proportional
+/// to the storey stiffness, C_i = (2ζ/ω₁) K_i (a common engineering choice for shear frames).
+std::vector<double> stiffness_proportional_damping(const Frame& frame, double damping_ratio);
+
+}  // namespace poundsim

@@ -1,0 +1,57 @@
+#pragma once
+/// @file
+/// The unilateral visco-elastic gap element (Pasquino, Santini & Caliò, eqs. 2–4).
+///
+/// An element joins floor i of frame L (on the left) to floor i of frame R = L+1 (on the right).
+/// Its shortening is
+///
+///     s = u_L − u_R − δ                                         [m]
+///
+/// where u are floor displacements relative to the ground (positive to the right) and δ ≥ 0 is
+/// the gap. The element is open while s ≤ 0. While 0 < s < ε the spring k and the dashpot c act
+/// in parallel and push the floors apart with
+///
+///     F = c ṡ + k s                                             [N], F > 0 is compression
+///
+/// (−F on the left floor, +F on the right one). When s reaches the allowable shortening ε the
+/// spring is fully compressed and the floors collide: their velocities jump by the restitution
+/// law (see impact.hpp). k = c = ε = 0 is bare pounding: the floors collide as soon as the gap
+/// closes.
+
+#include <string>
+
+namespace poundsim {
+
+/// Mechanical properties of one gap element. SI units.
+struct GapProperties {
+  double stiffness = 0.0;    ///< k [N/m], ≥ 0.
+  double damping = 0.0;      ///< c [N·s/m], ≥ 0.
+  double gap = 0.0;          ///< δ [m], ≥ 0: the clear distance at rest.
+  double shortening = 0.0;   ///< ε [m], ≥ 0: the allowable spring shortening before impact.
+  double restitution = 1.0;  ///< e ∈ [0, 1]: the coefficient of restitution of the impacts.
+
+  /// True for bare pounding: the element has no stroke, contact is an impact at once.
+  [[nodiscard]] bool is_rigid_stop() const { return shortening <= 0.0; }
+};
+
+/// One gap element between corresponding floors of neighbouring frames. 0-based indices.
+struct GapElement {
+  int left_frame = 0;  ///< Frame L; the right frame is L+1.
+  int floor = 0;       ///< Floor index (0 = first floor above the ground).
+  GapProperties properties;
+};
+
+/// s = u_L − u_R − δ [m]: positive when the element is compressed.
+[[nodiscard]] inline double shortening(const GapProperties& p, double u_left, double u_right) {
+  return u_left - u_right - p.gap;
+}
+
+/// F = c ṡ + k s [N]: the force of the spring and dashpot while in contact, compression positive.
+[[nodiscard]] inline double contact_force(const GapProperties& p, double s, double s_rate) {
+  return p.damping * s_rate + p.stiffness * s;
+}
+
+/// Throws std::invalid_argument naming `what` and the field when a property is out of range.
+void validate(const GapProperties& p, const std::string& what);
+
+}  // namespace poundsim

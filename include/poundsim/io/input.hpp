@@ -1,0 +1,65 @@
+#pragma once
+/// @file
+/// Reading a model file (TOML). The format is documented key by key in docs/input.md.
+///
+/// Every problem is an InputError whose message starts with the location — `file:line:column:`
+/// for a key in the file, `--set key=value:` for an override — then names the key and the rule
+/// it broke. Unknown keys are errors. Nothing is guessed.
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "poundsim/dimensionless.hpp"
+#include "poundsim/excitation.hpp"
+#include "poundsim/model.hpp"
+#include "poundsim/simulator.hpp"
+
+namespace poundsim::io {
+
+/// How the excitation was described, for reports (the Excitation itself is in SI).
+struct ExcitationInfo {
+  std::string kind;                   ///< "none", "harmonic" or "record".
+  double amplitude_g = 0.0;           ///< Harmonic: A/g.
+  double omega = 0.0;                 ///< Harmonic: ω̄ [rad/s].
+  double omega1 = 0.0;                ///< ω₁ of frame 1 alone [rad/s].
+  std::filesystem::path record_file;  ///< Record: the file read.
+  double record_scale = 1.0;          ///< Record: scale factor applied.
+  std::string record_units;           ///< Record: units of the file's accelerations.
+};
+
+/// [analysis] of a time history.
+struct AnalysisSettings {
+  std::string kind = "time_history";
+  double duration = 0.0;        ///< [s]
+  double output_dt = 0.0;       ///< Spacing of history rows [s], a multiple of dt.
+  std::string integrator = "newmark";
+  TimeHistoryOptions options;   ///< dt, event_tolerance, lock_time, separation.
+};
+
+/// Everything a run needs, in SI.
+struct RunInput {
+  std::filesystem::path source;  ///< The model file.
+  std::string title;
+  Model model;
+  std::optional<DimensionlessParameters> dimensionless;  ///< When given in that form.
+  Excitation excitation;
+  ExcitationInfo excitation_info;
+  AnalysisSettings analysis;
+  InitialConditions initial;
+};
+
+/// Reads and validates `file`, after applying the `--set key=value` overrides (dotted keys,
+/// `frames[2].mass` for the second frame; the value is a TOML value, or a bare string).
+/// Relative record paths are resolved against the model file's folder.
+RunInput read_input(const std::filesystem::path& file, std::span<const std::string> overrides = {});
+
+/// Like read_input, from TOML text; `name` is used in messages and `base_dir` resolves paths.
+RunInput read_input_string(std::string_view text, const std::string& name,
+                           const std::filesystem::path& base_dir,
+                           std::span<const std::string> overrides = {});
+
+}  // namespace poundsim::io

@@ -1,0 +1,26 @@
+#pragma once
+/// @file
+/// The time-history analysis as the command line runs it: integrate, write DIR/history.csv,
+/// DIR/events.csv and DIR/summary.json (formats in docs/output.md), all or nothing.
+
+#include <filesystem>
+
+#include <nlohmann/json.hpp>
+
+#include "poundsim/io/input.hpp"
+#include "poundsim/simulator.hpp"
+
+namespace poundsim::io {
+
+/// Runs `input` and writes its files into `out_dir`. Returns the summary that was written.
+/// Throws InputError for a model the simulator rejects, SimulationError when integration fails,
+/// std::runtime_error when a file cannot be written; in every case no output file is left.
+nlohmann::json run_time_history(const RunInput& input, const std::filesystem::path& out_dir);
+
+/// The summary of a finished (or advanced) simulation; `run_time` [s] is reported as is.
+nlohmann::json summarize(const RunInput& input, const Simulator& sim, double run_time);
+
+/// Frame and floor (1-based) of every DOF, for column names and reports.
+std::string dof_label(const DofLayout& layout, int dof);
+
+}  // namespace poundsim::io

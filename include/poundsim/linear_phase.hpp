@@ -1,0 +1,115 @@
+#pragma once
+/// @file
+/// The linear equations of motion that hold while the contact configuration does not change.
+///
+/// In full coordinates (floor displacements u relative to the ground, see DofLayout):
+///
+///     M ü + C_S u̇ + K_S u = −M·1·a_g(t) + f_S
+///
+/// M is diagonal (floor masses); C_S and K_S are the frames' tridiagonal storey matrices plus, for
+/// every element in contact or locked, the paper's modifications (C_ii += c, C_ij = −c, ...); f_S
+/// holds +kδ on the left floor and −kδ on the right floor of those elements (the paper's a(t)).
+///
+/// A locked element is a rigid link u_L − u_R = δ + ε. Links merge floors into groups that move
+/// as one; with the 0/1 matrix T (floor → group) and the offsets o (o = 0 for the leftmost floor of
+/// each group), u = T q + o and the reduced system is
+///
+///     M_r q̈ + C_r q̇ + K_r q = −m_r a_g(t) + b_r,   M_r = TᵀMT, C_r = TᵀC_S T, K_r = TᵀK_S T,
+///     m_r = TᵀM1, b_r = Tᵀ(f_S − K_S o).
+///
+/// The constraint forces of the links are internal to the groups and vanish from it.
+/// Groups are contiguous in the DOF numbering, so the reduced matrices stay banded.
+///
+/// The Newmark effective matrix M_r + (h/2) C_r + (h²/4) K_r is factorised once for the step h
+/// given at construction (step_solver) and on demand for other sub-step lengths (substep_solver).
+
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
+#include "poundsim/contact_state.hpp"
+#include "poundsim/model.hpp"
+
+namespace poundsim {
+
+class LinearPhase {
+ public:
+  using SparseMatrix = Eigen::SparseMatrix<double>;
+  /// Sparse LDLᵀ in the natural (banded) order, reading the upper triangle.
+  using Solver = Eigen::SimplicialLDLT<SparseMatrix, Eigen::Upper, Eigen::NaturalOrdering<int>>;
+
+  /// Assembles and factorises the system of `configuration` for the Newmark step `step` [s].
+  /// Throws SimulationError when the effective matrix cannot be factorised.
+  LinearPhase(const Model& model, const DofLayout& layout, ContactConfiguration configuration,
+              double step);
+
+  LinearPhase(const LinearPhase&) = delete;
+  LinearPhase& operator=(const LinearPhase&) = delete;
+
+  [[nodiscard]] const ContactConfiguration& configuration() const { return configuration_; }
+  [[nodiscard]] Eigen::Index full_size() const { return mass_full_.size(); }
+  [[nodiscard]] Eigen::Index reduced_size() const { return mass_.size(); }
+  /// True when no element is locked (T = I, o = 0).
+  [[nodiscard]] bool is_unreduced() const { return unreduced_; }
+
+  /// Group (reduced DOF) of each floor DOF.
+  [[nodiscard]] std::span<const int> group_of() const { return group_of_; }
+  /// Leftmost floor DOF of each group.
+  [[nodiscard]] std::span<const int> representative() const { return representative_; }
+  /// o: floor displacement minus its group coordinate [m].
+  [[nodiscard]] const Eigen::VectorXd& offset() const { return offset_; }
+
+  /// q = Tᵀ-gather of a full vector (values of the representatives).
+  void gather(const Eigen::VectorXd& full, Eigen::VectorXd& reduced) const;
+  /// full = T q (+ o when `add_offset`).
+  void scatter(const Eigen::VectorXd& reduced, Eigen::VectorXd& full, bool add_offset) const;
+
+  // Reduced system.
+  [[nodiscard]] const Eigen::VectorXd& mass() const { return mass_; }
+  [[nodiscard]] const SparseMatrix& damping() const { return damping_; }
+  [[nodiscard]] const SparseMatrix& stiffness() const { return stiffness_; }
+  [[nodiscard]] const Eigen::VectorXd& constant_load() const { return constant_load_; }
+
+  // Full system (for forces on individual floors).
+  [[nodiscard]] const Eigen::VectorXd& full_mass() const { return mass_full_; }
+  [[nodiscard]] const SparseMatrix& full_damping() const { return damping_full_; }
+  [[nodiscard]] const SparseMatrix& full_stiffness() const { return stiffness_full_; }
+  [[nodiscard]] const Eigen::VectorXd& full_constant_load() const { return load_full_; }
+
+  /// Factorisation of M_r + (h/2) C_r + (h²/4) K_r for the step given at construction.
+  [[nodiscard]] const Solver& step_solver() const { return step_solver_; }
+  [[nodiscard]] double step() const { return step_; }
+  /// Factorisation for a sub-step τ ≠ h (event location, last partial step). The returned solver
+  /// is valid until the next call. Throws SimulationError on failure.
+  const Solver& substep_solver(double tau) const;
+
+ private:
+  void factorize(Solver& solver, double tau) const;
+
+  ContactConfiguration configuration_;
+  bool unreduced_ = true;
+  std::vector<int> group_of_;
+  std::vector<int> representative_;
+  Eigen::VectorXd offset_;
+
+  Eigen::VectorXd mass_full_;
+  SparseMatrix damping_full_, stiffness_full_;
+  Eigen::VectorXd load_full_;
+
+  Eigen::VectorXd mass_;
+  SparseMatrix damping_, stiffness_;
+  Eigen::VectorXd constant_load_;
+
+  // Upper-triangular pattern of the effective matrix and the aligned M, C, K values.
+  mutable SparseMatrix effective_;
+  Eigen::VectorXd effective_m_, effective_c_, effective_k_;
+
+  double step_ = 0.0;
+  Solver step_solver_;
+  mutable Solver substep_solver_;
+};
+
+}  // namespace poundsim

@@ -1,0 +1,81 @@
+#include "poundsim/frame.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Eigenvalues>
+#include <fmt/format.h>
+
+namespace poundsim {
+
+Frame make_uniform_frame(int storeys, double mass, double stiffness, double damping,
+                         std::string name) {
+  if (storeys < 1) {
+    throw std::invalid_argument(fmt::format("frame needs at least one storey, got {}", storeys));
+  }
+  const auto n = static_cast<std::size_t>(storeys);
+  return Frame{std::move(name), std::vector<double>(n, mass), std::vector<double>(n, stiffness),
+               std::vector<double>(n, damping)};
+}
+
+void validate(const Frame& frame) {
+  const std::string label = frame.name.empty() ? std::string("frame") : "frame '" + frame.name + "'";
+  if (frame.mass.empty()) throw std::invalid_argument(label + ": no storeys");
+  if (frame.stiffness.size() != frame.mass.size() || frame.damping.size() != frame.mass.size()) {
+    throw std::invalid_argument(fmt::format(
+        "{}: mass, stiffness and damping need one value per floor (got {}, {} and {})", label,
+        frame.mass.size(), frame.stiffness.size(), frame.damping.size()));
+  }
+  for (std::size_t i = 0; i < frame.mass.size(); ++i) {
+    const auto check = [&](const char* field, double value, bool allow_zero) {
+      if (!std::isfinite(value) || value < 0.0 || (!allow_zero && value == 0.0)) {
+        throw std::invalid_argument(fmt::format("{}: {}[{}] = {} must be {}", label, field, i + 1,
+                                                value, allow_zero ? "≥ 0" : "> 0"));
+      }
+    };
+    check("mass", frame.mass[i], false);
+    check("stiffness", frame.stiffness[i], false);
+    check("damping", frame.damping[i], true);
+  }
+}
+
+namespace {
+Eigen::MatrixXd chain_matrix(const std::vector<double>& storey) {
+  const auto n = static_cast<Eigen::Index>(storey.size());
+  Eigen::MatrixXd k = Eigen::MatrixXd::Zero(n, n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double ki = storey[static_cast<std::size_t>(i)];
+    k(i, i) += ki;
+    if (i > 0) {
+      k(i - 1, i - 1) += ki;
+      k(i - 1, i) -= ki;
+      k(i, i - 1) -= ki;
+    }
+  }
+  return k;
+}
+}  // namespace
+
+Eigen::MatrixXd stiffness_matrix(const Frame& frame) { return chain_matrix(frame.stiffness); }
+Eigen::MatrixXd damping_matrix(const Frame& frame) { return chain_matrix(frame.damping); }
+
+Eigen::VectorXd natural_frequencies(const Frame& frame) {
+  validate(frame);
+  // M is diagonal: the symmetric form M^-1/2 K M^-1/2 has the same eigenvalues ω².
+  const Eigen::VectorXd inv_sqrt_m =
+      Eigen::Map<const Eigen::VectorXd>(frame.mass.data(), frame.storeys()).cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd a = inv_sqrt_m.asDiagonal() * stiffness_matrix(frame) * inv_sqrt_m.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(a, Eigen::EigenvaluesOnly);
+  return eig.eigenvalues().cwiseMax(0.0).cwiseSqrt();
+}
+
+double fundamental_frequency(const Frame& frame) { return natural_frequencies(frame)(0); }
+
+std::vector<double> stiffness_proportional_damping(const Frame& frame, double damping_ratio) {
+  const double w1 = fundamental_frequency(frame);
+  std::vector<double> c(frame.stiffness.size());
+  for (std::size_t i = 0; i < c.size(); ++i) c[i] = 2.0 * damping_ratio / w1 * frame.stiffness[i];
+  return c;
+}
+
+}  // namespace poundsim

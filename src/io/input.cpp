@@ -1,0 +1,651 @@
+#include "poundsim/io/input.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <set>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include "poundsim/error.hpp"
+#include "poundsim/io/record_file.hpp"
+#include "poundsim/units.hpp"
+
+namespace poundsim::io {
+
+namespace {
+
+std::string_view type_name(const toml::node& node) {
+  switch (node.type()) {
+    case toml::node_type::table: return "table";
+    case toml::node_type::array: return "array";
+    case toml::node_type::string: return "string";
+    case toml::node_type::integer: return "integer";
+    case toml::node_type::floating_point: return "number";
+    case toml::node_type::boolean: return "boolean";
+    default: return "date/time";
+  }
+}
+
+/// Where a key came from, for messages.
+struct Origin {
+  std::string file;
+  std::map<std::string, std::string> overrides;  ///< key path → "key=value" as typed.
+
+  [[noreturn]] void fail(const toml::node* node, const std::string& path,
+                         const std::string& message) const {
+    for (const auto& [key, text] : overrides) {
+      if (path == key || path.starts_with(key + ".") || path.starts_with(key + "[")) {
+        throw InputError(fmt::format("--set {}: {}: {}", text, path, message));
+      }
+    }
+    if (node != nullptr && node->source().begin.line > 0) {
+      throw InputError(fmt::format("{}:{}:{}: {}: {}", file, node->source().begin.line,
+                                   node->source().begin.column, path, message));
+    }
+    throw InputError(fmt::format("{}: {}: {}", file, path.empty() ? "(top level)" : path, message));
+  }
+};
+
+/// Reads keys of one table, remembers which were read, and rejects the others in finish().
+class TableReader {
+ public:
+  TableReader(const toml::table& table, std::string path, const Origin& origin)
+      : table_(&table), path_(std::move(path)), origin_(&origin) {}
+
+  [[nodiscard]] std::string key_path(std::string_view key) const {
+    return path_.empty() ? std::string(key) : path_ + "." + std::string(key);
+  }
+  [[nodiscard]] const std::string& path() const { return path_; }
+  [[nodiscard]] bool has(std::string_view key) const { return table_->contains(key); }
+
+  [[noreturn]] void fail(std::string_view key, const std::string& message) const {
+    const toml::node* node = table_->get(key);
+    origin_->fail(node != nullptr ? node : table_, key_path(key), message);
+  }
+  [[noreturn]] void fail_table(const std::string& message) const {
+    origin_->fail(table_, path_, message);
+  }
+
+  const toml::node* find(std::string_view key) {
+    used_.insert(std::string(key));
+    return table_->get(key);
+  }
+  const toml::node& require(std::string_view key) {
+    const toml::node* node = find(key);
+    if (node == nullptr) origin_->fail(table_, key_path(key), "missing key");
+    return *node;
+  }
+
+  double number(std::string_view key) { return to_number(key, require(key)); }
+  std::optional<double> optional_number(std::string_view key) {
+    const toml::node* node = find(key);
+    if (node == nullptr) return std::nullopt;
+    return to_number(key, *node);
+  }
+  double number_or(std::string_view key, double fallback) {
+    return optional_number(key).value_or(fallback);
+  }
+  int integer(std::string_view key) {
+    const toml::node& node = require(key);
+    if (!node.is_integer()) fail(key, fmt::format("expected an integer, got a {}", type_name(node)));
+    return static_cast<int>(*node.value<std::int64_t>());
+  }
+  std::optional<int> optional_integer(std::string_view key) {
+    if (!has(key)) {
+      used_.insert(std::string(key));
+      return std::nullopt;
+    }
+    return integer(key);
+  }
+  std::string string(std::string_view key) {
+    const toml::node& node = require(key);
+    if (!node.is_string()) fail(key, fmt::format("expected a string, got a {}", type_name(node)));
+    return *node.value<std::string>();
+  }
+  std::string string_or(std::string_view key, const std::string& fallback) {
+    if (!has(key)) {
+      used_.insert(std::string(key));
+      return fallback;
+    }
+    return string(key);
+  }
+  /// A string that must be one of `allowed`.
+  std::string choice(std::string_view key, std::initializer_list<std::string_view> allowed,
+                     std::optional<std::string> fallback = std::nullopt) {
+    const std::string value =
+        fallback && !has(key) ? (used_.insert(std::string(key)), *fallback) : string(key);
+    for (const std::string_view a : allowed) {
+      if (value == a) return value;
+    }
+    fail(key, fmt::format("\"{}\" is not one of: \"{}\"", value, fmt::join(allowed, "\", \"")));
+  }
+  /// A number (one value for every floor) or an array of numbers (one per floor).
+  std::vector<double> numbers(std::string_view key) {
+    const toml::node& node = require(key);
+    if (const toml::array* array = node.as_array()) {
+      std::vector<double> out;
+      for (std::size_t i = 0; i < array->size(); ++i) {
+        const toml::node& item = *array->get(i);
+        if (!item.is_number()) {
+          fail(key, fmt::format("item {} must be a number, got a {}", i + 1, type_name(item)));
+        }
+        out.push_back(check_finite(key, *item.value<double>()));
+      }
+      if (out.empty()) fail(key, "the array is empty");
+      return out;
+    }
+    return {to_number(key, node)};
+  }
+  /// An array of arrays of numbers.
+  std::vector<std::vector<double>> number_rows(std::string_view key) {
+    const toml::node& node = require(key);
+    const toml::array* rows = node.as_array();
+    if (rows == nullptr) fail(key, "expected an array of arrays (one per frame)");
+    std::vector<std::vector<double>> out;
+    for (std::size_t r = 0; r < rows->size(); ++r) {
+      const toml::array* row = rows->get(r)->as_array();
+      if (row == nullptr) fail(key, fmt::format("item {} must be an array (one value per floor)", r + 1));
+      out.emplace_back();
+      for (std::size_t i = 0; i < row->size(); ++i) {
+        const toml::node& item = *row->get(i);
+        if (!item.is_number()) {
+          fail(key, fmt::format("frame {} item {} must be a number, got a {}", r + 1, i + 1,
+                                type_name(item)));
+        }
+        out.back().push_back(check_finite(key, *item.value<double>()));
+      }
+    }
+    return out;
+  }
+  TableReader table(std::string_view key) {
+    const toml::node& node = require(key);
+    const toml::table* t = node.as_table();
+    if (t == nullptr) fail(key, fmt::format("expected a table, got a {}", type_name(node)));
+    return TableReader(*t, key_path(key), *origin_);
+  }
+  std::optional<TableReader> optional_table(std::string_view key) {
+    if (!has(key)) {
+      used_.insert(std::string(key));
+      return std::nullopt;
+    }
+    return table(key);
+  }
+  std::vector<TableReader> tables(std::string_view key) {
+    const toml::node& node = require(key);
+    const toml::array* array = node.as_array();
+    if (array == nullptr || !array->is_array_of_tables()) {
+      fail(key, fmt::format("expected an array of tables ([[{}]])", key_path(key)));
+    }
+    std::vector<TableReader> out;
+    for (std::size_t i = 0; i < array->size(); ++i) {
+      out.emplace_back(*array->get(i)->as_table(), fmt::format("{}[{}]", key_path(key), i + 1),
+                       *origin_);
+    }
+    if (out.empty()) fail(key, "the array is empty");
+    return out;
+  }
+
+  // Range checks that name the key.
+  double positive(std::string_view key, double v) {
+    if (!(v > 0)) fail(key, fmt::format("must be > 0 (got {})", v));
+    return v;
+  }
+  double non_negative(std::string_view key, double v) {
+    if (!(v >= 0)) fail(key, fmt::format("must be ≥ 0 (got {})", v));
+    return v;
+  }
+  double unit_interval(std::string_view key, double v) {
+    if (!(v >= 0 && v <= 1)) fail(key, fmt::format("must be in [0, 1] (got {})", v));
+    return v;
+  }
+
+  /// Every key not read is an error. `context` explains why, when the key could be valid elsewhere.
+  void finish(const std::string& context = {}) const {
+    for (const auto& [key, node] : *table_) {
+      if (!used_.contains(std::string(key.str()))) {
+        origin_->fail(&node, key_path(key.str()),
+                      context.empty() ? "unknown key" : "unknown key " + context);
+      }
+    }
+  }
+
+ private:
+  double check_finite(std::string_view key, double v) const {
+    if (!std::isfinite(v)) fail(key, "must be finite");
+    return v;
+  }
+  double to_number(std::string_view key, const toml::node& node) const {
+    if (!node.is_number()) fail(key, fmt::format("expected a number, got a {}", type_name(node)));
+    return check_finite(key, *node.value<double>());
+  }
+
+  const toml::table* table_;
+  std::string path_;
+  const Origin* origin_;
+  std::set<std::string> used_;
+};
+
+// --- --set overrides -------------------------------------------------------------------------
+
+struct KeySegment {
+  std::string key;
+  int index = 0;  // 1-based array index, 0 for none
+};
+
+std::vector<KeySegment> split_key(const std::string& key, const std::string& text) {
+  std::vector<KeySegment> out;
+  std::stringstream ss(key);
+  std::string part;
+  while (std::getline(ss, part, '.')) {
+    KeySegment seg;
+    const auto bracket = part.find('[');
+    if (bracket != std::string::npos) {
+      if (part.back() != ']') throw InputError(fmt::format("--set {}: malformed key", text));
+      const std::string number = part.substr(bracket + 1, part.size() - bracket - 2);
+      try {
+        seg.index = std::stoi(number);
+      } catch (const std::exception&) {
+        throw InputError(fmt::format("--set {}: '{}' is not an index", text, number));
+      }
+      if (seg.index < 1) {
+        throw InputError(fmt::format("--set {}: indices start at 1 (frames are numbered from 1)", text));
+      }
+      part = part.substr(0, bracket);
+    }
+    if (part.empty()) throw InputError(fmt::format("--set {}: empty key segment", text));
+    seg.key = part;
+    out.push_back(seg);
+  }
+  if (out.empty()) throw InputError(fmt::format("--set {}: empty key", text));
+  return out;
+}
+
+/// Applies one override; returns the canonical key path (e.g. "frames[2].mass").
+std::string apply_override(toml::table& root, const std::string& text) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0) {
+    throw InputError(fmt::format("--set {}: expected key=value", text));
+  }
+  const std::string key = text.substr(0, eq);
+  const std::string value = text.substr(eq + 1);
+  const std::vector<KeySegment> segments = split_key(key, text);
+
+  toml::table* table = &root;
+  std::string path;
+  for (std::size_t s = 0; s < segments.size(); ++s) {
+    const KeySegment& seg = segments[s];
+    const bool last = s + 1 == segments.size();
+    path += (path.empty() ? "" : ".") + seg.key;
+    if (seg.index > 0) {
+      toml::array* array = table->get_as<toml::array>(seg.key);
+      if (array == nullptr || !array->is_array_of_tables()) {
+        throw InputError(fmt::format("--set {}: '{}' is not an array of tables in the file", text, path));
+      }
+      if (static_cast<std::size_t>(seg.index) > array->size()) {
+        throw InputError(fmt::format("--set {}: the file has only {} [[{}]]", text, array->size(), path));
+      }
+      path += fmt::format("[{}]", seg.index);
+      if (last) throw InputError(fmt::format("--set {}: cannot replace a whole table", text));
+      table = array->get(static_cast<std::size_t>(seg.index - 1))->as_table();
+      continue;
+    }
+    if (last) {
+      toml::table parsed;
+      try {
+        parsed = toml::parse("v = " + value);
+      } catch (const toml::parse_error&) {
+        parsed = toml::table{{"v", value}};  // a bare word is a string
+      }
+      table->insert_or_assign(seg.key, std::move(*parsed.get("v")));
+      break;
+    }
+    toml::node* child = table->get(seg.key);
+    if (child == nullptr) {
+      table = table->insert_or_assign(seg.key, toml::table{}).first->second.as_table();
+    } else if (child->is_table()) {
+      table = child->as_table();
+    } else {
+      throw InputError(fmt::format("--set {}: '{}' is not a table", text, path));
+    }
+  }
+  return path;
+}
+
+// --- sections ----------------------------------------------------------------------------------
+
+Model read_dimensionless(TableReader& model_table, RunInput& run) {
+  const toml::node& storeys_node = model_table.require("storeys");
+  const toml::array* storeys_array = storeys_node.as_array();
+  if (storeys_array == nullptr) model_table.fail("storeys", "expected an array of two integers");
+  if (storeys_array->size() != 2) {
+    model_table.fail("storeys",
+                     "the dimensionless form describes two frames; use [[frames]] for other counts");
+  }
+  std::array<int, 2> storeys{};
+  for (std::size_t i = 0; i < 2; ++i) {
+    const toml::node& item = *storeys_array->get(i);
+    if (!item.is_integer() || *item.value<std::int64_t>() < 1) {
+      model_table.fail("storeys", "each entry must be an integer ≥ 1");
+    }
+    storeys[i] = static_cast<int>(*item.value<std::int64_t>());
+  }
+  TableReader d = model_table.table("dimensionless");
+  DimensionlessParameters p;
+  p.lambda2 = d.positive("lambda2", d.number("lambda2"));
+  p.alpha = d.positive("alpha", d.number("alpha"));
+  p.beta = d.positive("beta", d.number("beta"));
+  p.gamma = d.non_negative("gamma", d.number("gamma"));
+  p.xi = d.non_negative("xi", d.number("xi"));
+  p.delta = d.non_negative("delta", d.number("delta"));
+  p.eta = d.non_negative("eta", d.number("eta"));
+  p.mu = d.non_negative("mu", d.number("mu"));
+  p.epsilon = d.non_negative("epsilon", d.number("epsilon"));
+  p.restitution = d.unit_interval("restitution", d.number("restitution"));
+  p.mass1 = d.positive("mass1", d.number_or("mass1", 1.0));
+  if (p.epsilon == 0 && (p.eta > 0 || p.mu > 0)) {
+    d.fail("epsilon",
+           "is 0 but eta or mu is not: an element without stroke is a rigid stop whose spring and "
+           "dashpot never act; give epsilon > 0 or eta = mu = 0");
+  }
+  d.finish();
+  model_table.finish();
+  run.dimensionless = p;
+  return make_model(p, storeys);
+}
+
+GapProperties read_gap_properties(TableReader& t, const GapProperties* defaults) {
+  GapProperties g = defaults != nullptr ? *defaults : GapProperties{};
+  const auto get = [&](const char* key, double& field, bool required) {
+    if (required) {
+      field = t.number(key);
+    } else if (auto v = t.optional_number(key)) {
+      field = *v;
+    }
+  };
+  const bool base = defaults == nullptr;
+  get("gap", g.gap, base);
+  get("stiffness", g.stiffness, false);
+  get("damping", g.damping, false);
+  get("shortening", g.shortening, false);
+  get("restitution", g.restitution, base);
+  t.non_negative("gap", g.gap);
+  t.non_negative("stiffness", g.stiffness);
+  t.non_negative("damping", g.damping);
+  t.non_negative("shortening", g.shortening);
+  t.unit_interval("restitution", g.restitution);
+  if (g.shortening == 0 && (g.stiffness > 0 || g.damping > 0)) {
+    t.fail(t.has("shortening") ? "shortening" : (t.has("stiffness") ? "stiffness" : "damping"),
+           "an element with shortening = 0 is a rigid stop whose spring and dashpot never act; "
+           "give shortening > 0 or stiffness = damping = 0");
+  }
+  return g;
+}
+
+Model read_physical(TableReader& top) {
+  std::vector<Frame> frames;
+  for (TableReader& f : top.tables("frames")) {
+    Frame frame;
+    frame.name = f.string_or("name", "");
+    const std::optional<int> storeys = f.optional_integer("storeys");
+    if (storeys && *storeys < 1) f.fail("storeys", "must be ≥ 1");
+    std::vector<double> mass = f.numbers("mass");
+    std::vector<double> stiffness = f.numbers("stiffness");
+    const bool has_damping = f.has("damping"), has_ratio = f.has("damping_ratio");
+    if (has_damping == has_ratio) {
+      f.fail_table(has_damping ? "give either damping or damping_ratio, not both"
+                               : "missing key: damping (N·s/m per storey) or damping_ratio");
+    }
+    std::vector<double> damping = has_damping ? f.numbers("damping") : std::vector<double>{};
+    int n = storeys.value_or(0);
+    for (const auto* v : {&mass, &stiffness, &damping}) {
+      if (v->size() > 1 && n == 0) n = static_cast<int>(v->size());
+    }
+    if (n == 0) {
+      if (!storeys) f.fail_table("missing key: storeys (or give per-floor arrays)");
+    }
+    const auto broadcast = [&](const char* key, std::vector<double>& v) {
+      if (v.size() == 1) v.assign(static_cast<std::size_t>(n), v[0]);
+      if (static_cast<int>(v.size()) != n) {
+        f.fail(key, fmt::format("has {} values for {} floors", v.size(), n));
+      }
+    };
+    broadcast("mass", mass);
+    broadcast("stiffness", stiffness);
+    for (std::size_t i = 0; i < mass.size(); ++i) {
+      if (!(mass[i] > 0)) f.fail("mass", fmt::format("floor {}: must be > 0 (got {})", i + 1, mass[i]));
+      if (!(stiffness[i] > 0)) {
+        f.fail("stiffness", fmt::format("storey {}: must be > 0 (got {})", i + 1, stiffness[i]));
+      }
+    }
+    frame.mass = mass;
+    frame.stiffness = stiffness;
+    if (has_damping) {
+      broadcast("damping", damping);
+      for (std::size_t i = 0; i < damping.size(); ++i) {
+        if (!(damping[i] >= 0)) {
+          f.fail("damping", fmt::format("storey {}: must be ≥ 0 (got {})", i + 1, damping[i]));
+        }
+      }
+      frame.damping = damping;
+    } else {
+      const double ratio = f.number("damping_ratio");
+      if (!(ratio >= 0 && ratio < 1)) f.fail("damping_ratio", fmt::format("must be in [0, 1) (got {})", ratio));
+      frame.damping.assign(mass.size(), 0.0);
+      frame.damping = stiffness_proportional_damping(frame, ratio);
+    }
+    f.finish();
+    frames.push_back(std::move(frame));
+  }
+
+  if (frames.size() == 1) {
+    if (top.has("gap_elements")) {
+      top.fail("gap_elements", "the model has a single frame: there are no gap elements");
+    }
+    return make_model(std::move(frames), GapProperties{});
+  }
+  TableReader gaps = top.table("gap_elements");
+  const GapProperties defaults = read_gap_properties(gaps, nullptr);
+  std::vector<GapOverride> overrides;
+  if (gaps.has("override")) {
+    for (TableReader& o : gaps.tables("override")) {
+      const toml::node& pair_node = o.require("frames");
+      const toml::array* pair = pair_node.as_array();
+      if (pair == nullptr || pair->size() != 2 || !pair->get(0)->is_integer() ||
+          !pair->get(1)->is_integer()) {
+        o.fail("frames", "expected two neighbouring frame numbers, e.g. [1, 2]");
+      }
+      const auto left = *pair->get(0)->value<std::int64_t>();
+      const auto right = *pair->get(1)->value<std::int64_t>();
+      if (right != left + 1 || left < 1 || right > static_cast<std::int64_t>(frames.size())) {
+        o.fail("frames", fmt::format("[{}, {}] are not neighbouring frames of the {} in the model",
+                                     left, right, frames.size()));
+      }
+      const int floor = o.integer("floor");
+      const int shared = std::min(frames[static_cast<std::size_t>(left - 1)].storeys(),
+                                  frames[static_cast<std::size_t>(right - 1)].storeys());
+      if (floor < 1 || floor > shared) {
+        o.fail("floor", fmt::format("frames {} and {} share floors 1..{}", left, right, shared));
+      }
+      GapOverride go{static_cast<int>(left - 1), floor - 1, read_gap_properties(o, &defaults)};
+      for (const GapOverride& seen : overrides) {
+        if (seen.left_frame == go.left_frame && seen.floor == go.floor) {
+          o.fail_table("a second override of the same element");
+        }
+      }
+      overrides.push_back(go);
+      o.finish();
+    }
+  } else {
+    gaps.find("override");
+  }
+  gaps.finish();
+  return make_model(std::move(frames), defaults, overrides);
+}
+
+void read_initial(TableReader& t, const Model& model, InitialConditions& ic) {
+  const auto rows = [&](const char* key, std::vector<std::vector<double>>& out) {
+    if (!t.has(key)) {
+      t.find(key);
+      return;
+    }
+    out = t.number_rows(key);
+    if (static_cast<int>(out.size()) != model.frame_count()) {
+      t.fail(key, fmt::format("has {} rows, the model has {} frames", out.size(), model.frame_count()));
+    }
+    for (int f = 0; f < model.frame_count(); ++f) {
+      if (static_cast<int>(out[f].size()) != model.frames[f].storeys()) {
+        t.fail(key, fmt::format("frame {} has {} floors, {} values given", f + 1,
+                                model.frames[f].storeys(), out[f].size()));
+      }
+    }
+  };
+  rows("displacement", ic.displacement);
+  rows("velocity", ic.velocity);
+  t.finish();
+}
+
+void read_excitation(TableReader& t, const Model& model, const std::filesystem::path& base_dir,
+                     RunInput& run) {
+  ExcitationInfo& info = run.excitation_info;
+  info.kind = t.choice("kind", {"harmonic", "record", "none"});
+  info.omega1 = fundamental_frequency(model.frames.front());
+  const std::string context = fmt::format("for kind = \"{}\"", info.kind);
+  if (info.kind == "harmonic") {
+    info.amplitude_g = t.number("amplitude_g");
+    const int given = int(t.has("ratio")) + int(t.has("omega")) + int(t.has("frequency_hz"));
+    if (given != 1) {
+      t.fail_table("give exactly one of ratio (ω̄/ω₁), omega (rad/s) or frequency_hz");
+    }
+    if (auto r = t.optional_number("ratio")) info.omega = t.positive("ratio", *r) * info.omega1;
+    if (auto w = t.optional_number("omega")) info.omega = t.positive("omega", *w);
+    if (auto f = t.optional_number("frequency_hz")) {
+      info.omega = 2.0 * std::numbers::pi * t.positive("frequency_hz", *f);
+    }
+    run.excitation = HarmonicExcitation{info.amplitude_g * standard_gravity, info.omega};
+  } else if (info.kind == "record") {
+    const std::string file = t.string("file");
+    info.record_scale = t.number_or("scale", 1.0);
+    info.record_units = t.choice("units", {"g", "m/s2", "cm/s2"}, std::string("g"));
+    const double unit = info.record_units == "g" ? standard_gravity
+                        : info.record_units == "cm/s2" ? 0.01
+                                                        : 1.0;
+    std::filesystem::path path(file);
+    if (path.is_relative()) path = base_dir / path;
+    info.record_file = path;
+    run.excitation = read_two_column_record(path, info.record_scale * unit);
+  } else {
+    run.excitation = NoExcitation{};
+  }
+  t.finish(context);
+}
+
+void read_analysis(TableReader& t, AnalysisSettings& a) {
+  a.kind = t.choice("kind", {"time_history"});
+  a.duration = t.positive("duration", t.number("duration"));
+  TimeHistoryOptions& o = a.options;
+  o.dt = t.positive("dt", t.number("dt"));
+  if (o.dt > a.duration) t.fail("dt", fmt::format("{} s is longer than the duration {} s", o.dt, a.duration));
+  a.output_dt = t.number_or("output_dt", o.dt);
+  const double ratio = a.output_dt / o.dt;
+  if (!(a.output_dt > 0) || std::abs(ratio - std::round(ratio)) > 1e-9 * ratio || ratio < 0.5) {
+    t.fail("output_dt", fmt::format("{} s must be a positive multiple of dt = {} s", a.output_dt, o.dt));
+  }
+  a.integrator = t.choice("integrator", {"newmark"}, std::string("newmark"));
+  o.event_tolerance = t.number_or("event_tolerance", o.event_tolerance);
+  if (!(o.event_tolerance > 0 && o.event_tolerance < o.dt)) {
+    t.fail("event_tolerance", fmt::format("{} s must be > 0 and smaller than dt", o.event_tolerance));
+  }
+  o.lock_time = t.number_or("lock_time", o.lock_time);
+  if (!(o.lock_time >= 10 * o.event_tolerance)) {
+    t.fail("lock_time", fmt::format("{} s must be at least 10 × event_tolerance", o.lock_time));
+  }
+  o.separation = t.choice("separation", {"displacement", "force"}, std::string("displacement")) == "force"
+                     ? SeparationCriterion::force
+                     : SeparationCriterion::displacement;
+  t.finish(fmt::format("for kind = \"{}\"", a.kind));
+}
+
+RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::path& base_dir,
+                   std::span<const std::string> overrides) {
+  for (const std::string& text : overrides) {
+    const std::string path = apply_override(root, text);
+    origin.overrides[path] = text;
+  }
+  RunInput run;
+  TableReader top(root, "", origin);
+  run.title = top.string_or("title", "");
+  const bool dimensionless = top.has("model"), physical = top.has("frames");
+  if (dimensionless && physical) {
+    top.fail("frames", "give either [model] (dimensionless form) or [[frames]] (physical form), not both");
+  }
+  if (!dimensionless && !physical) {
+    top.fail_table("missing the structure: [model] with [model.dimensionless], or [[frames]] and [gap_elements]");
+  }
+  if (dimensionless) {
+    TableReader model = top.table("model");
+    run.model = read_dimensionless(model, run);
+  } else {
+    run.model = read_physical(top);
+  }
+  if (auto initial = top.optional_table("initial")) read_initial(*initial, run.model, run.initial);
+  TableReader excitation = top.table("excitation");
+  read_excitation(excitation, run.model, base_dir, run);
+  TableReader analysis = top.table("analysis");
+  read_analysis(analysis, run.analysis);
+  top.finish();
+
+  // Cross-checks that need the whole model.
+  try {
+    validate(run.model);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(fmt::format("{}: {}", origin.file, e.what()));
+  }
+  if (run.model.frame_count() > 0 && !run.initial.displacement.empty()) {
+    for (const GapElement& g : run.model.gaps) {
+      const double s = run.initial.displacement[g.left_frame][g.floor] -
+                       run.initial.displacement[g.left_frame + 1][g.floor] - g.properties.gap;
+      if (s > 0 && s >= g.properties.shortening) {
+        throw InputError(fmt::format(
+            "{}: initial.displacement: frames {} and {} overlap at floor {} by {} m, beyond the "
+            "allowable shortening {} m",
+            origin.file, g.left_frame + 1, g.left_frame + 2, g.floor + 1, s, g.properties.shortening));
+      }
+    }
+  }
+  return run;
+}
+
+}  // namespace
+
+RunInput read_input_string(std::string_view text, const std::string& name,
+                           const std::filesystem::path& base_dir,
+                           std::span<const std::string> overrides) {
+  Origin origin{name, {}};
+  toml::table root;
+  try {
+    root = toml::parse(text, name);
+  } catch (const toml::parse_error& e) {
+    throw InputError(fmt::format("{}:{}:{}: {}", name, e.source().begin.line,
+                                 e.source().begin.column, e.description()));
+  }
+  RunInput run = read_root(root, origin, base_dir, overrides);
+  run.source = name;
+  return run;
+}
+
+RunInput read_input(const std::filesystem::path& file, std::span<const std::string> overrides) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: cannot open the model file", file.string()));
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  if (in.bad()) throw InputError(fmt::format("{}: read error", file.string()));
+  RunInput run = read_input_string(buffer.str(), file.string(), file.parent_path(), overrides);
+  run.source = file;
+  return run;
+}
+
+}  // namespace poundsim::io

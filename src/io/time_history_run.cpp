@@ -1,0 +1,252 @@
+#include "poundsim/io/time_history_run.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "poundsim/error.hpp"
+#include "poundsim/io/output_files.hpp"
+#include "poundsim/units.hpp"
+
+namespace poundsim::io {
+
+namespace {
+using nlohmann::json;
+
+json peak(const Peak& p) { return json{{"value", p.value}, {"time", p.time}}; }
+
+double frame_weight(const Frame& f) {
+  double m = 0;
+  for (const double x : f.mass) m += x;
+  return m * standard_gravity;
+}
+
+json describe_model(const RunInput& input) {
+  json frames = json::array();
+  for (const Frame& f : input.model.frames) {
+    const Eigen::VectorXd w = natural_frequencies(f);
+    frames.push_back({{"name", f.name},
+                      {"storeys", f.storeys()},
+                      {"mass_kg", f.mass},
+                      {"stiffness_N_m", f.stiffness},
+                      {"damping_Ns_m", f.damping},
+                      {"weight_N", frame_weight(f)},
+                      {"natural_frequencies_rad_s", std::vector<double>(w.begin(), w.end())}});
+  }
+  json gaps = json::array();
+  for (const GapElement& g : input.model.gaps) {
+    gaps.push_back({{"frames", {g.left_frame + 1, g.left_frame + 2}},
+                    {"floor", g.floor + 1},
+                    {"stiffness_N_m", g.properties.stiffness},
+                    {"damping_Ns_m", g.properties.damping},
+                    {"gap_m", g.properties.gap},
+                    {"shortening_m", g.properties.shortening},
+                    {"restitution", g.properties.restitution}});
+  }
+  json model{{"frames", frames}, {"gap_elements", gaps}};
+  if (input.dimensionless) {
+    const DimensionlessParameters& d = *input.dimensionless;
+    model["dimensionless"] = {{"lambda2", d.lambda2}, {"alpha", d.alpha},     {"beta", d.beta},
+                              {"gamma", d.gamma},     {"xi", d.xi},           {"delta", d.delta},
+                              {"eta", d.eta},         {"mu", d.mu},           {"epsilon", d.epsilon},
+                              {"restitution", d.restitution}, {"mass1", d.mass1}};
+  }
+  return model;
+}
+
+json describe_excitation(const ExcitationInfo& info) {
+  json e{{"kind", info.kind}, {"omega1_rad_s", info.omega1}};
+  if (info.kind == "harmonic") {
+    e["amplitude_g"] = info.amplitude_g;
+    e["amplitude_m_s2"] = info.amplitude_g * standard_gravity;
+    e["omega_rad_s"] = info.omega;
+    e["frequency_hz"] = info.omega / (2 * std::numbers::pi);
+    e["ratio"] = info.omega / info.omega1;
+  } else if (info.kind == "record") {
+    e["file"] = info.record_file.string();
+    e["scale"] = info.record_scale;
+    e["units"] = info.record_units;
+  }
+  return e;
+}
+}  // namespace
+
+std::string dof_label(const DofLayout& layout, int dof) {
+  return fmt::format("{}_{}", layout.frame_of(dof) + 1, layout.floor_of(dof) + 1);
+}
+
+json summarize(const RunInput& input, const Simulator& sim, double run_time) {
+  const DofLayout& layout = sim.layout();
+  const ResponseStatistics& st = sim.statistics();
+  const Model& model = sim.model();
+  const double weight1 = frame_weight(model.frames.front());
+
+  json floors = json::array();
+  for (int f = 0; f < model.frame_count(); ++f) {
+    for (int i = 0; i < model.frames[f].storeys(); ++i) {
+      const FloorResponse& r = st.floors[static_cast<std::size_t>(layout.dof(f, i))];
+      floors.push_back({{"frame", f + 1},
+                        {"floor", i + 1},
+                        {"displacement_m", peak(r.displacement)},
+                        {"velocity_m_s", peak(r.velocity)},
+                        {"acceleration_m_s2", peak(r.acceleration)},
+                        {"absolute_acceleration_m_s2", peak(r.absolute_acceleration)},
+                        {"interstorey_drift_m", peak(r.drift)}});
+    }
+  }
+  json shears = json::array();
+  for (int f = 0; f < model.frame_count(); ++f) {
+    const Peak& p = st.base_shear[static_cast<std::size_t>(f)];
+    shears.push_back({{"frame", f + 1},
+                      {"value_N", p.value},
+                      {"time", p.time},
+                      {"over_frame1_weight", p.value / weight1},
+                      {"over_own_weight", p.value / frame_weight(model.frames[f])}});
+  }
+  json gaps = json::array();
+  int impacts = 0;
+  double max_force = 0, max_impulse = 0, max_impact_velocity = 0;
+  for (int p = 0; p < model.gap_count(); ++p) {
+    const GapResponse& g = st.gaps[static_cast<std::size_t>(p)];
+    const GapElement& e = model.gaps[static_cast<std::size_t>(p)];
+    impacts += g.impacts;
+    max_force = std::max(max_force, g.force.value);
+    max_impulse = std::max(max_impulse, g.impulse.value);
+    max_impact_velocity = std::max(max_impact_velocity, g.impact_velocity.value);
+    gaps.push_back({{"frames", {e.left_frame + 1, e.left_frame + 2}},
+                    {"floor", e.floor + 1},
+                    {"contacts", g.contacts},
+                    {"separations", g.separations},
+                    {"impacts", g.impacts},
+                    {"locks", g.locks},
+                    {"unlocks", g.unlocks},
+                    {"max_force_N", peak(g.force)},
+                    {"max_impact_velocity_m_s", peak(g.impact_velocity)},
+                    {"max_impulse_Ns", peak(g.impulse)},
+                    {"max_shortening_m", peak(g.shortening)},
+                    {"locked_time_s", g.locked_time}});
+  }
+  const EnergyBalance& e = sim.energy();
+  json energy{{"initial_J", e.initial},
+              {"input_J", e.input},
+              {"kinetic_J", e.kinetic},
+              {"storey_strain_J", e.storey_strain},
+              {"gap_strain_J", e.gap_strain},
+              {"storey_damping_J", e.storey_damping},
+              {"gap_damping_J", e.gap_damping},
+              {"impact_loss_J", e.impact_loss},
+              {"residual_J", e.residual()},
+              {"relative_residual", sim.energy_meter().relative_residual()},
+              {"max_relative_residual", sim.energy_meter().max_relative_residual()}};
+  const TimeHistoryOptions& o = sim.options();
+  json analysis{{"kind", input.analysis.kind},
+                {"integrator", input.analysis.integrator},
+                {"duration_s", input.analysis.duration},
+                {"dt_s", o.dt},
+                {"output_dt_s", input.analysis.output_dt},
+                {"event_tolerance_s", o.event_tolerance},
+                {"lock_time_s", o.lock_time},
+                {"separation", o.separation == SeparationCriterion::force ? "force" : "displacement"}};
+  return json{{"poundsim_version", POUNDSIM_VERSION},
+              {"input", input.source.string()},
+              {"title", input.title},
+              {"analysis", analysis},
+              {"model", describe_model(input)},
+              {"excitation", describe_excitation(input.excitation_info)},
+              {"end_time_s", sim.time()},
+              {"peaks", {{"floors", floors}, {"base_shear", shears}}},
+              {"gap_elements", gaps},
+              {"impacts", impacts},
+              {"max_gap_force_N", max_force},
+              {"max_impact_impulse_Ns", max_impulse},
+              {"max_impact_velocity_m_s", max_impact_velocity},
+              {"energy", energy},
+              {"counts",
+               {{"steps", st.steps},
+                {"substeps", st.substeps},
+                {"guard_evaluations", st.guard_evaluations},
+                {"events", st.events},
+                {"phases_factorised", st.phases_factorised}}},
+              {"run_time_s", run_time}};
+}
+
+json run_time_history(const RunInput& input, const std::filesystem::path& out_dir) {
+  const auto start = std::chrono::steady_clock::now();
+  std::unique_ptr<Simulator> sim;
+  try {
+    sim = std::make_unique<Simulator>(input.model, input.excitation, input.analysis.options,
+                                      input.initial);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(fmt::format("{}: {}", input.source.string(), e.what()));
+  }
+  const DofLayout& layout = sim->layout();
+  const Model& model = sim->model();
+
+  OutputTransaction out(out_dir);
+  OutputFile& history = out.open("history.csv");
+  OutputFile& events = out.open("events.csv");
+
+  // Columns in frame order, then floor order.
+  std::vector<int> dofs;
+  for (int f = 0; f < model.frame_count(); ++f) {
+    for (int i = 0; i < model.frames[f].storeys(); ++i) dofs.push_back(layout.dof(f, i));
+  }
+  history.text("t");
+  for (const char* q : {"u", "v", "a"}) {
+    for (const int d : dofs) history.print(",{}_{}", q, dof_label(layout, d));
+  }
+  for (int f = 0; f < model.frame_count(); ++f) history.print(",V_{}", f + 1);
+  for (const GapElement& g : model.gaps) history.print(",F_{}_{}", g.left_frame + 1, g.floor + 1);
+  history.character('\n');
+
+  events.text("t,frame_left,frame_right,floor,kind,relative_velocity_before,relative_velocity_after,impulse\n");
+  sim->set_event_handler([&](const Event& e) {
+    const GapElement& g = model.gaps[static_cast<std::size_t>(e.gap)];
+    events.print("{},{},{},{},{},{},{},{}\n", e.time, g.left_frame + 1, g.left_frame + 2,
+                 g.floor + 1, to_string(e.kind), e.rate_before, e.rate_after, e.impulse);
+  });
+
+  const auto write_row = [&] {
+    const KinematicState& x = sim->state();
+    history.number(x.t);
+    for (const Eigen::VectorXd* q : {&x.u, &x.v, &x.a}) {
+      for (const int d : dofs) {
+        history.character(',');
+        history.number((*q)(d));
+      }
+    }
+    for (int f = 0; f < model.frame_count(); ++f) {
+      history.character(',');
+      history.number(sim->base_shear(f));
+    }
+    for (int p = 0; p < model.gap_count(); ++p) {
+      history.character(',');
+      history.number(sim->gap_force(p));
+    }
+    history.character('\n');
+  };
+
+  const double duration = input.analysis.duration, output_dt = input.analysis.output_dt;
+  const auto rows = static_cast<std::int64_t>(std::floor(duration / output_dt + 1e-9));
+  write_row();
+  for (std::int64_t k = 1; k <= rows; ++k) {
+    sim->advance_to(static_cast<double>(k) * output_dt);
+    write_row();
+  }
+  if (sim->time() < duration - 1e-9 * output_dt) {
+    sim->advance_to(duration);
+    write_row();
+  }
+  const double run_time =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const json summary = summarize(input, *sim, run_time);
+  OutputFile& summary_file = out.open("summary.json");
+  summary_file.text(summary.dump(2));
+  summary_file.character('\n');
+  out.commit();
+  return summary;
+}
+
+}  // namespace poundsim::io

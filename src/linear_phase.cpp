@@ -1,0 +1,163 @@
+#include "poundsim/linear_phase.hpp"
+
+#include <fmt/format.h>
+
+#include "poundsim/error.hpp"
+
+namespace poundsim {
+
+namespace {
+using Triplet = Eigen::Triplet<double>;
+
+void add_link(std::vector<Triplet>& t, int i, int j, double value) {
+  // A two-node element (storey or gap) between DOF i and DOF j (j < 0: the ground).
+  t.emplace_back(i, i, value);
+  if (j >= 0) {
+    t.emplace_back(j, j, value);
+    t.emplace_back(i, j, -value);
+    t.emplace_back(j, i, -value);
+  }
+}
+}  // namespace
+
+LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
+                         ContactConfiguration configuration, double step)
+    : configuration_(std::move(configuration)), step_(step) {
+  const int n = layout.size();
+
+  // Full system.
+  mass_full_.resize(n);
+  std::vector<Triplet> k_triplets, c_triplets;
+  for (int f = 0; f < model.frame_count(); ++f) {
+    const Frame& frame = model.frames[f];
+    for (int i = 0; i < frame.storeys(); ++i) {
+      const int dof = layout.dof(f, i);
+      const int below = i > 0 ? layout.dof(f, i - 1) : -1;
+      mass_full_(dof) = frame.mass[i];
+      add_link(k_triplets, dof, below, frame.stiffness[i]);
+      add_link(c_triplets, dof, below, frame.damping[i]);
+    }
+  }
+  load_full_ = Eigen::VectorXd::Zero(n);
+  for (int p = 0; p < model.gap_count(); ++p) {
+    if (configuration_[p] == GapMode::open) continue;
+    const GapElement& g = model.gaps[p];
+    const int left = layout.dof(g.left_frame, g.floor);
+    const int right = layout.dof(g.left_frame + 1, g.floor);
+    add_link(k_triplets, left, right, g.properties.stiffness);
+    add_link(c_triplets, left, right, g.properties.damping);
+    load_full_(left) += g.properties.stiffness * g.properties.gap;
+    load_full_(right) -= g.properties.stiffness * g.properties.gap;
+  }
+  stiffness_full_.resize(n, n);
+  stiffness_full_.setFromTriplets(k_triplets.begin(), k_triplets.end());
+  damping_full_.resize(n, n);
+  damping_full_.setFromTriplets(c_triplets.begin(), c_triplets.end());
+
+  // Groups of floors joined by locked elements. Elements are ordered by frame pair, so a left
+  // floor's offset is known before its right neighbour's.
+  std::vector<int> leader(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) leader[i] = i;
+  offset_ = Eigen::VectorXd::Zero(n);
+  for (int p = 0; p < model.gap_count(); ++p) {
+    if (configuration_[p] != GapMode::locked) continue;
+    const GapElement& g = model.gaps[p];
+    const int left = layout.dof(g.left_frame, g.floor);
+    const int right = layout.dof(g.left_frame + 1, g.floor);
+    leader[right] = leader[left];
+    offset_(right) = offset_(left) - (g.properties.gap + g.properties.shortening);
+    unreduced_ = false;
+  }
+  group_of_.assign(static_cast<std::size_t>(n), -1);
+  for (int i = 0; i < n; ++i) {
+    if (leader[i] == i) {
+      group_of_[i] = static_cast<int>(representative_.size());
+      representative_.push_back(i);
+    }
+  }
+  for (int i = 0; i < n; ++i) group_of_[i] = group_of_[leader[i]];
+  const auto nr = static_cast<Eigen::Index>(representative_.size());
+
+  if (unreduced_) {
+    mass_ = mass_full_;
+    stiffness_ = stiffness_full_;
+    damping_ = damping_full_;
+    constant_load_ = load_full_;
+  } else {
+    SparseMatrix t(n, nr);
+    std::vector<Triplet> t_triplets;
+    for (int i = 0; i < n; ++i) t_triplets.emplace_back(i, group_of_[i], 1.0);
+    t.setFromTriplets(t_triplets.begin(), t_triplets.end());
+    const SparseMatrix tt = t.transpose();
+    mass_ = tt * mass_full_;
+    stiffness_ = tt * stiffness_full_ * t;
+    damping_ = tt * damping_full_ * t;
+    constant_load_ = tt * (load_full_ - stiffness_full_ * offset_);
+  }
+
+  // Effective-matrix pattern: the union of K_r, C_r and the diagonal, upper triangle.
+  std::vector<Triplet> pattern;
+  for (const SparseMatrix* m : {&stiffness_, &damping_}) {
+    for (Eigen::Index j = 0; j < m->outerSize(); ++j) {
+      for (SparseMatrix::InnerIterator it(*m, j); it; ++it) {
+        if (it.row() <= it.col()) pattern.emplace_back(it.row(), it.col(), 0.0);
+      }
+    }
+  }
+  for (Eigen::Index i = 0; i < nr; ++i) pattern.emplace_back(i, i, 0.0);
+  effective_.resize(nr, nr);
+  effective_.setFromTriplets(pattern.begin(), pattern.end());
+  effective_.makeCompressed();
+  const Eigen::Index nnz = effective_.nonZeros();
+  effective_m_.setZero(nnz);
+  effective_c_.setZero(nnz);
+  effective_k_.setZero(nnz);
+  for (Eigen::Index j = 0, k = 0; j < nr; ++j) {
+    for (SparseMatrix::InnerIterator it(effective_, j); it; ++it, ++k) {
+      effective_m_(k) = it.row() == it.col() ? mass_(j) : 0.0;
+      effective_c_(k) = damping_.coeff(it.row(), it.col());
+      effective_k_(k) = stiffness_.coeff(it.row(), it.col());
+    }
+  }
+  step_solver_.analyzePattern(effective_);
+  substep_solver_.analyzePattern(effective_);
+  factorize(step_solver_, step_);
+}
+
+void LinearPhase::factorize(Solver& solver, double tau) const {
+  Eigen::Map<Eigen::VectorXd> values(effective_.valuePtr(), effective_.nonZeros());
+  values = effective_m_ + (0.5 * tau) * effective_c_ + (0.25 * tau * tau) * effective_k_;
+  solver.factorize(effective_);
+  if (solver.info() != Eigen::Success) {
+    throw SimulationError(
+        fmt::format("the Newmark effective matrix could not be factorised (step {} s)", tau));
+  }
+}
+
+const LinearPhase::Solver& LinearPhase::substep_solver(double tau) const {
+  factorize(substep_solver_, tau);
+  return substep_solver_;
+}
+
+void LinearPhase::gather(const Eigen::VectorXd& full, Eigen::VectorXd& reduced) const {
+  if (unreduced_) {
+    reduced = full;
+    return;
+  }
+  for (std::size_t r = 0; r < representative_.size(); ++r) {
+    reduced(static_cast<Eigen::Index>(r)) = full(representative_[r]);
+  }
+}
+
+void LinearPhase::scatter(const Eigen::VectorXd& reduced, Eigen::VectorXd& full,
+                          bool add_offset) const {
+  if (unreduced_) {
+    full = reduced;
+    return;
+  }
+  for (Eigen::Index i = 0; i < full.size(); ++i) {
+    full(i) = reduced(group_of_[static_cast<std::size_t>(i)]) + (add_offset ? offset_(i) : 0.0);
+  }
+}
+
+}  // namespace poundsim

@@ -1,0 +1,73 @@
+#include "poundsim/model.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace poundsim {
+
+Model make_model(std::vector<Frame> frames, const GapProperties& defaults,
+                 std::span<const GapOverride> overrides) {
+  Model model;
+  model.frames = std::move(frames);
+  for (int f = 0; f + 1 < model.frame_count(); ++f) {
+    const int shared = std::min(model.frames[f].storeys(), model.frames[f + 1].storeys());
+    for (int floor = 0; floor < shared; ++floor) model.gaps.push_back({f, floor, defaults});
+  }
+  for (const GapOverride& o : overrides) {
+    const auto it = std::find_if(model.gaps.begin(), model.gaps.end(), [&](const GapElement& g) {
+      return g.left_frame == o.left_frame && g.floor == o.floor;
+    });
+    if (it == model.gaps.end()) {
+      throw std::invalid_argument(
+          fmt::format("no gap element between frames {} and {} at floor {}", o.left_frame + 1,
+                      o.left_frame + 2, o.floor + 1));
+    }
+    it->properties = o.properties;
+  }
+  return model;
+}
+
+void validate(const Model& model) {
+  if (model.frames.empty()) throw std::invalid_argument("the model has no frames");
+  for (int f = 0; f < model.frame_count(); ++f) {
+    try {
+      validate(model.frames[f]);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(fmt::format("frame {}: {}", f + 1, e.what()));
+    }
+  }
+  for (const GapElement& g : model.gaps) {
+    const std::string what =
+        fmt::format("gap element between frames {} and {} at floor {}", g.left_frame + 1,
+                    g.left_frame + 2, g.floor + 1);
+    if (g.left_frame < 0 || g.left_frame + 1 >= model.frame_count() || g.floor < 0 ||
+        g.floor >= model.frames[g.left_frame].storeys() ||
+        g.floor >= model.frames[g.left_frame + 1].storeys()) {
+      throw std::invalid_argument(what + ": no such floors");
+    }
+    validate(g.properties, what);
+  }
+}
+
+DofLayout::DofLayout(const Model& model) {
+  const int frames = model.frame_count();
+  dof_.resize(static_cast<std::size_t>(frames));
+  int levels = 0;
+  for (int f = 0; f < frames; ++f) {
+    dof_[f].resize(static_cast<std::size_t>(model.frames[f].storeys()));
+    levels = std::max(levels, model.frames[f].storeys());
+  }
+  for (int level = 0; level < levels; ++level) {
+    for (int f = 0; f < frames; ++f) {
+      if (level < model.frames[f].storeys()) {
+        dof_[f][level] = static_cast<int>(frame_of_.size());
+        frame_of_.push_back(f);
+        floor_of_.push_back(level);
+      }
+    }
+  }
+}
+
+}  // namespace poundsim

@@ -1,0 +1,587 @@
+#include "poundsim/simulator.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "poundsim/error.hpp"
+#include "poundsim/impact.hpp"
+
+namespace poundsim {
+
+namespace {
+constexpr double kInactive = -std::numeric_limits<double>::infinity();
+
+bool any_positive(std::span<const double> g) {
+  return std::any_of(g.begin(), g.end(), [](double x) { return x > 0.0; });
+}
+
+Model validated(Model model) {
+  validate(model);
+  return model;
+}
+
+/// θ ∈ (0, 1) where the cubic Hermite interpolant of g on [0, τ] has its interior maximum, when
+/// g rises at the start and falls at the end; NaN otherwise. `value` receives the maximum.
+double hermite_interior_maximum(double g0, double d0, double g1, double d1, double tau,
+                                double& value) {
+  // p'(θ) = a θ² + b θ + c with the Hermite basis; p'(0) = τ d0 > 0, p'(1) = τ d1 < 0.
+  const double a = 6 * g0 + 3 * tau * d0 - 6 * g1 + 3 * tau * d1;
+  const double b = -6 * g0 - 4 * tau * d0 + 6 * g1 - 2 * tau * d1;
+  const double c = tau * d0;
+  double theta;
+  if (std::abs(a) < 1e-14 * (std::abs(b) + std::abs(c))) {
+    theta = -c / b;
+  } else {
+    const double disc = std::sqrt(std::max(0.0, b * b - 4 * a * c));
+    // The root where p' changes from + to −: stable form of the quadratic formula.
+    const double q = -0.5 * (b + std::copysign(disc, b));
+    const double r1 = q / a, r2 = c / q;
+    const auto derivative = [&](double x) { return (a * x + b) * x + c; };
+    const auto falls = [&](double x) {
+      return x > 0 && x < 1 && derivative(x - 1e-9) >= 0 && derivative(x + 1e-9) <= 0;
+    };
+    theta = falls(r1) ? r1 : (falls(r2) ? r2 : std::numeric_limits<double>::quiet_NaN());
+  }
+  if (!(theta > 0 && theta < 1)) return std::numeric_limits<double>::quiet_NaN();
+  const double t2 = theta * theta, t3 = t2 * theta;
+  value = (2 * t3 - 3 * t2 + 1) * g0 + (t3 - 2 * t2 + theta) * tau * d0 + (-2 * t3 + 3 * t2) * g1 +
+          (t3 - t2) * tau * d1;
+  return theta;
+}
+}  // namespace
+
+std::string_view to_string(EventKind kind) {
+  switch (kind) {
+    case EventKind::contact: return "contact";
+    case EventKind::separation: return "separation";
+    case EventKind::impact: return "impact";
+    case EventKind::lock: return "lock";
+    case EventKind::unlock: return "unlock";
+  }
+  return "?";
+}
+
+void TimeHistoryOptions::validate() const {
+  if (!std::isfinite(dt) || dt <= 0) {
+    throw std::invalid_argument(fmt::format("dt = {} s must be > 0", dt));
+  }
+  if (!std::isfinite(event_tolerance) || event_tolerance <= 0 || event_tolerance >= dt) {
+    throw std::invalid_argument(fmt::format(
+        "event_tolerance = {} s must be > 0 and smaller than dt = {} s", event_tolerance, dt));
+  }
+  if (!std::isfinite(lock_time) || lock_time < 10 * event_tolerance) {
+    throw std::invalid_argument(fmt::format(
+        "lock_time = {} s must be at least 10 × event_tolerance = {} s", lock_time,
+        10 * event_tolerance));
+  }
+  if (max_events_per_step < 1) throw std::invalid_argument("max_events_per_step must be ≥ 1");
+  if (phase_cache_size < 1) throw std::invalid_argument("phase_cache_size must be ≥ 1");
+}
+
+/// Evaluates guards on Newmark sub-steps from the start of the current step.
+class Simulator::TrialEvaluator final : public GuardEvaluator {
+ public:
+  explicit TrialEvaluator(Simulator& sim) : sim_(sim) {}
+  void evaluate(double tau, std::span<double> g) override {
+    sim_.trial_step(tau, false, sim_.trial_);
+    sim_.evaluate_guards(sim_.trial_, g, sim_.dg_work_);
+    ++sim_.stats_.guard_evaluations;
+  }
+  void keep_trial_as_upper() override {
+    std::swap(sim_.trial_, sim_.upper_);
+    sim_.dg_hi_ = sim_.dg_work_;
+  }
+
+ private:
+  Simulator& sim_;
+};
+
+Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions options,
+                     const InitialConditions& initial)
+    : model_(validated(std::move(model))),
+      layout_(model_),
+      excitation_(std::move(excitation)),
+      options_(options),
+      newmark_(layout_.size()),
+      energy_(model_, layout_) {
+  options_.validate();
+  validate(excitation_);
+  const int n = layout_.size();
+  const int gaps = model_.gap_count();
+  const auto ng = static_cast<std::size_t>(gaps);
+  for (const GapElement& g : model_.gaps) {
+    gap_left_.push_back(layout_.dof(g.left_frame, g.floor));
+    gap_right_.push_back(layout_.dof(g.left_frame + 1, g.floor));
+  }
+  state_.resize(n);
+  trial_.resize(n);
+  upper_.resize(n);
+
+  const auto load = [&](const std::vector<std::vector<double>>& values, Eigen::VectorXd& out,
+                        const char* what) {
+    if (values.empty()) return;
+    if (static_cast<int>(values.size()) != model_.frame_count()) {
+      throw std::invalid_argument(fmt::format("initial {}: {} frames given, the model has {}",
+                                              what, values.size(), model_.frame_count()));
+    }
+    for (int f = 0; f < model_.frame_count(); ++f) {
+      if (static_cast<int>(values[f].size()) != layout_.storeys(f)) {
+        throw std::invalid_argument(
+            fmt::format("initial {} of frame {}: {} values given, the frame has {} floors", what,
+                        f + 1, values[f].size(), layout_.storeys(f)));
+      }
+      for (int i = 0; i < layout_.storeys(f); ++i) {
+        if (!std::isfinite(values[f][i])) {
+          throw std::invalid_argument(fmt::format("initial {} of frame {} floor {} is not finite",
+                                                  what, f + 1, i + 1));
+        }
+        out(layout_.dof(f, i)) = values[f][i];
+      }
+    }
+  };
+  load(initial.displacement, state_.u, "displacement");
+  load(initial.velocity, state_.v, "velocity");
+
+  config_.assign(ng, GapMode::open);
+  for (int p = 0; p < gaps; ++p) {
+    const GapProperties& gp = model_.gaps[p].properties;
+    const double s = poundsim::shortening(gp, state_.u(gap_left_[p]), state_.u(gap_right_[p]));
+    if (s <= 0) continue;
+    if (s >= gp.shortening) {
+      throw std::invalid_argument(fmt::format(
+          "initial displacements compress the gap element between frames {} and {} at floor {} "
+          "by {} m, beyond its allowable shortening {} m",
+          model_.gaps[p].left_frame + 1, model_.gaps[p].left_frame + 2, model_.gaps[p].floor + 1,
+          s, gp.shortening));
+    }
+    config_[p] = GapMode::contact;
+  }
+  memory_.assign(ng, GapMemory{});
+  bias_.assign(ng, 0.0);
+  stop_reaction_.assign(ng, 0.0);
+  link_in_.assign(static_cast<std::size_t>(n), 0.0);
+  for (auto* g : {&g_lo_, &g_hi_, &g_work_, &dg_lo_, &dg_hi_, &dg_work_}) g->assign(2 * ng, 0.0);
+  impacts_.reserve(ng);
+
+  stats_.floors.resize(static_cast<std::size_t>(n));
+  stats_.base_shear.resize(static_cast<std::size_t>(model_.frame_count()));
+  stats_.gaps.resize(ng);
+
+  phase_ = &phase_for(config_);
+  newmark_.equilibrate(*phase_, ground_acceleration(excitation_, 0.0), state_);
+  energy_.start(state_, config_, memory_);
+  evaluate_guards(state_, g_lo_, dg_lo_);
+  while (any_positive(g_lo_)) {
+    g_work_ = g_lo_;
+    apply_events(g_work_);
+  }
+  events_this_step_ = 0;
+  record_statistics(g_lo_);
+}
+
+Simulator::~Simulator() = default;
+
+void Simulator::set_excitation(Excitation excitation) {
+  validate(excitation);
+  excitation_ = std::move(excitation);
+  newmark_.equilibrate(*phase_, ground_acceleration_now(), state_);
+  evaluate_guards(state_, g_lo_, dg_lo_);
+}
+
+double Simulator::ground_acceleration_now() const {
+  return ground_acceleration(excitation_, state_.t);
+}
+
+bool Simulator::is_rigid(int p) const { return model_.gaps[p].properties.is_rigid_stop(); }
+
+double Simulator::shortening(int p) const {
+  return poundsim::shortening(model_.gaps[p].properties, state_.u(gap_left_[p]),
+                              state_.u(gap_right_[p]));
+}
+
+double Simulator::gap_force(int p) const {
+  if (config_[p] == GapMode::open) return 0.0;
+  const GapProperties& gp = model_.gaps[p].properties;
+  const double rate = state_.v(gap_left_[p]) - state_.v(gap_right_[p]);
+  const double force = contact_force(gp, shortening(p), rate);
+  return config_[p] == GapMode::locked ? force - g_lo_[2 * static_cast<std::size_t>(p)] : force;
+}
+
+double Simulator::base_shear(int f) const {
+  return model_.frames[f].stiffness[0] * state_.u(layout_.dof(f, 0));
+}
+
+const LinearPhase& Simulator::phase_for(const ContactConfiguration& config) {
+  auto it = phases_.find(config);
+  if (it != phases_.end()) return *it->second;
+  if (phases_.size() >= options_.phase_cache_size) phases_.clear();
+  auto phase = std::make_unique<LinearPhase>(model_, layout_, config, options_.dt);
+  ++stats_.phases_factorised;
+  return *phases_.emplace(config, std::move(phase)).first->second;
+}
+
+void Simulator::step() { advance_to(grid_origin_ + static_cast<double>(grid_index_ + 1) * options_.dt); }
+
+void Simulator::advance_to(double t_target) {
+  const double dt = options_.dt, slack = 1e-9 * dt;
+  while (state_.t < t_target - slack) {
+    const double next = grid_origin_ + static_cast<double>(grid_index_ + 1) * dt;
+    if (next <= t_target + slack) {
+      integrate_to(next, true);
+      ++grid_index_;
+    } else {
+      integrate_to(t_target, false);
+      grid_origin_ = t_target;
+      grid_index_ = 0;
+    }
+    ++stats_.steps;
+  }
+}
+
+void Simulator::trial_step(double tau, bool nominal, KinematicState& out) {
+  const LinearPhase::Solver& solver =
+      nominal ? phase_->step_solver() : phase_->substep_solver(tau);
+  newmark_.step(*phase_, solver, state_, tau,
+                ground_acceleration(excitation_, state_.t + tau), out);
+}
+
+void Simulator::integrate_to(double t_end, bool nominal) {
+  events_this_step_ = 0;
+  bool first = true;
+  while (state_.t < t_end) {
+    const bool use_step_solver = nominal && first;
+    const double tau = use_step_solver ? options_.dt : t_end - state_.t;
+    first = false;
+    trial_step(tau, use_step_solver, upper_);
+    upper_.t = t_end;  // exact grid time, whatever the rounding of t + τ
+    evaluate_guards(upper_, g_hi_, dg_hi_);
+    if (!any_positive(g_hi_) && !find_grazing(tau)) {
+      accept(upper_, g_hi_);
+      return;
+    }
+    TrialEvaluator evaluator(*this);
+    locate_first_event(0.0, upper_.t - state_.t, g_lo_, g_hi_, g_work_, options_.event_tolerance,
+                       evaluator);
+    accept(upper_, g_hi_);
+    g_work_ = g_lo_;
+    apply_events(g_work_);
+    // An event can trigger others at the same instant (e.g. an impact that makes the dashpot
+    // pull): apply them before moving on.
+    while (any_positive(g_lo_)) {
+      g_work_ = g_lo_;
+      apply_events(g_work_);
+    }
+  }
+}
+
+bool Simulator::find_grazing(double tau) {
+  // A displacement guard that rises and falls inside the step without crossing at the ends:
+  // check the interior maximum of its cubic Hermite interpolant, then the Newmark sub-step there.
+  double best_theta = 2.0;
+  for (std::size_t j = 0; j < g_hi_.size(); ++j) {
+    if (!(g_lo_[j] <= 0 && g_hi_[j] <= 0 && dg_lo_[j] > 0 && dg_hi_[j] < 0)) continue;
+    if (g_lo_[j] == kInactive) continue;
+    double peak = 0.0;
+    const double theta = hermite_interior_maximum(g_lo_[j], dg_lo_[j], g_hi_[j], dg_hi_[j], tau, peak);
+    if (theta > 0 && peak > 0) best_theta = std::min(best_theta, theta);
+  }
+  if (best_theta >= 1.0) return false;
+  const double tau_peak = best_theta * tau;
+  trial_step(tau_peak, false, trial_);
+  evaluate_guards(trial_, g_work_, dg_work_);
+  ++stats_.guard_evaluations;
+  if (!any_positive(g_work_)) return false;
+  std::swap(trial_, upper_);
+  g_hi_ = g_work_;
+  dg_hi_ = dg_work_;
+  return true;
+}
+
+void Simulator::evaluate_guards(const KinematicState& x, std::span<double> g,
+                                std::span<double> dg) {
+  if (phase_ && !phase_->is_unreduced()) compute_stop_reactions(x);
+  const bool force_criterion = options_.separation == SeparationCriterion::force;
+  for (std::size_t p = 0; p < config_.size(); ++p) {
+    const GapProperties& gp = model_.gaps[p].properties;
+    const int l = gap_left_[p], r = gap_right_[p];
+    const double s = x.u(l) - x.u(r) - gp.gap;
+    const double rate = x.v(l) - x.v(r);
+    const std::size_t j = 2 * p;
+    switch (config_[p]) {
+      case GapMode::open: {
+        const double se = memory_[p].free_end_shortening(x.t, gp.stiffness, gp.damping);
+        const double se_rate = gp.damping > 0 ? -gp.stiffness / gp.damping * se : 0.0;
+        g[j] = s - se - bias_[p];
+        dg[j] = rate - se_rate;
+        g[j + 1] = kInactive;
+        dg[j + 1] = 0.0;
+        break;
+      }
+      case GapMode::contact:
+        g[j] = s - gp.shortening - bias_[p];
+        dg[j] = rate;
+        if (force_criterion) {
+          const double accel = x.a(l) - x.a(r);
+          g[j + 1] = -contact_force(gp, s, rate);
+          dg[j + 1] = -(gp.damping * accel + gp.stiffness * rate);
+        } else {
+          g[j + 1] = -s;
+          dg[j + 1] = -rate;
+        }
+        break;
+      case GapMode::locked:
+        g[j] = -stop_reaction_[p];
+        dg[j] = std::numeric_limits<double>::quiet_NaN();
+        g[j + 1] = kInactive;
+        dg[j + 1] = 0.0;
+        break;
+    }
+  }
+}
+
+void Simulator::compute_stop_reactions(const KinematicState& x) {
+  // The force on a floor that the links must supply: f = f_S − m a_g − C u̇ − K u − m ü. Sweeping
+  // each chain of locked elements from the left gives λ_out = f + λ_in.
+  const double ground = ground_acceleration(excitation_, x.t);
+  const Eigen::VectorXd& m = phase_->full_mass();
+  for (std::size_t p = 0; p < config_.size(); ++p) {
+    if (config_[p] != GapMode::locked) continue;
+    const int l = gap_left_[p];
+    const double f = phase_->full_constant_load()(l) - m(l) * ground -
+                     phase_->full_damping().col(l).dot(x.v) -
+                     phase_->full_stiffness().col(l).dot(x.u) - m(l) * x.a(l);
+    stop_reaction_[p] = f + link_in_[l];
+    link_in_[gap_right_[p]] = stop_reaction_[p];
+  }
+  for (std::size_t p = 0; p < config_.size(); ++p) {
+    if (config_[p] == GapMode::locked) link_in_[gap_right_[p]] = 0.0;
+  }
+}
+
+void Simulator::accept(KinematicState& next, std::span<const double> guards) {
+  energy_.step(state_, next, ground_acceleration(excitation_, state_.t),
+               ground_acceleration(excitation_, next.t), config_, memory_);
+  const double h = next.t - state_.t;
+  for (std::size_t p = 0; p < config_.size(); ++p) {
+    if (config_[p] == GapMode::locked) stats_.gaps[p].locked_time += h;
+  }
+  std::swap(state_, next);
+  std::copy(guards.begin(), guards.end(), g_lo_.begin());
+  dg_lo_ = dg_hi_;
+  ++stats_.substeps;
+  record_statistics(g_lo_);
+}
+
+void Simulator::record_statistics(std::span<const double> guards) {
+  const double t = state_.t;
+  const double ground = ground_acceleration(excitation_, t);
+  for (int i = 0; i < layout_.size(); ++i) {
+    FloorResponse& fr = stats_.floors[static_cast<std::size_t>(i)];
+    fr.displacement.update(state_.u(i), t);
+    fr.velocity.update(state_.v(i), t);
+    fr.acceleration.update(state_.a(i), t);
+    fr.absolute_acceleration.update(state_.a(i) + ground, t);
+    const int b = layout_.below(i);
+    fr.drift.update(state_.u(i) - (b >= 0 ? state_.u(b) : 0.0), t);
+  }
+  for (int f = 0; f < model_.frame_count(); ++f) {
+    stats_.base_shear[static_cast<std::size_t>(f)].update(base_shear(f), t);
+  }
+  for (std::size_t p = 0; p < config_.size(); ++p) {
+    if (config_[p] == GapMode::open) continue;
+    const GapProperties& gp = model_.gaps[p].properties;
+    const int l = gap_left_[p], r = gap_right_[p];
+    const double s = state_.u(l) - state_.u(r) - gp.gap;
+    double force = contact_force(gp, s, state_.v(l) - state_.v(r));
+    if (config_[p] == GapMode::locked) force -= guards[2 * p];
+    stats_.gaps[p].force.update(force, t);
+    if (s > 0) stats_.gaps[p].shortening.update(s, t);
+  }
+}
+
+void Simulator::emit(int gap, EventKind kind, double before, double after, double impulse) {
+  ++stats_.events;
+  if (++events_this_step_ > options_.max_events_per_step) {
+    throw SimulationError(fmt::format(
+        "more than {} events within one step at t = {} s (gap element between frames {} and {} "
+        "at floor {}): chattering that lock_time = {} s does not suppress",
+        options_.max_events_per_step, state_.t, model_.gaps[gap].left_frame + 1,
+        model_.gaps[gap].left_frame + 2, model_.gaps[gap].floor + 1, options_.lock_time));
+  }
+  GapResponse& gr = stats_.gaps[static_cast<std::size_t>(gap)];
+  switch (kind) {
+    case EventKind::contact: ++gr.contacts; break;
+    case EventKind::separation: ++gr.separations; break;
+    case EventKind::impact:
+      ++gr.impacts;
+      gr.impact_velocity.update(before, state_.t);
+      gr.impulse.update(impulse, state_.t);
+      break;
+    case EventKind::lock:
+      ++gr.locks;
+      gr.impulse.update(impulse, state_.t);
+      break;
+    case EventKind::unlock: ++gr.unlocks; break;
+  }
+  if (on_event_) on_event_(Event{state_.t, gap, kind, before, after, impulse});
+}
+
+void Simulator::apply_events(std::span<const double> fired) {
+  impacts_.clear();
+  for (std::size_t j = 0; j < fired.size(); ++j) {
+    if (!(fired[j] > 0)) continue;
+    const std::size_t p = j / 2;
+    const int pi = static_cast<int>(p);
+    const double rate = state_.v(gap_left_[p]) - state_.v(gap_right_[p]);
+    if (j % 2 == 1) {  // separation from contact
+      config_[p] = GapMode::open;
+      bias_[p] = 0.0;
+      const double s = shortening(pi);
+      memory_[p] = options_.separation == SeparationCriterion::force && s > 0
+                       ? GapMemory{s, state_.t}
+                       : GapMemory{};
+      emit(pi, EventKind::separation, rate, rate, 0.0);
+      continue;
+    }
+    switch (config_[p]) {
+      case GapMode::open:
+        if (is_rigid(pi)) {
+          impacts_.push_back(pi);
+        } else {
+          config_[p] = GapMode::contact;
+          memory_[p] = GapMemory{};
+          bias_[p] = 0.0;
+          emit(pi, EventKind::contact, rate, rate, 0.0);
+        }
+        break;
+      case GapMode::contact: impacts_.push_back(pi); break;
+      case GapMode::locked:
+        config_[p] = is_rigid(pi) ? GapMode::open : GapMode::contact;
+        memory_[p] = GapMemory{};
+        bias_[p] = 0.0;
+        emit(pi, EventKind::unlock, 0.0, 0.0, 0.0);
+        break;
+    }
+  }
+  phase_ = &phase_for(config_);
+  if (!impacts_.empty()) resolve_impacts(impacts_);
+  settle_after_events();
+}
+
+void Simulator::resolve_impacts(const std::vector<int>& pairs) {
+  // Floors held together by locked elements collide as one body (their group).
+  const auto group = phase_->group_of();
+  const Eigen::VectorXd& group_mass = phase_->mass();
+  Eigen::VectorXd& v = state_.v;
+  const double kinetic_before = energy_.kinetic_energy(v);
+
+  std::vector<double> rate_before(pairs.size()), impulse(pairs.size(), 0.0);
+  double largest = 0.0;
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    rate_before[k] = v(gap_left_[pairs[k]]) - v(gap_right_[pairs[k]]);
+    largest = std::max(largest, rate_before[k]);
+  }
+  // Sequential pairwise restitution until no pair approaches: exact for independent pairs, the
+  // Newton's-cradle answer for a chain of frames that share a floor.
+  const int max_sweeps = 10000 * static_cast<int>(pairs.size());
+  for (int sweep = 0; sweep < max_sweeps; ++sweep) {
+    std::size_t worst = pairs.size();
+    double closing = 1e-12 * largest;
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      const double w = v(gap_left_[pairs[k]]) - v(gap_right_[pairs[k]]);
+      if (w > closing) {
+        closing = w;
+        worst = k;
+      }
+    }
+    if (worst == pairs.size()) break;
+    const int p = pairs[worst];
+    const int gl = group[static_cast<std::size_t>(gap_left_[p])];
+    const int gr = group[static_cast<std::size_t>(gap_right_[p])];
+    const ImpactOutcome o =
+        restitution_impact(group_mass(gl), group_mass(gr), v(gap_left_[p]), v(gap_right_[p]),
+                           model_.gaps[p].properties.restitution);
+    for (Eigen::Index i = 0; i < v.size(); ++i) {
+      const int gi = group[static_cast<std::size_t>(i)];
+      if (gi == gl) v(i) = o.v_left;
+      if (gi == gr) v(i) = o.v_right;
+    }
+    impulse[worst] += o.impulse;
+  }
+  energy_.add_impact_loss(kinetic_before - energy_.kinetic_energy(v));
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const int p = pairs[k];
+    emit(p, EventKind::impact, rate_before[k], v(gap_left_[p]) - v(gap_right_[p]), impulse[k]);
+  }
+
+  // Lock the pairs that are pressed together and would only bounce for less than lock_time.
+  const double ground = ground_acceleration_now();
+  newmark_.equilibrate(*phase_, ground, state_);
+  std::vector<int> locking;
+  std::vector<double> lock_rate, lock_impulse;
+  for (const int p : pairs) {
+    const int l = gap_left_[p], r = gap_right_[p];
+    const double pressing = state_.a(l) - state_.a(r);
+    const double opening = -(v(l) - v(r));
+    if (pressing > 0 && 2.0 * opening <= pressing * options_.lock_time) {
+      locking.push_back(p);
+      lock_rate.push_back(v(l) - v(r));
+      const double ml = group_mass(group[static_cast<std::size_t>(l)]);
+      const double mr = group_mass(group[static_cast<std::size_t>(r)]);
+      lock_impulse.push_back(std::abs(v(l) - v(r)) * ml * mr / (ml + mr));
+    }
+  }
+  if (locking.empty()) return;
+  const double kinetic_unlocked = energy_.kinetic_energy(v);
+  for (const int p : locking) config_[static_cast<std::size_t>(p)] = GapMode::locked;
+  phase_ = &phase_for(config_);
+  // Plastic merge: each new group moves with the velocity of its centre of mass, and the
+  // positions are put exactly on the constraint u = T q + o.
+  {
+    const auto new_group = phase_->group_of();
+    const Eigen::VectorXd& m = phase_->full_mass();
+    Eigen::VectorXd momentum = Eigen::VectorXd::Zero(phase_->reduced_size());
+    for (Eigen::Index i = 0; i < v.size(); ++i) {
+      momentum(new_group[static_cast<std::size_t>(i)]) += m(i) * v(i);
+    }
+    const Eigen::VectorXd group_v = momentum.cwiseQuotient(phase_->mass());
+    phase_->scatter(group_v, v, false);
+    Eigen::VectorXd q(phase_->reduced_size());
+    phase_->gather(state_.u, q);
+    phase_->scatter(q, state_.u, true);
+  }
+  energy_.add_impact_loss(kinetic_unlocked - energy_.kinetic_energy(v));
+  for (std::size_t k = 0; k < locking.size(); ++k) {
+    emit(locking[k], EventKind::lock, lock_rate[k], 0.0, lock_impulse[k]);
+  }
+}
+
+void Simulator::settle_after_events() {
+  phase_ = &phase_for(config_);
+  newmark_.equilibrate(*phase_, ground_acceleration_now(), state_);
+  evaluate_guards(state_, g_lo_, dg_lo_);
+  set_impact_biases();
+  energy_.refresh(state_, config_, memory_);
+}
+
+void Simulator::set_impact_biases() {
+  // At an impact the state is taken at the upper end of the event bracket, a hair past the stop
+  // (by at most |ṡ| × tolerance). The element now moves away from the stop; offset its guard by
+  // that hair so that the next impact is detected when the stop is reached again.
+  for (std::size_t p = 0; p < config_.size(); ++p) {
+    const bool stop_guard =
+        config_[p] == GapMode::contact || (config_[p] == GapMode::open && is_rigid(static_cast<int>(p)));
+    const std::size_t j = 2 * p;
+    if (!stop_guard || !(g_lo_[j] > 0)) continue;
+    const double rate = state_.v(gap_left_[p]) - state_.v(gap_right_[p]);
+    if (rate > 0) continue;  // still closing: a genuine impact, applied by the caller
+    bias_[p] += g_lo_[j];
+    g_lo_[j] = 0.0;
+  }
+}
+
+}  // namespace poundsim
