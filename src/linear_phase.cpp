@@ -55,17 +55,15 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
   damping_full_.setFromTriplets(c_triplets.begin(), c_triplets.end());
 
   // Groups of floors joined by locked elements. Elements are ordered by frame pair, so a left
-  // floor's offset is known before its right neighbour's.
+  // floor's group is known before its right neighbour's.
   std::vector<int> leader(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) leader[i] = i;
-  offset_ = Eigen::VectorXd::Zero(n);
   for (int p = 0; p < model.gap_count(); ++p) {
     if (configuration_[p] != GapMode::locked) continue;
     const GapElement& g = model.gaps[p];
     const int left = layout.dof(g.left_frame, g.floor);
     const int right = layout.dof(g.left_frame + 1, g.floor);
     leader[right] = leader[left];
-    offset_(right) = offset_(left) - (g.properties.gap + g.properties.shortening);
     unreduced_ = false;
   }
   group_of_.assign(static_cast<std::size_t>(n), -1);
@@ -78,6 +76,7 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
   for (int i = 0; i < n; ++i) group_of_[i] = group_of_[leader[i]];
   const auto nr = static_cast<Eigen::Index>(representative_.size());
 
+  offset_ = Eigen::VectorXd::Zero(n);
   if (unreduced_) {
     mass_ = mass_full_;
     stiffness_ = stiffness_full_;
@@ -88,11 +87,17 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
     std::vector<Triplet> t_triplets;
     for (int i = 0; i < n; ++i) t_triplets.emplace_back(i, group_of_[i], 1.0);
     t.setFromTriplets(t_triplets.begin(), t_triplets.end());
-    const SparseMatrix tt = t.transpose();
-    mass_ = tt * mass_full_;
-    stiffness_ = tt * stiffness_full_ * t;
-    damping_ = tt * damping_full_ * t;
-    constant_load_ = tt * (load_full_ - stiffness_full_ * offset_);
+    transfer_t_ = t.transpose();
+    mass_ = transfer_t_ * mass_full_;
+    stiffness_ = transfer_t_ * stiffness_full_ * t;
+    damping_ = transfer_t_ * damping_full_ * t;
+    constant_load_.resize(nr);
+    load_work_.resize(n);
+    std::vector<double> nominal(static_cast<std::size_t>(model.gap_count()));
+    for (int p = 0; p < model.gap_count(); ++p) {
+      nominal[p] = model.gaps[p].properties.gap + model.gaps[p].properties.shortening;
+    }
+    set_link_lengths(model, layout, nominal);
   }
 
   // Effective-matrix pattern: the union of K_r, C_r and the diagonal, upper triangle.
@@ -122,6 +127,21 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
   step_solver_.analyzePattern(effective_);
   substep_solver_.analyzePattern(effective_);
   factorize(step_solver_, step_);
+}
+
+void LinearPhase::set_link_lengths(const Model& model, const DofLayout& layout,
+                                   std::span<const double> length) {
+  if (unreduced_) return;
+  offset_.setZero();
+  for (int p = 0; p < model.gap_count(); ++p) {
+    if (configuration_[p] != GapMode::locked) continue;
+    const GapElement& g = model.gaps[p];
+    offset_(layout.dof(g.left_frame + 1, g.floor)) =
+        offset_(layout.dof(g.left_frame, g.floor)) - length[p];
+  }
+  load_work_ = load_full_;
+  load_work_.noalias() -= stiffness_full_ * offset_;
+  constant_load_.noalias() = transfer_t_ * load_work_;
 }
 
 void LinearPhase::factorize(Solver& solver, double tau) const {

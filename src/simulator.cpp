@@ -171,7 +171,8 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
   stats_.base_shear.resize(static_cast<std::size_t>(model_.frame_count()));
   stats_.gaps.resize(ng);
 
-  phase_ = &phase_for(config_);
+  link_length_.assign(ng, 0.0);
+  activate_phase();
   newmark_.equilibrate(*phase_, ground_acceleration(excitation_, 0.0), state_);
   energy_.start(state_, config_, memory_);
   evaluate_guards(state_, g_lo_, dg_lo_);
@@ -215,13 +216,16 @@ double Simulator::base_shear(int f) const {
   return model_.frames[f].stiffness[0] * state_.u(layout_.dof(f, 0));
 }
 
-const LinearPhase& Simulator::phase_for(const ContactConfiguration& config) {
-  auto it = phases_.find(config);
-  if (it != phases_.end()) return *it->second;
-  if (phases_.size() >= options_.phase_cache_size) phases_.clear();
-  auto phase = std::make_unique<LinearPhase>(model_, layout_, config, options_.dt);
-  ++stats_.phases_factorised;
-  return *phases_.emplace(config, std::move(phase)).first->second;
+void Simulator::activate_phase() {
+  auto it = phases_.find(config_);
+  if (it == phases_.end()) {
+    if (phases_.size() >= options_.phase_cache_size) phases_.clear();
+    auto phase = std::make_unique<LinearPhase>(model_, layout_, config_, options_.dt);
+    ++stats_.phases_factorised;
+    it = phases_.emplace(config_, std::move(phase)).first;
+  }
+  phase_ = it->second.get();
+  if (!phase_->is_unreduced()) phase_->set_link_lengths(model_, layout_, link_length_);
 }
 
 void Simulator::step() { advance_to(grid_origin_ + static_cast<double>(grid_index_ + 1) * options_.dt); }
@@ -403,7 +407,11 @@ void Simulator::record_statistics(std::span<const double> guards) {
   }
 }
 
-void Simulator::emit(int gap, EventKind kind, double before, double after, double impulse) {
+void Simulator::emit(int gap, EventKind kind, double left_before, double right_before,
+                     double impulse) {
+  const auto p = static_cast<std::size_t>(gap);
+  const double left_after = state_.v(gap_left_[p]), right_after = state_.v(gap_right_[p]);
+  const double before = left_before - right_before, after = left_after - right_after;
   ++stats_.events;
   if (++events_this_step_ > options_.max_events_per_step) {
     throw SimulationError(fmt::format(
@@ -427,7 +435,10 @@ void Simulator::emit(int gap, EventKind kind, double before, double after, doubl
       break;
     case EventKind::unlock: ++gr.unlocks; break;
   }
-  if (on_event_) on_event_(Event{state_.t, gap, kind, before, after, impulse});
+  if (on_event_) {
+    on_event_(Event{state_.t, gap, kind, before, after, impulse, left_before, right_before,
+                    left_after, right_after});
+  }
 }
 
 void Simulator::apply_events(std::span<const double> fired) {
@@ -436,7 +447,7 @@ void Simulator::apply_events(std::span<const double> fired) {
     if (!(fired[j] > 0)) continue;
     const std::size_t p = j / 2;
     const int pi = static_cast<int>(p);
-    const double rate = state_.v(gap_left_[p]) - state_.v(gap_right_[p]);
+    const double vl = state_.v(gap_left_[p]), vr = state_.v(gap_right_[p]);
     if (j % 2 == 1) {  // separation from contact
       config_[p] = GapMode::open;
       bias_[p] = 0.0;
@@ -444,7 +455,7 @@ void Simulator::apply_events(std::span<const double> fired) {
       memory_[p] = options_.separation == SeparationCriterion::force && s > 0
                        ? GapMemory{s, state_.t}
                        : GapMemory{};
-      emit(pi, EventKind::separation, rate, rate, 0.0);
+      emit(pi, EventKind::separation, vl, vr, 0.0);
       continue;
     }
     switch (config_[p]) {
@@ -455,7 +466,7 @@ void Simulator::apply_events(std::span<const double> fired) {
           config_[p] = GapMode::contact;
           memory_[p] = GapMemory{};
           bias_[p] = 0.0;
-          emit(pi, EventKind::contact, rate, rate, 0.0);
+          emit(pi, EventKind::contact, vl, vr, 0.0);
         }
         break;
       case GapMode::contact: impacts_.push_back(pi); break;
@@ -463,11 +474,11 @@ void Simulator::apply_events(std::span<const double> fired) {
         config_[p] = is_rigid(pi) ? GapMode::open : GapMode::contact;
         memory_[p] = GapMemory{};
         bias_[p] = 0.0;
-        emit(pi, EventKind::unlock, 0.0, 0.0, 0.0);
+        emit(pi, EventKind::unlock, vl, vr, 0.0);
         break;
     }
   }
-  phase_ = &phase_for(config_);
+  activate_phase();
   if (!impacts_.empty()) resolve_impacts(impacts_);
   settle_after_events();
 }
@@ -479,11 +490,13 @@ void Simulator::resolve_impacts(const std::vector<int>& pairs) {
   Eigen::VectorXd& v = state_.v;
   const double kinetic_before = energy_.kinetic_energy(v);
 
-  std::vector<double> rate_before(pairs.size()), impulse(pairs.size(), 0.0);
+  std::vector<double> left_before(pairs.size()), right_before(pairs.size()),
+      impulse(pairs.size(), 0.0);
   double largest = 0.0;
   for (std::size_t k = 0; k < pairs.size(); ++k) {
-    rate_before[k] = v(gap_left_[pairs[k]]) - v(gap_right_[pairs[k]]);
-    largest = std::max(largest, rate_before[k]);
+    left_before[k] = v(gap_left_[pairs[k]]);
+    right_before[k] = v(gap_right_[pairs[k]]);
+    largest = std::max(largest, left_before[k] - right_before[k]);
   }
   // Sequential pairwise restitution until no pair approaches: exact for independent pairs, the
   // Newton's-cradle answer for a chain of frames that share a floor.
@@ -515,21 +528,22 @@ void Simulator::resolve_impacts(const std::vector<int>& pairs) {
   energy_.add_impact_loss(kinetic_before - energy_.kinetic_energy(v));
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     const int p = pairs[k];
-    emit(p, EventKind::impact, rate_before[k], v(gap_left_[p]) - v(gap_right_[p]), impulse[k]);
+    emit(p, EventKind::impact, left_before[k], right_before[k], impulse[k]);
   }
 
   // Lock the pairs that are pressed together and would only bounce for less than lock_time.
   const double ground = ground_acceleration_now();
   newmark_.equilibrate(*phase_, ground, state_);
   std::vector<int> locking;
-  std::vector<double> lock_rate, lock_impulse;
+  std::vector<double> lock_left, lock_right, lock_impulse;
   for (const int p : pairs) {
     const int l = gap_left_[p], r = gap_right_[p];
     const double pressing = state_.a(l) - state_.a(r);
     const double opening = -(v(l) - v(r));
     if (pressing > 0 && 2.0 * opening <= pressing * options_.lock_time) {
       locking.push_back(p);
-      lock_rate.push_back(v(l) - v(r));
+      lock_left.push_back(v(l));
+      lock_right.push_back(v(r));
       const double ml = group_mass(group[static_cast<std::size_t>(l)]);
       const double mr = group_mass(group[static_cast<std::size_t>(r)]);
       lock_impulse.push_back(std::abs(v(l) - v(r)) * ml * mr / (ml + mr));
@@ -537,10 +551,13 @@ void Simulator::resolve_impacts(const std::vector<int>& pairs) {
   }
   if (locking.empty()) return;
   const double kinetic_unlocked = energy_.kinetic_energy(v);
-  for (const int p : locking) config_[static_cast<std::size_t>(p)] = GapMode::locked;
-  phase_ = &phase_for(config_);
-  // Plastic merge: each new group moves with the velocity of its centre of mass, and the
-  // positions are put exactly on the constraint u = T q + o.
+  for (const int p : locking) {
+    config_[static_cast<std::size_t>(p)] = GapMode::locked;
+    // The link keeps the floors where they are (on the stop, to the event tolerance).
+    link_length_[static_cast<std::size_t>(p)] = state_.u(gap_left_[p]) - state_.u(gap_right_[p]);
+  }
+  activate_phase();
+  // Plastic merge: each new group moves with the velocity of its centre of mass.
   {
     const auto new_group = phase_->group_of();
     const Eigen::VectorXd& m = phase_->full_mass();
@@ -550,18 +567,15 @@ void Simulator::resolve_impacts(const std::vector<int>& pairs) {
     }
     const Eigen::VectorXd group_v = momentum.cwiseQuotient(phase_->mass());
     phase_->scatter(group_v, v, false);
-    Eigen::VectorXd q(phase_->reduced_size());
-    phase_->gather(state_.u, q);
-    phase_->scatter(q, state_.u, true);
   }
   energy_.add_impact_loss(kinetic_unlocked - energy_.kinetic_energy(v));
   for (std::size_t k = 0; k < locking.size(); ++k) {
-    emit(locking[k], EventKind::lock, lock_rate[k], 0.0, lock_impulse[k]);
+    emit(locking[k], EventKind::lock, lock_left[k], lock_right[k], lock_impulse[k]);
   }
 }
 
 void Simulator::settle_after_events() {
-  phase_ = &phase_for(config_);
+  activate_phase();
   newmark_.equilibrate(*phase_, ground_acceleration_now(), state_);
   evaluate_guards(state_, g_lo_, dg_lo_);
   set_impact_biases();

@@ -24,6 +24,10 @@ struct Event {
   double rate_before = 0.0;  ///< ṡ = u̇_L − u̇_R before the event [m/s] (closing > 0).
   double rate_after = 0.0;   ///< ṡ after the event [m/s].
   double impulse = 0.0;      ///< Impulse of an impact or lock [N·s]; 0 otherwise.
+  double left_velocity_before = 0.0;   ///< u̇_L before [m/s].
+  double right_velocity_before = 0.0;  ///< u̇_R before [m/s].
+  double left_velocity_after = 0.0;    ///< u̇_L after [m/s].
+  double right_velocity_after = 0.0;   ///< u̇_R after [m/s].
 };
 
 }  // namespace poundsim

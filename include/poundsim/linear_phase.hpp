@@ -10,9 +10,10 @@
 /// every element in contact or locked, the paper's modifications (C_ii += c, C_ij = −c, ...); f_S
 /// holds +kδ on the left floor and −kδ on the right floor of those elements (the paper's a(t)).
 ///
-/// A locked element is a rigid link u_L − u_R = δ + ε. Links merge floors into groups that move
-/// as one; with the 0/1 matrix T (floor → group) and the offsets o (o = 0 for the leftmost floor of
-/// each group), u = T q + o and the reduced system is
+/// A locked element is a rigid link u_L − u_R = ℓ, its length when it locked (δ + ε up to the
+/// event tolerance: the link keeps the floors where they were, so locking moves nothing). Links
+/// merge floors into groups that move as one; with the 0/1 matrix T (floor → group) and the
+/// offsets o (o = 0 for the leftmost floor of each group), u = T q + o and the reduced system is
 ///
 ///     M_r q̈ + C_r q̇ + K_r q = −m_r a_g(t) + b_r,   M_r = TᵀMT, C_r = TᵀC_S T, K_r = TᵀK_S T,
 ///     m_r = TᵀM1, b_r = Tᵀ(f_S − K_S o).
@@ -61,6 +62,9 @@ class LinearPhase {
   [[nodiscard]] std::span<const int> representative() const { return representative_; }
   /// o: floor displacement minus its group coordinate [m].
   [[nodiscard]] const Eigen::VectorXd& offset() const { return offset_; }
+  /// Sets the link lengths ℓ of the locked elements (by element; others ignored), which fix the
+  /// offsets o and the constant load b_r. Construction uses ℓ = δ + ε. Allocation-free.
+  void set_link_lengths(const Model& model, const DofLayout& layout, std::span<const double> length);
 
   /// q = Tᵀ-gather of a full vector (values of the representatives).
   void gather(const Eigen::VectorXd& full, Eigen::VectorXd& reduced) const;
@@ -102,6 +106,8 @@ class LinearPhase {
   Eigen::VectorXd mass_;
   SparseMatrix damping_, stiffness_;
   Eigen::VectorXd constant_load_;
+  SparseMatrix transfer_t_;              ///< Tᵀ (empty when unreduced).
+  Eigen::VectorXd load_work_;
 
   // Upper-triangular pattern of the effective matrix and the aligned M, C, K values.
   mutable SparseMatrix effective_;

@@ -162,7 +162,8 @@ class Simulator {
   class TrialEvaluator;
   friend class TrialEvaluator;
 
-  const LinearPhase& phase_for(const ContactConfiguration& config);
+  /// Makes the phase of config_ current, with the link lengths of its locked elements.
+  void activate_phase();
   void integrate_to(double t_end, bool nominal);
   void trial_step(double tau, bool nominal, KinematicState& out);
   void evaluate_guards(const KinematicState& x, std::span<double> g, std::span<double> dg);
@@ -172,7 +173,8 @@ class Simulator {
   void apply_events(std::span<const double> fired_guards);
   void resolve_impacts(const std::vector<int>& pairs);
   void settle_after_events();
-  void emit(int gap, EventKind kind, double before, double after, double impulse);
+  /// Reports an event; velocities after are read from the current state.
+  void emit(int gap, EventKind kind, double left_before, double right_before, double impulse);
   void record_statistics(std::span<const double> guards);
   void set_impact_biases();
   [[nodiscard]] bool is_rigid(int p) const;
@@ -189,8 +191,10 @@ class Simulator {
   std::vector<double> stop_reaction_; ///< λ of locked elements at the last guard evaluation [N].
   std::vector<double> link_in_;       ///< Scratch for the chain sweep of stop reactions.
 
+  std::vector<double> link_length_;   ///< u_L − u_R of each locked element when it locked [m].
+
   std::map<ContactConfiguration, std::unique_ptr<LinearPhase>> phases_;
-  const LinearPhase* phase_ = nullptr;
+  LinearPhase* phase_ = nullptr;
   NewmarkIntegrator newmark_;
   EnergyMeter energy_;
   ResponseStatistics stats_;

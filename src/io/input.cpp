@@ -129,7 +129,7 @@ class TableReader {
     if (const toml::array* array = node.as_array()) {
       std::vector<double> out;
       for (std::size_t i = 0; i < array->size(); ++i) {
-        const toml::node& item = *array->get(i);
+        const toml::node& item = (*array)[i];
         if (!item.is_number()) {
           fail(key, fmt::format("item {} must be a number, got a {}", i + 1, type_name(item)));
         }
@@ -147,7 +147,7 @@ class TableReader {
     if (rows == nullptr) fail(key, "expected an array of arrays (one per frame)");
     std::vector<std::vector<double>> out;
     for (std::size_t r = 0; r < rows->size(); ++r) {
-      const toml::array* row = rows->get(r)->as_array();
+      const toml::array* row = (*rows)[r].as_array();
       if (row == nullptr) fail(key, fmt::format("item {} must be an array (one value per floor)", r + 1));
       out.emplace_back();
       for (std::size_t i = 0; i < row->size(); ++i) {
@@ -182,7 +182,7 @@ class TableReader {
     }
     std::vector<TableReader> out;
     for (std::size_t i = 0; i < array->size(); ++i) {
-      out.emplace_back(*array->get(i)->as_table(), fmt::format("{}[{}]", key_path(key), i + 1),
+      out.emplace_back(static_cast<const toml::table&>((*array)[i]), fmt::format("{}[{}]", key_path(key), i + 1),
                        *origin_);
     }
     if (out.empty()) fail(key, "the array is empty");
@@ -290,7 +290,7 @@ std::string apply_override(toml::table& root, const std::string& text) {
       }
       path += fmt::format("[{}]", seg.index);
       if (last) throw InputError(fmt::format("--set {}: cannot replace a whole table", text));
-      table = array->get(static_cast<std::size_t>(seg.index - 1))->as_table();
+      table = &static_cast<toml::table&>((*array)[static_cast<std::size_t>(seg.index - 1)]);
       continue;
     }
     if (last) {
@@ -327,7 +327,7 @@ Model read_dimensionless(TableReader& model_table, RunInput& run) {
   }
   std::array<int, 2> storeys{};
   for (std::size_t i = 0; i < 2; ++i) {
-    const toml::node& item = *storeys_array->get(i);
+    const toml::node& item = (*storeys_array)[i];
     if (!item.is_integer() || *item.value<std::int64_t>() < 1) {
       model_table.fail("storeys", "each entry must be an integer ≥ 1");
     }
@@ -454,12 +454,12 @@ Model read_physical(TableReader& top) {
     for (TableReader& o : gaps.tables("override")) {
       const toml::node& pair_node = o.require("frames");
       const toml::array* pair = pair_node.as_array();
-      if (pair == nullptr || pair->size() != 2 || !pair->get(0)->is_integer() ||
-          !pair->get(1)->is_integer()) {
+      if (pair == nullptr || pair->size() != 2 || !(*pair)[0].is_integer() ||
+          !(*pair)[1].is_integer()) {
         o.fail("frames", "expected two neighbouring frame numbers, e.g. [1, 2]");
       }
-      const auto left = *pair->get(0)->value<std::int64_t>();
-      const auto right = *pair->get(1)->value<std::int64_t>();
+      const auto left = *(*pair)[0].value<std::int64_t>();
+      const auto right = *(*pair)[1].value<std::int64_t>();
       if (right != left + 1 || left < 1 || right > static_cast<std::int64_t>(frames.size())) {
         o.fail("frames", fmt::format("[{}, {}] are not neighbouring frames of the {} in the model",
                                      left, right, frames.size()));
@@ -536,7 +536,11 @@ void read_excitation(TableReader& t, const Model& model, const std::filesystem::
     std::filesystem::path path(file);
     if (path.is_relative()) path = base_dir / path;
     info.record_file = path;
-    run.excitation = read_two_column_record(path, info.record_scale * unit);
+    try {
+      run.excitation = read_two_column_record(path, info.record_scale * unit);
+    } catch (const InputError& e) {
+      t.fail("file", e.what());
+    }
   } else {
     run.excitation = NoExcitation{};
   }

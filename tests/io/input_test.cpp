@@ -1,0 +1,268 @@
+// Reading model files: the two forms, overrides, and a clear message for every bad input.
+
+#include "poundsim/io/input.hpp"
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+
+#include <gtest/gtest.h>
+
+#include "poundsim/error.hpp"
+
+namespace poundsim::io {
+namespace {
+
+const std::string kDimensionless = R"(title = "test"
+[model]
+storeys = [1, 3]
+[model.dimensionless]
+lambda2 = 200.0
+alpha = 0.25
+beta = 1.0
+gamma = 0.5
+xi = 0.05
+delta = 0.25
+eta = 0.125
+mu = 1.0
+epsilon = 0.5
+restitution = 0.75
+[excitation]
+kind = "harmonic"
+amplitude_g = 0.2
+ratio = 0.8
+[analysis]
+kind = "time_history"
+duration = 2.0
+dt = 0.001
+)";
+
+const std::string kPhysical = R"([[frames]]
+mass = 2.0e5
+stiffness = [4.0e7, 3.0e7]
+damping = 1.0e5
+[[frames]]
+storeys = 1
+mass = 1.0e5
+stiffness = 1.0e7
+damping_ratio = 0.05
+[gap_elements]
+gap = 0.02
+restitution = 0.65
+[excitation]
+kind = "none"
+[analysis]
+kind = "time_history"
+duration = 1
+dt = 0.002
+output_dt = 0.01
+separation = "force"
+)";
+
+RunInput read(const std::string& text, std::vector<std::string> overrides = {}) {
+  return read_input_string(text, "model.toml", ".", overrides);
+}
+
+/// The message of the InputError that reading `text` throws.
+std::string error_of(const std::string& text, std::vector<std::string> overrides = {}) {
+  try {
+    read(text, std::move(overrides));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+std::string replace(std::string text, const std::string& from, const std::string& to) {
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+TEST(InputDimensionless, MapsToThePhysicalModel) {
+  const RunInput in = read(kDimensionless);
+  ASSERT_EQ(in.model.frame_count(), 2);
+  EXPECT_EQ(in.model.frames[1].storeys(), 3);
+  EXPECT_EQ(in.model.gap_count(), 1);
+  EXPECT_DOUBLE_EQ(in.model.frames[0].stiffness[0], 200.0);
+  EXPECT_DOUBLE_EQ(in.model.frames[1].stiffness[2], 50.0);
+  EXPECT_DOUBLE_EQ(in.model.gaps[0].properties.gap, 0.25 * 9.81 / 200);
+  const auto& h = std::get<HarmonicExcitation>(in.excitation);
+  EXPECT_DOUBLE_EQ(h.amplitude, 0.2 * 9.81);
+  EXPECT_DOUBLE_EQ(h.omega, 0.8 * std::sqrt(200.0));
+  EXPECT_DOUBLE_EQ(in.analysis.output_dt, 0.001);  // default: every step
+  EXPECT_DOUBLE_EQ(in.analysis.options.event_tolerance, 1e-10);
+  EXPECT_EQ(in.analysis.options.separation, SeparationCriterion::displacement);
+}
+
+TEST(InputPhysical, BroadcastsScalarsAndConvertsDampingRatio) {
+  const RunInput in = read(kPhysical);
+  ASSERT_EQ(in.model.frames[0].storeys(), 2);
+  EXPECT_EQ(in.model.frames[0].mass, (std::vector<double>{2.0e5, 2.0e5}));
+  EXPECT_EQ(in.model.frames[0].damping, (std::vector<double>{1.0e5, 1.0e5}));
+  const Frame& f2 = in.model.frames[1];
+  EXPECT_NEAR(f2.damping[0] / (2 * f2.mass[0] * std::sqrt(1.0e7 / 1.0e5)), 0.05, 1e-14);
+  EXPECT_DOUBLE_EQ(in.model.gaps[0].properties.restitution, 0.65);
+  EXPECT_EQ(in.analysis.options.separation, SeparationCriterion::force);
+  EXPECT_TRUE(std::holds_alternative<NoExcitation>(in.excitation));
+}
+
+TEST(InputPhysical, OverridesOfSingleElements) {
+  const std::string text = R"([[frames]]
+mass = 1
+stiffness = 100
+damping = 0
+storeys = 2
+[[frames]]
+mass = 1
+stiffness = 100
+damping = 0
+storeys = 2
+[gap_elements]
+gap = 0.01
+restitution = 1.0
+[[gap_elements.override]]
+frames = [1, 2]
+floor = 2
+gap = 0.03
+stiffness = 10
+shortening = 0.01
+[excitation]
+kind = "none"
+[analysis]
+kind = "time_history"
+duration = 1
+dt = 0.01
+)";
+  const RunInput in = read(text);
+  EXPECT_DOUBLE_EQ(in.model.gaps[0].properties.gap, 0.01);
+  EXPECT_DOUBLE_EQ(in.model.gaps[1].properties.gap, 0.03);
+  EXPECT_DOUBLE_EQ(in.model.gaps[1].properties.restitution, 1.0);  // inherited
+  EXPECT_NE(error_of(replace(text, "floor = 2", "floor = 3")).find("share floors 1..2"),
+            std::string::npos);
+}
+
+TEST(InputHarmonic, RatioOmegaAndHertzAgree) {
+  const double w1 = std::sqrt(200.0);
+  const auto omega = [](const RunInput& in) { return std::get<HarmonicExcitation>(in.excitation).omega; };
+  EXPECT_DOUBLE_EQ(omega(read(replace(kDimensionless, "ratio = 0.8", "omega = 11.0"))), 11.0);
+  EXPECT_DOUBLE_EQ(omega(read(replace(kDimensionless, "ratio = 0.8", "frequency_hz = 2.0"))),
+                   4 * std::numbers::pi);
+  EXPECT_DOUBLE_EQ(omega(read(kDimensionless)), 0.8 * w1);
+  EXPECT_NE(error_of(replace(kDimensionless, "ratio = 0.8", "ratio = 0.8\nomega = 3")).find("exactly one"),
+            std::string::npos);
+}
+
+TEST(InputOverrides, SetReplacesAndCreatesKeys) {
+  const RunInput in = read(kDimensionless, {"model.dimensionless.eta=0.5", "analysis.separation=force",
+                                            "analysis.output_dt=0.01"});
+  EXPECT_DOUBLE_EQ(in.model.gaps[0].properties.stiffness, 0.5 * 200);
+  EXPECT_EQ(in.analysis.options.separation, SeparationCriterion::force);
+  EXPECT_DOUBLE_EQ(in.analysis.output_dt, 0.01);
+  const RunInput phys = read(kPhysical, {"frames[2].mass=3.0e5"});
+  EXPECT_DOUBLE_EQ(phys.model.frames[1].mass[0], 3.0e5);
+}
+
+TEST(InputOverrides, BadOverridesNameTheSetOption) {
+  EXPECT_NE(error_of(kDimensionless, {"analysis.bogus=1"}).find("--set analysis.bogus=1"),
+            std::string::npos);
+  EXPECT_NE(error_of(kDimensionless, {"analysis.bogus=1"}).find("unknown key"), std::string::npos);
+  EXPECT_NE(error_of(kDimensionless, {"analysis.dt=-1"}).find("--set analysis.dt=-1: analysis.dt: must be > 0"),
+            std::string::npos);
+  EXPECT_NE(error_of(kDimensionless, {"novalue"}).find("expected key=value"), std::string::npos);
+  EXPECT_NE(error_of(kPhysical, {"frames[3].mass=1"}).find("only 2"), std::string::npos);
+  EXPECT_NE(error_of(kDimensionless, {"title.x=1"}).find("not a table"), std::string::npos);
+}
+
+struct BadInput {
+  const char* name;
+  std::string text;
+  const char* expected;  ///< A regular expression the message must match.
+};
+
+class InputErrors : public ::testing::TestWithParam<BadInput> {};
+
+TEST_P(InputErrors, MessageNamesTheFileTheKeyAndTheLine) {
+  const BadInput& c = GetParam();
+  const std::string message = error_of(c.text);
+  EXPECT_TRUE(std::regex_search(message, std::regex(c.expected))) << message;
+  EXPECT_EQ(message.rfind("model.toml", 0), 0u) << message;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, InputErrors,
+    ::testing::Values(
+        BadInput{"MissingKey", replace(kDimensionless, "eta = 0.125\n", ""),
+                 R"(^model\.toml:4:1: model\.dimensionless\.eta: missing key$)"},
+        BadInput{"UnknownKey", replace(kDimensionless, "dt = 0.001", "dt = 0.001\nstep = 2"),
+                 R"(^model\.toml:23:\d+: analysis\.step: unknown key for kind = "time_history"$)"},
+        BadInput{"UnknownTopLevelKey", kDimensionless + "\n[outputs]\nx = 1\n",
+                 R"(^model\.toml:2\d:1: outputs: unknown key$)"},
+        BadInput{"WrongType", replace(kDimensionless, "dt = 0.001", "dt = \"fast\""),
+                 R"(^model\.toml:22:6: analysis\.dt: expected a number, got a string$)"},
+        BadInput{"NonPositiveMass", replace(kPhysical, "mass = 2.0e5", "mass = [2.0e5, 0.0]"),
+                 R"(^model\.toml:2:\d+: frames\[1\]\.mass: floor 2: must be > 0 \(got 0\)$)"},
+        BadInput{"NegativeMassDimensionless", replace(kDimensionless, "beta = 1.0", "beta = -1.0"),
+                 R"(model\.dimensionless\.beta: must be > 0 \(got -1\))"},
+        BadInput{"NonPositiveStiffness", replace(kPhysical, "stiffness = 1.0e7", "stiffness = -1.0e7"),
+                 R"(^model\.toml:8:\d+: frames\[2\]\.stiffness: storey 1: must be > 0)"},
+        BadInput{"NegativeDamping", replace(kPhysical, "damping = 1.0e5", "damping = -3"),
+                 R"(frames\[1\]\.damping: storey 1: must be ≥ 0 \(got -3\))"},
+        BadInput{"NegativeXi", replace(kDimensionless, "xi = 0.05", "xi = -0.05"),
+                 R"(:9:\d+: model\.dimensionless\.xi: must be ≥ 0)"},
+        BadInput{"RestitutionAboveOne", replace(kDimensionless, "restitution = 0.75", "restitution = 1.5"),
+                 R"(model\.dimensionless\.restitution: must be in \[0, 1\] \(got 1\.5\))"},
+        BadInput{"RestitutionBelowZero", replace(kPhysical, "restitution = 0.65", "restitution = -0.1"),
+                 R"(:12:\d+: gap_elements\.restitution: must be in \[0, 1\])"},
+        BadInput{"ZeroStep", replace(kDimensionless, "dt = 0.001", "dt = 0.0"),
+                 R"(:22:\d+: analysis\.dt: must be > 0 \(got 0\))"},
+        BadInput{"NegativeStep", replace(kDimensionless, "dt = 0.001", "dt = -0.001"),
+                 R"(analysis\.dt: must be > 0)"},
+        BadInput{"SyntaxError", replace(kDimensionless, "alpha = 0.25", "alpha = = 0.25"),
+                 R"(^model\.toml:6:\d+: )"},
+        BadInput{"BothForms", kDimensionless + "[[frames]]\nmass = 1\nstiffness = 1\ndamping = 0\n",
+                 R"(frames: give either \[model\])"},
+        BadInput{"NoStructure", "[analysis]\nkind = \"time_history\"\n",
+                 R"(missing the structure)"},
+        BadInput{"UnknownKind", replace(kDimensionless, "kind = \"harmonic\"", "kind = \"sine\""),
+                 R"(excitation\.kind: "sine" is not one of: "harmonic", "record", "none")"},
+        BadInput{"KeyOfAnotherKind", replace(kDimensionless, "kind = \"harmonic\"", "kind = \"none\""),
+                 R"(excitation\.amplitude_g: unknown key for kind = "none")"},
+        BadInput{"OutputNotAMultiple", replace(kDimensionless, "dt = 0.001", "dt = 0.001\noutput_dt = 0.0015"),
+                 R"(analysis\.output_dt: 0\.0015 s must be a positive multiple of dt)"},
+        BadInput{"SpringWithoutStroke", replace(kDimensionless, "epsilon = 0.5", "epsilon = 0.0"),
+                 R"(model\.dimensionless\.epsilon: is 0 but eta or mu is not)"},
+        BadInput{"ThreeFramesDimensionless", replace(kDimensionless, "storeys = [1, 3]", "storeys = [1, 3, 2]"),
+                 R"(model\.storeys: the dimensionless form describes two frames)"},
+        BadInput{"DampingTwice", replace(kPhysical, "damping_ratio = 0.05", "damping_ratio = 0.05\ndamping = 1"),
+                 R"(frames\[2\]: give either damping or damping_ratio)"},
+        BadInput{"MissingRecordFile",
+                 replace(replace(kDimensionless, "kind = \"harmonic\"\namplitude_g = 0.2\nratio = 0.8",
+                                 "kind = \"record\"\nfile = \"no_such_record.txt\""), "", ""),
+                 R"(^model\.toml:17:\d+: excitation\.file: \./no_such_record\.txt: cannot open the record file$)"},
+        BadInput{"InitialOverlap", kPhysical + "[initial]\ndisplacement = [[0.05, 0.0], [0.0]]\n",
+                 R"(initial\.displacement: frames 1 and 2 overlap at floor 1)"},
+        BadInput{"InitialWrongShape", kPhysical + "[initial]\nvelocity = [[0.05], [0.0]]\n",
+                 R"(initial\.velocity: frame 1 has 2 floors, 1 values given)"}),
+    [](const ::testing::TestParamInfo<BadInput>& p) { return p.param.name; });
+
+TEST(InputRecord, ReadsAndScalesARecordBesideTheModel) {
+  const auto dir = std::filesystem::temp_directory_path() / "poundsim_input_record";
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream f(dir / "quake.txt");
+    f << "# time [s], acceleration [g]\n0.0 0.0\n0.01, 0.1\n0.02 -0.2\n";
+  }
+  const std::string text = replace(kDimensionless, "kind = \"harmonic\"\namplitude_g = 0.2\nratio = 0.8",
+                                   "kind = \"record\"\nfile = \"quake.txt\"\nscale = 2.0");
+  const RunInput in = read_input_string(text, "model.toml", dir);
+  const auto& r = std::get<RecordExcitation>(in.excitation);
+  ASSERT_EQ(r.time.size(), 3u);
+  EXPECT_DOUBLE_EQ(r.acceleration[2], -0.2 * 2.0 * 9.81);
+  EXPECT_DOUBLE_EQ(ground_acceleration(in.excitation, 0.015), 0.5 * (0.1 - 0.2) * 2.0 * 9.81);
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace poundsim::io

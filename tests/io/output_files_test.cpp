@@ -1,0 +1,79 @@
+#include "poundsim/io/output_files.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+
+namespace poundsim::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::size_t entries(const fs::path& dir) {
+  return static_cast<std::size_t>(std::distance(fs::directory_iterator(dir), fs::directory_iterator{}));
+}
+
+TEST(OutputTransaction, FilesAppearOnlyOnCommit) {
+  const fs::path dir = fs::temp_directory_path() / "poundsim_output_commit";
+  fs::remove_all(dir);
+  {
+    OutputTransaction out(dir);
+    out.open("a.csv").print("x,{}\n", 1.5);
+    out.open("b.json").text("{}\n");
+    EXPECT_FALSE(fs::exists(dir / "a.csv"));
+    out.commit();
+  }
+  std::ifstream in(dir / "a.csv");
+  std::stringstream s;
+  s << in.rdbuf();
+  EXPECT_EQ(s.str(), "x,1.5\n");
+  EXPECT_EQ(entries(dir), 2u);
+  fs::remove_all(dir);
+}
+
+TEST(OutputTransaction, AbandonedRunLeavesNothing) {
+  const fs::path dir = fs::temp_directory_path() / "poundsim_output_abandon";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "a.csv") << "previous\n";
+  try {
+    OutputTransaction out(dir);
+    OutputFile& f = out.open("a.csv");
+    for (int i = 0; i < 100000; ++i) f.print("{},{}\n", i, 0.1 * i);  // flushes to the temporary
+    throw std::runtime_error("the simulation failed");
+  } catch (const std::runtime_error&) {
+  }
+  std::ifstream in(dir / "a.csv");
+  std::stringstream s;
+  s << in.rdbuf();
+  EXPECT_EQ(s.str(), "previous\n");
+  EXPECT_EQ(entries(dir), 1u);  // no temporary left
+  fs::remove_all(dir);
+}
+
+TEST(OutputFile, NumbersReadBackExactly) {
+  const fs::path dir = fs::temp_directory_path() / "poundsim_output_numbers";
+  fs::remove_all(dir);
+  const double values[] = {0.1, 1.0 / 3.0, -2.5e-300, 6.02214076e23, 0.0};
+  {
+    OutputTransaction out(dir);
+    OutputFile& f = out.open("n.txt");
+    for (const double v : values) {
+      f.number(v);
+      f.character('\n');
+    }
+    out.commit();
+  }
+  std::ifstream in(dir / "n.txt");
+  for (const double v : values) {
+    std::string line;
+    std::getline(in, line);
+    EXPECT_EQ(std::stod(line), v) << line;
+  }
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace poundsim::io

@@ -1,0 +1,114 @@
+// Newmark on linear phases (no contact): closed-form free vibration and steady state.
+
+#include "poundsim/newmark.hpp"
+
+#include <cmath>
+#include <complex>
+#include <numbers>
+
+#include <Eigen/Dense>
+#include <gtest/gtest.h>
+
+#include "poundsim/simulator.hpp"
+#include "test_models.hpp"
+
+namespace poundsim {
+namespace {
+
+constexpr double kFar = 1e6;  // a gap no motion closes
+
+TEST(NewmarkFreeVibration, PeriodAndDecayMatchTheDampedOscillator) {
+  // u'' + 2ζω u' + ω² u = 0, u(0) = u0, u'(0) = 0.
+  const double m = 1.0, k = 400.0, zeta = 0.02, u0 = 0.01;
+  const double w = std::sqrt(k / m), wd = w * std::sqrt(1 - zeta * zeta);
+  const double c = 2 * zeta * m * w;
+  const Model model = make_model({make_uniform_frame(1, m, k, c)}, GapProperties{});
+  InitialConditions ic;
+  ic.displacement = {{u0}};
+  const double dt = 1e-4;
+  Simulator sim(model, NoExcitation{}, TimeHistoryOptions{.dt = dt}, ic);
+
+  const auto exact = [&](double t) {
+    return std::exp(-zeta * w * t) * (u0 * std::cos(wd * t) + zeta * w * u0 / wd * std::sin(wd * t));
+  };
+  // Upward zero crossings give the damped period.
+  std::vector<double> crossings;
+  double previous = sim.state().u(0), max_error = 0;
+  for (int n = 1; n <= 30000; ++n) {
+    sim.step();
+    const double u = sim.state().u(0);
+    max_error = std::max(max_error, std::abs(u - exact(sim.time())));
+    if (previous < 0 && u >= 0) {
+      crossings.push_back(sim.time() - dt * u / (u - previous));
+    }
+    previous = u;
+  }
+  ASSERT_GE(crossings.size(), 8u);
+  const double period = (crossings.back() - crossings.front()) / double(crossings.size() - 1);
+  const double td = 2 * std::numbers::pi / wd;
+  // Newmark's period elongation is (ωh)²/12 = 3.3e-7 here.
+  EXPECT_NEAR(period, td, 1e-6 * td);
+  EXPECT_LT(max_error, 2e-5 * u0);
+
+  // Decay over whole periods: u(t + n T_d) = exp(−ζ ω n T_d) u(t), exactly for the oscillator and
+  // without numerical damping for the average-acceleration method. Taken at peaks (ω_d t = kπ),
+  // where the small period error does not change u to first order.
+  Simulator decay(model, NoExcitation{}, TimeHistoryOptions{.dt = dt}, ic);
+  decay.advance_to(td);
+  const double first = decay.state().u(0);
+  decay.advance_to(6 * td);
+  const double ratio = decay.state().u(0) / first;
+  EXPECT_NEAR(std::log(ratio), -zeta * w * 5 * td, 1e-5 * zeta * w * 5 * td);
+}
+
+TEST(NewmarkSteadyState, MatchesTheClosedFormFrequencyResponse) {
+  // A 3-storey frame and a 2-storey neighbour far away under a_g = A sin(ω̄t): after the
+  // transient, u(t) = Im(U e^{iω̄t}) with (K − ω̄²M + iω̄C) U = −M 1 A.
+  const Frame f1 = make_uniform_frame(3, 1.0, 400.0, 1.0);
+  const Frame f2 = make_uniform_frame(2, 2.0, 300.0, 2.0);
+  const Model model = make_model({f1, f2}, GapProperties{.gap = kFar});
+  const double A = 0.2 * 9.81, omega = 0.9 * fundamental_frequency(f1);
+  Simulator sim(model, HarmonicExcitation{A, omega}, TimeHistoryOptions{.dt = 2e-4});
+
+  using Complex = std::complex<double>;
+  const auto amplitude = [&](const Frame& f) {
+    const Eigen::MatrixXd k = stiffness_matrix(f), c = damping_matrix(f);
+    const Eigen::VectorXd mass = Eigen::Map<const Eigen::VectorXd>(f.mass.data(), f.storeys());
+    Eigen::MatrixXcd dyn = k.cast<Complex>() - omega * omega * Eigen::MatrixXcd(mass.asDiagonal()) +
+                           Complex(0, omega) * c.cast<Complex>();
+    return Eigen::VectorXcd(dyn.partialPivLu().solve((-A * mass).cast<Complex>()));
+  };
+  const Eigen::VectorXcd u1 = amplitude(f1), u2 = amplitude(f2);
+
+  const double period = 2 * std::numbers::pi / omega;
+  sim.advance_to(200 * period);  // transient decays as exp(−ζω₁t) with ζω₁ ≈ 0.25 s⁻¹
+  double max_error = 0, scale = u1.cwiseAbs().maxCoeff();
+  for (int k = 0; k < 200; ++k) {
+    sim.advance_to((200 + k / 200.0) * period);
+    const Complex phase = std::exp(Complex(0, omega * sim.time()));
+    for (int i = 0; i < 3; ++i) {
+      max_error = std::max(max_error, std::abs(sim.state().u(sim.layout().dof(0, i)) - (u1(i) * phase).imag()));
+    }
+    for (int i = 0; i < 2; ++i) {
+      max_error = std::max(max_error, std::abs(sim.state().u(sim.layout().dof(1, i)) - (u2(i) * phase).imag()));
+    }
+  }
+  // Newmark's phase error after 200 periods, (ω̄h)²/12 · ω̄t ≈ 1e-5 rad, bounds the difference.
+  EXPECT_LT(max_error, 3e-5 * scale);
+  EXPECT_EQ(sim.statistics().events, 0);
+}
+
+TEST(NewmarkConvergence, LinearResponseIsSecondOrderInTheStep) {
+  const Model model = make_model({make_uniform_frame(2, 1.0, 300.0, 0.5)}, GapProperties{});
+  const auto run = [&](double dt) {
+    Simulator sim(model, HarmonicExcitation{2.0, 9.0}, TimeHistoryOptions{.dt = dt});
+    sim.advance_to(2.0);
+    return Eigen::VectorXd(sim.state().u);
+  };
+  const Eigen::VectorXd reference = run(1e-5);
+  const double e1 = (run(4e-3) - reference).norm(), e2 = (run(2e-3) - reference).norm();
+  EXPECT_NEAR(std::log2(e1 / e2), 2.0, 0.1);
+}
+
+}  // namespace
+}  // namespace poundsim
