@@ -62,12 +62,11 @@ void EnergyMeter::start(const KinematicState& x, const ContactConfiguration& con
   max_relative_residual_ = 0.0;
 }
 
-void EnergyMeter::step(const KinematicState& x0, const KinematicState& x1, double ground0,
-                       double ground1, const ContactConfiguration& config,
-                       std::span<const GapMemory> memory) {
+void EnergyMeter::step(const KinematicState& x0, const KinematicState& x1,
+                       const ContactConfiguration& config, std::span<const GapMemory> memory) {
   const double h = x1.t - x0.t;
   // Trapezoidal work of the ground motion: −Δuᵀ M 1 (a_g0 + a_g1)/2.
-  balance_.input -= 0.5 * (ground0 + ground1) * (x1.u - x0.u).dot(mass_);
+  balance_.input -= 0.5 * (x0.ground + x1.ground) * (x1.u - x0.u).dot(mass_);
   double storey = 0.0;
   for (Eigen::Index i = 0; i < x1.u.size(); ++i) {
     const int b = below_[static_cast<std::size_t>(i)];

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include "hermite_cubic.hpp"
 #include "poundsim/error.hpp"
 
 namespace poundsim {
@@ -14,18 +15,23 @@ namespace {
 bool any_fired(std::span<const double> g) {
   return std::any_of(g.begin(), g.end(), [](double x) { return x > 0.0; });
 }
+
+void copy(const GuardSample& from, GuardSample& to) {
+  std::copy(from.value.begin(), from.value.end(), to.value.begin());
+  std::copy(from.rate.begin(), from.rate.end(), to.rate.begin());
+}
 }  // namespace
 
-EventBracket locate_first_event(double lo, double hi, std::span<double> g_lo,
-                                std::span<double> g_hi, std::span<double> work, double tolerance,
-                                GuardEvaluator& evaluator, int max_iterations) {
+EventBracket locate_first_event(double lo, double hi, GuardSample at_lo, GuardSample at_hi,
+                                GuardSample work, double tolerance, GuardEvaluator& evaluator,
+                                int max_iterations) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
   EventBracket b{lo, hi, 0};
-  // Illinois weights of the two ends for the guard being followed; reset when it changes.
+  // Illinois weights of the two ends for a guard followed without rates; reset when it changes.
   int followed = -1;
   double weight_lo = 1.0, weight_hi = 1.0;
   int last_side = 0;  // +1: hi moved last time, −1: lo moved
-  double width_two_ago = std::numeric_limits<double>::infinity();
-  double width_one_ago = std::numeric_limits<double>::infinity();
+  double width_two_ago = inf, width_one_ago = inf;
 
   for (int iteration = 0; b.hi - b.lo > tolerance; ++iteration) {
     if (iteration >= max_iterations) {
@@ -35,14 +41,24 @@ EventBracket locate_first_event(double lo, double hi, std::span<double> g_lo,
     }
     const double width = b.hi - b.lo;
 
-    // The fired guard whose linear root estimate is earliest.
+    // The fired guard predicted to cross first, and where.
     int chosen = -1;
-    double earliest = std::numeric_limits<double>::infinity();
-    for (std::size_t j = 0; j < g_hi.size(); ++j) {
-      if (!(g_hi[j] > 0.0) || !std::isfinite(g_lo[j])) continue;
-      const double estimate = -g_lo[j] / (g_hi[j] - g_lo[j]);
-      if (estimate < earliest) {
-        earliest = estimate;
+    double earliest = inf;
+    for (std::size_t j = 0; j < at_hi.value.size(); ++j) {
+      const double g0 = at_lo.value[j], g1 = at_hi.value[j];
+      if (!(g1 > 0.0) || !std::isfinite(g0)) continue;
+      double theta = std::numeric_limits<double>::quiet_NaN();
+      const double d0 = at_lo.rate[j], d1 = at_hi.rate[j];
+      if (std::isfinite(d0) && std::isfinite(d1)) {
+        theta = detail::HermiteCubic(g0, d0, g1, d1, width).first_upward_root();
+      }
+      if (std::isnan(theta)) {
+        const double w0 = static_cast<int>(j) == followed ? weight_lo : 1.0;
+        const double w1 = static_cast<int>(j) == followed ? weight_hi : 1.0;
+        theta = -w0 * g0 / (w1 * g1 - w0 * g0);
+      }
+      if (theta < earliest) {
+        earliest = theta;
         chosen = static_cast<int>(j);
       }
     }
@@ -51,32 +67,32 @@ EventBracket locate_first_event(double lo, double hi, std::span<double> g_lo,
       weight_lo = weight_hi = 1.0;
     }
 
+    const double margin = 0.5 * tolerance;
     double tau;
     if (chosen < 0 || width > 0.5 * width_two_ago) {
-      tau = 0.5 * (b.lo + b.hi);  // no usable guard, or slow progress: bisect
-      width_two_ago = std::numeric_limits<double>::infinity();
-      width_one_ago = std::numeric_limits<double>::infinity();
+      tau = 0.5 * (b.lo + b.hi);  // no usable prediction, or slow progress: bisect
+      width_two_ago = width_one_ago = inf;
     } else {
-      const double glo = weight_lo * g_lo[chosen], ghi = weight_hi * g_hi[chosen];
-      tau = b.lo + width * (-glo / (ghi - glo));
+      // Step just past the prediction towards the end that has not moved, so that an accurate
+      // prediction lands on the other side of the root and closes the bracket.
+      tau = b.lo + earliest * width - 0.98 * margin * last_side;
     }
-    const double margin = 0.5 * tolerance;
     tau = std::clamp(tau, b.lo + margin, b.hi - margin);
 
     evaluator.evaluate(tau, work);
     ++b.evaluations;
     width_two_ago = width_one_ago;
     width_one_ago = width;
-    if (any_fired(work)) {
+    if (any_fired(work.value)) {
       b.hi = tau;
-      std::copy(work.begin(), work.end(), g_hi.begin());
+      copy(work, at_hi);
       evaluator.keep_trial_as_upper();
       weight_hi = 1.0;
       if (last_side == +1) weight_lo *= 0.5;  // lo is stale: Illinois halves its value
       last_side = +1;
     } else {
       b.lo = tau;
-      std::copy(work.begin(), work.end(), g_lo.begin());
+      copy(work, at_lo);
       weight_lo = 1.0;
       if (last_side == -1) weight_hi *= 0.5;
       last_side = -1;

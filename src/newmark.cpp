@@ -35,6 +35,7 @@ void NewmarkIntegrator::step(const LinearPhase& phase, const LinearPhase::Solver
   qdd_new = solver.solve(rhs);
 
   to.t = from.t + tau;
+  to.ground = ground_end;
   if (phase.is_unreduced()) {
     to.u = w2 + quarter_sq * qdd_new;
     to.v = qd + half * (qdd + qdd_new);
@@ -61,6 +62,7 @@ void NewmarkIntegrator::equilibrate(const LinearPhase& phase, double ground,
   rhs.noalias() -= phase.damping() * qd;
   rhs.noalias() -= phase.stiffness() * q;
   rhs.array() /= phase.mass().array();
+  state.ground = ground;
   if (phase.is_unreduced()) {
     state.a = rhs;
   } else {

@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "hermite_cubic.hpp"
 #include "poundsim/error.hpp"
 #include "poundsim/impact.hpp"
 
@@ -24,34 +25,6 @@ Model validated(Model model) {
   return model;
 }
 
-/// θ ∈ (0, 1) where the cubic Hermite interpolant of g on [0, τ] has its interior maximum, when
-/// g rises at the start and falls at the end; NaN otherwise. `value` receives the maximum.
-double hermite_interior_maximum(double g0, double d0, double g1, double d1, double tau,
-                                double& value) {
-  // p'(θ) = a θ² + b θ + c with the Hermite basis; p'(0) = τ d0 > 0, p'(1) = τ d1 < 0.
-  const double a = 6 * g0 + 3 * tau * d0 - 6 * g1 + 3 * tau * d1;
-  const double b = -6 * g0 - 4 * tau * d0 + 6 * g1 - 2 * tau * d1;
-  const double c = tau * d0;
-  double theta;
-  if (std::abs(a) < 1e-14 * (std::abs(b) + std::abs(c))) {
-    theta = -c / b;
-  } else {
-    const double disc = std::sqrt(std::max(0.0, b * b - 4 * a * c));
-    // The root where p' changes from + to −: stable form of the quadratic formula.
-    const double q = -0.5 * (b + std::copysign(disc, b));
-    const double r1 = q / a, r2 = c / q;
-    const auto derivative = [&](double x) { return (a * x + b) * x + c; };
-    const auto falls = [&](double x) {
-      return x > 0 && x < 1 && derivative(x - 1e-9) >= 0 && derivative(x + 1e-9) <= 0;
-    };
-    theta = falls(r1) ? r1 : (falls(r2) ? r2 : std::numeric_limits<double>::quiet_NaN());
-  }
-  if (!(theta > 0 && theta < 1)) return std::numeric_limits<double>::quiet_NaN();
-  const double t2 = theta * theta, t3 = t2 * theta;
-  value = (2 * t3 - 3 * t2 + 1) * g0 + (t3 - 2 * t2 + theta) * tau * d0 + (-2 * t3 + 3 * t2) * g1 +
-          (t3 - t2) * tau * d1;
-  return theta;
-}
 }  // namespace
 
 std::string_view to_string(EventKind kind) {
@@ -86,15 +59,12 @@ void TimeHistoryOptions::validate() const {
 class Simulator::TrialEvaluator final : public GuardEvaluator {
  public:
   explicit TrialEvaluator(Simulator& sim) : sim_(sim) {}
-  void evaluate(double tau, std::span<double> g) override {
+  void evaluate(double tau, GuardSample out) override {
     sim_.trial_step(tau, false, sim_.trial_);
-    sim_.evaluate_guards(sim_.trial_, g, sim_.dg_work_);
+    sim_.evaluate_guards(sim_.trial_, out.value, out.rate);
     ++sim_.stats_.guard_evaluations;
   }
-  void keep_trial_as_upper() override {
-    std::swap(sim_.trial_, sim_.upper_);
-    sim_.dg_hi_ = sim_.dg_work_;
-  }
+  void keep_trial_as_upper() override { std::swap(sim_.trial_, sim_.upper_); }
 
  private:
   Simulator& sim_;
@@ -163,6 +133,7 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
   memory_.assign(ng, GapMemory{});
   bias_.assign(ng, 0.0);
   stop_reaction_.assign(ng, 0.0);
+  stop_noise_.assign(ng, 0.0);
   link_in_.assign(static_cast<std::size_t>(n), 0.0);
   for (auto* g : {&g_lo_, &g_hi_, &g_work_, &dg_lo_, &dg_hi_, &dg_work_}) g->assign(2 * ng, 0.0);
   impacts_.reserve(ng);
@@ -181,7 +152,7 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
     apply_events(g_work_);
   }
   events_this_step_ = 0;
-  record_statistics(g_lo_);
+  record_statistics();
 }
 
 Simulator::~Simulator() = default;
@@ -209,7 +180,7 @@ double Simulator::gap_force(int p) const {
   const GapProperties& gp = model_.gaps[p].properties;
   const double rate = state_.v(gap_left_[p]) - state_.v(gap_right_[p]);
   const double force = contact_force(gp, shortening(p), rate);
-  return config_[p] == GapMode::locked ? force - g_lo_[2 * static_cast<std::size_t>(p)] : force;
+  return config_[p] == GapMode::locked ? force + stop_reaction_[static_cast<std::size_t>(p)] : force;
 }
 
 double Simulator::base_shear(int f) const {
@@ -268,8 +239,8 @@ void Simulator::integrate_to(double t_end, bool nominal) {
       return;
     }
     TrialEvaluator evaluator(*this);
-    locate_first_event(0.0, upper_.t - state_.t, g_lo_, g_hi_, g_work_, options_.event_tolerance,
-                       evaluator);
+    locate_first_event(0.0, upper_.t - state_.t, {g_lo_, dg_lo_}, {g_hi_, dg_hi_},
+                       {g_work_, dg_work_}, options_.event_tolerance, evaluator);
     accept(upper_, g_hi_);
     g_work_ = g_lo_;
     apply_events(g_work_);
@@ -283,19 +254,21 @@ void Simulator::integrate_to(double t_end, bool nominal) {
 }
 
 bool Simulator::find_grazing(double tau) {
-  // A displacement guard that rises and falls inside the step without crossing at the ends:
-  // check the interior maximum of its cubic Hermite interpolant, then the Newmark sub-step there.
+  // A guard that rises and falls inside the step without crossing at the ends: check the interior
+  // maximum of its cubic Hermite model, then the Newmark sub-step there.
   double best_theta = 2.0;
   for (std::size_t j = 0; j < g_hi_.size(); ++j) {
     if (!(g_lo_[j] <= 0 && g_hi_[j] <= 0 && dg_lo_[j] > 0 && dg_hi_[j] < 0)) continue;
     if (g_lo_[j] == kInactive) continue;
-    double peak = 0.0;
-    const double theta = hermite_interior_maximum(g_lo_[j], dg_lo_[j], g_hi_[j], dg_hi_[j], tau, peak);
-    if (theta > 0 && peak > 0) best_theta = std::min(best_theta, theta);
+    const detail::HermiteCubic cubic(g_lo_[j], dg_lo_[j], g_hi_[j], dg_hi_[j], tau);
+    for (const double theta : cubic.critical_points()) {
+      if (theta > 0 && cubic(theta) > 0 && cubic.slope(theta - 1e-9) > 0) {
+        best_theta = std::min(best_theta, theta);
+      }
+    }
   }
   if (best_theta >= 1.0) return false;
-  const double tau_peak = best_theta * tau;
-  trial_step(tau_peak, false, trial_);
+  trial_step(best_theta * tau, false, trial_);
   evaluate_guards(trial_, g_work_, dg_work_);
   ++stats_.guard_evaluations;
   if (!any_positive(g_work_)) return false;
@@ -307,6 +280,10 @@ bool Simulator::find_grazing(double tau) {
 
 void Simulator::evaluate_guards(const KinematicState& x, std::span<double> g,
                                 std::span<double> dg) {
+  // Each guard is its value minus its round-off level: a guard within a few ulps of zero is zero,
+  // and zero does not fire. Without this floor, a guard that stays at zero for a while (a pair
+  // released with ṡ = 0 at the stop) would flicker in the last bit and stall event location.
+  constexpr double kNoise = 8 * std::numeric_limits<double>::epsilon();
   if (phase_ && !phase_->is_unreduced()) compute_stop_reactions(x);
   const bool force_criterion = options_.separation == SeparationCriterion::force;
   for (std::size_t p = 0; p < config_.size(); ++p) {
@@ -314,31 +291,34 @@ void Simulator::evaluate_guards(const KinematicState& x, std::span<double> g,
     const int l = gap_left_[p], r = gap_right_[p];
     const double s = x.u(l) - x.u(r) - gp.gap;
     const double rate = x.v(l) - x.v(r);
+    const double s_noise = kNoise * (std::abs(x.u(l)) + std::abs(x.u(r)) + gp.gap + gp.shortening);
     const std::size_t j = 2 * p;
     switch (config_[p]) {
       case GapMode::open: {
         const double se = memory_[p].free_end_shortening(x.t, gp.stiffness, gp.damping);
         const double se_rate = gp.damping > 0 ? -gp.stiffness / gp.damping * se : 0.0;
-        g[j] = s - se - bias_[p];
+        g[j] = s - se - bias_[p] - s_noise;
         dg[j] = rate - se_rate;
         g[j + 1] = kInactive;
         dg[j + 1] = 0.0;
         break;
       }
       case GapMode::contact:
-        g[j] = s - gp.shortening - bias_[p];
+        g[j] = s - gp.shortening - bias_[p] - s_noise;
         dg[j] = rate;
         if (force_criterion) {
           const double accel = x.a(l) - x.a(r);
-          g[j + 1] = -contact_force(gp, s, rate);
+          const double f_noise =
+              kNoise * (gp.damping * (std::abs(x.v(l)) + std::abs(x.v(r))) + gp.stiffness * s_noise / kNoise);
+          g[j + 1] = -contact_force(gp, s, rate) - f_noise;
           dg[j + 1] = -(gp.damping * accel + gp.stiffness * rate);
         } else {
-          g[j + 1] = -s;
+          g[j + 1] = -s - s_noise;
           dg[j + 1] = -rate;
         }
         break;
       case GapMode::locked:
-        g[j] = -stop_reaction_[p];
+        g[j] = -stop_reaction_[p] - stop_noise_[p];
         dg[j] = std::numeric_limits<double>::quiet_NaN();
         g[j + 1] = kInactive;
         dg[j + 1] = 0.0;
@@ -350,15 +330,27 @@ void Simulator::evaluate_guards(const KinematicState& x, std::span<double> g,
 void Simulator::compute_stop_reactions(const KinematicState& x) {
   // The force on a floor that the links must supply: f = f_S − m a_g − C u̇ − K u − m ü. Sweeping
   // each chain of locked elements from the left gives λ_out = f + λ_in.
-  const double ground = ground_acceleration(excitation_, x.t);
+  constexpr double kNoise = 8 * std::numeric_limits<double>::epsilon();
+  const double ground = x.ground;
   const Eigen::VectorXd& m = phase_->full_mass();
+  const LinearPhase::SparseMatrix& c = phase_->full_damping();
+  const LinearPhase::SparseMatrix& k = phase_->full_stiffness();
   for (std::size_t p = 0; p < config_.size(); ++p) {
     if (config_[p] != GapMode::locked) continue;
     const int l = gap_left_[p];
-    const double f = phase_->full_constant_load()(l) - m(l) * ground -
-                     phase_->full_damping().col(l).dot(x.v) -
-                     phase_->full_stiffness().col(l).dot(x.u) - m(l) * x.a(l);
+    const double load = phase_->full_constant_load()(l);
+    double f = load - m(l) * (ground + x.a(l));
+    double magnitude = std::abs(load) + m(l) * (std::abs(ground) + std::abs(x.a(l)));
+    for (LinearPhase::SparseMatrix::InnerIterator it(c, l); it; ++it) {  // symmetric: column = row
+      f -= it.value() * x.v(it.row());
+      magnitude += std::abs(it.value() * x.v(it.row()));
+    }
+    for (LinearPhase::SparseMatrix::InnerIterator it(k, l); it; ++it) {
+      f -= it.value() * x.u(it.row());
+      magnitude += std::abs(it.value() * x.u(it.row()));
+    }
     stop_reaction_[p] = f + link_in_[l];
+    stop_noise_[p] = kNoise * (magnitude + std::abs(link_in_[l]));
     link_in_[gap_right_[p]] = stop_reaction_[p];
   }
   for (std::size_t p = 0; p < config_.size(); ++p) {
@@ -367,22 +359,22 @@ void Simulator::compute_stop_reactions(const KinematicState& x) {
 }
 
 void Simulator::accept(KinematicState& next, std::span<const double> guards) {
-  energy_.step(state_, next, ground_acceleration(excitation_, state_.t),
-               ground_acceleration(excitation_, next.t), config_, memory_);
+  energy_.step(state_, next, config_, memory_);
   const double h = next.t - state_.t;
   for (std::size_t p = 0; p < config_.size(); ++p) {
     if (config_[p] == GapMode::locked) stats_.gaps[p].locked_time += h;
   }
   std::swap(state_, next);
+  // Trial evaluations after this state's (grazing checks) may have overwritten λ.
+  if (!phase_->is_unreduced()) compute_stop_reactions(state_);
   std::copy(guards.begin(), guards.end(), g_lo_.begin());
   dg_lo_ = dg_hi_;
   ++stats_.substeps;
-  record_statistics(g_lo_);
+  record_statistics();
 }
 
-void Simulator::record_statistics(std::span<const double> guards) {
-  const double t = state_.t;
-  const double ground = ground_acceleration(excitation_, t);
+void Simulator::record_statistics() {
+  const double t = state_.t, ground = state_.ground;
   for (int i = 0; i < layout_.size(); ++i) {
     FloorResponse& fr = stats_.floors[static_cast<std::size_t>(i)];
     fr.displacement.update(state_.u(i), t);
@@ -401,7 +393,7 @@ void Simulator::record_statistics(std::span<const double> guards) {
     const int l = gap_left_[p], r = gap_right_[p];
     const double s = state_.u(l) - state_.u(r) - gp.gap;
     double force = contact_force(gp, s, state_.v(l) - state_.v(r));
-    if (config_[p] == GapMode::locked) force -= guards[2 * p];
+    if (config_[p] == GapMode::locked) force += stop_reaction_[p];
     stats_.gaps[p].force.update(force, t);
     if (s > 0) stats_.gaps[p].shortening.update(s, t);
   }

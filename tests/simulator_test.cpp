@@ -43,7 +43,7 @@ TEST(SimulatorImpacts, ElasticImpactsConserveEnergyAndMomentum) {
   EXPECT_GT(impacts, 20);
   EXPECT_LT(worst_energy, 1e-9);
   EXPECT_LT(worst_momentum, 1e-14);
-  EXPECT_NEAR(sim.energy().impact_loss, 0.0, 1e-15 * e0);
+  EXPECT_NEAR(sim.energy().impact_loss, 0.0, 1e-14 * e0);  // round-off of ΔT over the impacts
 }
 
 TEST(SimulatorImpacts, FirstContactTimeMatchesTheClosedForm) {

@@ -50,9 +50,9 @@ class EnergyMeter {
   void start(const KinematicState& x, const ContactConfiguration& config,
              std::span<const GapMemory> memory);
 
-  /// Adds one Newmark (sub-)step from x0 to x1 taken in the phase `config`; a_g at both ends.
-  void step(const KinematicState& x0, const KinematicState& x1, double ground0, double ground1,
-            const ContactConfiguration& config, std::span<const GapMemory> memory);
+  /// Adds one Newmark (sub-)step from x0 to x1 taken in the phase `config`.
+  void step(const KinematicState& x0, const KinematicState& x1, const ContactConfiguration& config,
+            std::span<const GapMemory> memory);
 
   /// Re-evaluates the stored terms after an event changed the state without a step.
   void refresh(const KinematicState& x, const ContactConfiguration& config,

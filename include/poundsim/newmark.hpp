@@ -24,6 +24,7 @@ namespace poundsim {
 /// ground, in the DofLayout numbering, at time t [s].
 struct KinematicState {
   double t = 0.0;
+  double ground = 0.0;  ///< a_g(t) [m/s²] that the accelerations balance.
   Eigen::VectorXd u, v, a;
 
   void resize(Eigen::Index n) {

@@ -175,7 +175,7 @@ class Simulator {
   void settle_after_events();
   /// Reports an event; velocities after are read from the current state.
   void emit(int gap, EventKind kind, double left_before, double right_before, double impulse);
-  void record_statistics(std::span<const double> guards);
+  void record_statistics();
   void set_impact_biases();
   [[nodiscard]] bool is_rigid(int p) const;
 
@@ -189,6 +189,7 @@ class Simulator {
   std::vector<GapMemory> memory_;
   std::vector<double> bias_;          ///< Hysteresis of each element's contact/impact guard [m].
   std::vector<double> stop_reaction_; ///< λ of locked elements at the last guard evaluation [N].
+  std::vector<double> stop_noise_;    ///< Round-off level of each λ [N].
   std::vector<double> link_in_;       ///< Scratch for the chain sweep of stop reactions.
 
   std::vector<double> link_length_;   ///< u_L − u_R of each locked element when it locked [m].

@@ -1,0 +1,102 @@
+// The time-stepping loop allocates nothing: steps between events reuse the factorisation of
+// their phase and preallocated work vectors. Counted by interposing malloc (glibc).
+
+#include <atomic>
+#include <cstddef>
+#include <cstdlib>
+
+#include <gtest/gtest.h>
+
+#include "poundsim/simulator.hpp"
+#include "test_models.hpp"
+
+extern "C" {
+void* __libc_malloc(std::size_t);
+void* __libc_calloc(std::size_t, std::size_t);
+void* __libc_realloc(void*, std::size_t);
+void* __libc_memalign(std::size_t, std::size_t);
+}
+
+namespace {
+std::atomic<bool> counting{false};
+std::atomic<long> allocations{0};
+void count() {
+  if (counting.load(std::memory_order_relaxed)) allocations.fetch_add(1, std::memory_order_relaxed);
+}
+}  // namespace
+
+extern "C" {
+void* malloc(std::size_t n) {
+  count();
+  return __libc_malloc(n);
+}
+void* calloc(std::size_t n, std::size_t size) {
+  count();
+  return __libc_calloc(n, size);
+}
+void* realloc(void* p, std::size_t n) {
+  count();
+  return __libc_realloc(p, n);
+}
+int posix_memalign(void** out, std::size_t alignment, std::size_t n) {
+  count();
+  *out = __libc_memalign(alignment, n);
+  return *out != nullptr ? 0 : 12;
+}
+void* aligned_alloc(std::size_t alignment, std::size_t n) {
+  count();
+  return __libc_memalign(alignment, n);
+}
+}
+
+namespace poundsim {
+namespace {
+
+long allocations_during(const std::function<void()>& work) {
+  allocations = 0;
+  counting = true;
+  work();
+  counting = false;
+  return allocations.load();
+}
+
+TEST(Allocation, CounterSeesEigenAndStandardAllocations) {
+  // The interposition works: a dynamic Eigen vector and a std::vector both count.
+  const long n = allocations_during([] {
+    Eigen::VectorXd v(1000);
+    std::vector<int> w(10);
+    v.setZero();
+    EXPECT_EQ(v.sum() + static_cast<double>(w.size()), 10.0);
+  });
+  EXPECT_GE(n, 2);
+}
+
+TEST(Allocation, StepsWithoutEventsAllocateNothing) {
+  DimensionlessParameters p = testing::fig2('c');
+  p.delta = 1e6;  // never closes
+  const Model model = make_model(p, {20, 20});
+  Simulator sim(model, testing::harmonic(model, 0.2, 0.8), TimeHistoryOptions{.dt = 1e-3});
+  sim.advance_to(0.1);
+  const long n = allocations_during([&] {
+    for (int k = 0; k < 2000; ++k) sim.step();
+  });
+  EXPECT_EQ(sim.statistics().events, 0);
+  EXPECT_EQ(n, 0);
+}
+
+TEST(Allocation, StepsInALockedPhaseAllocateNothing) {
+  // Reduced coordinates, stop reactions and their guards are evaluated every step.
+  const Model model =
+      testing::two_oscillators(1, 25, 1, 1, 400, 4, GapProperties{.gap = 0.02, .restitution = 0.5});
+  Simulator sim(model, RecordExcitation{{0.0, 1000.0}, {-2.0, -2.0}, "constant"},
+                TimeHistoryOptions{.dt = 1e-3});
+  sim.advance_to(20.0);
+  ASSERT_EQ(sim.configuration()[0], GapMode::locked);
+  const auto events = sim.statistics().events;
+  const long n = allocations_during([&] { sim.advance_to(30.0); });
+  EXPECT_EQ(sim.statistics().events, events);
+  EXPECT_EQ(n, 0);
+}
+
+}  // namespace
+}  // namespace poundsim
