@@ -59,7 +59,7 @@ void EnergyMeter::start(const KinematicState& x, const ContactConfiguration& con
   update_stored(x, config, memory);
   balance_.initial = balance_.kinetic + balance_.storey_strain + balance_.gap_strain;
   scale_ = std::abs(balance_.initial);
-  max_relative_residual_ = 0.0;
+  max_residual_ = 0.0;
 }
 
 void EnergyMeter::step(const KinematicState& x0, const KinematicState& x1,
@@ -76,23 +76,61 @@ void EnergyMeter::step(const KinematicState& x0, const KinematicState& x1,
   balance_.storey_damping += h * storey;
   double gap = 0.0;
   for (std::size_t p = 0; p < config.size(); ++p) {
-    const GapProperties& g = model_->gaps[p].properties;
-    if (config[p] == GapMode::open) {
-      // A relaxing element dissipates exactly what its spring releases.
-      const double s0 = memory[p].free_end_shortening(x0.t, g.stiffness, g.damping);
-      const double s1 = memory[p].free_end_shortening(x1.t, g.stiffness, g.damping);
-      balance_.gap_damping += 0.5 * g.stiffness * (s0 * s0 - s1 * s1);
-    } else {
-      const int l = gap_left_[p], r = gap_right_[p];
-      const double rate = 0.5 * (x0.v(l) + x1.v(l) - x0.v(r) - x1.v(r));
-      gap += g.damping * rate * rate;
-    }
+    if (config[p] == GapMode::open) continue;
+    const int l = gap_left_[p], r = gap_right_[p];
+    const double rate = 0.5 * (x0.v(l) + x1.v(l) - x0.v(r) - x1.v(r));
+    gap += model_->gaps[p].properties.damping * rate * rate;
   }
   balance_.gap_damping += h * gap;
-  update_stored(x1, config, memory);
+  add_relaxation(x0, x1, config, memory);
+  finish_step(x1, config, memory);
+}
 
+EnergyMeter::Powers EnergyMeter::powers(const KinematicState& x,
+                                        const ContactConfiguration& config) const {
+  Powers p;
+  p.input = -x.ground * x.v.dot(mass_);
+  for (Eigen::Index i = 0; i < x.v.size(); ++i) {
+    const int b = below_[static_cast<std::size_t>(i)];
+    const double rate = x.v(i) - (b >= 0 ? x.v(b) : 0.0);
+    p.storey_damping += storey_c_(i) * rate * rate;
+  }
+  for (std::size_t e = 0; e < config.size(); ++e) {
+    if (config[e] == GapMode::open) continue;
+    const double rate = x.v(gap_left_[e]) - x.v(gap_right_[e]);
+    p.gap_damping += model_->gaps[e].properties.damping * rate * rate;
+  }
+  return p;
+}
+
+void EnergyMeter::step_with(const KinematicState& x0, const KinematicState& x1,
+                            const Powers& integrals, const ContactConfiguration& config,
+                            std::span<const GapMemory> memory) {
+  balance_.input += integrals.input;
+  balance_.storey_damping += integrals.storey_damping;
+  balance_.gap_damping += integrals.gap_damping;
+  add_relaxation(x0, x1, config, memory);
+  finish_step(x1, config, memory);
+}
+
+void EnergyMeter::add_relaxation(const KinematicState& x0, const KinematicState& x1,
+                                 const ContactConfiguration& config,
+                                 std::span<const GapMemory> memory) {
+  // A relaxing element dissipates exactly what its spring releases.
+  for (std::size_t p = 0; p < config.size(); ++p) {
+    if (config[p] != GapMode::open || memory[p].released_shortening == 0.0) continue;
+    const GapProperties& g = model_->gaps[p].properties;
+    const double s0 = memory[p].free_end_shortening(x0.t, g.stiffness, g.damping);
+    const double s1 = memory[p].free_end_shortening(x1.t, g.stiffness, g.damping);
+    balance_.gap_damping += 0.5 * g.stiffness * (s0 * s0 - s1 * s1);
+  }
+}
+
+void EnergyMeter::finish_step(const KinematicState& x1, const ContactConfiguration& config,
+                              std::span<const GapMemory> memory) {
+  update_stored(x1, config, memory);
   scale_ = std::max({scale_, std::abs(balance_.supplied()), balance_.accounted()});
-  max_relative_residual_ = std::max(max_relative_residual_, relative_residual());
+  max_residual_ = std::max(max_residual_, std::abs(balance_.residual()));
 }
 
 double EnergyMeter::relative_residual() const {

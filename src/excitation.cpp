@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -33,6 +34,31 @@ double ground_acceleration(const Excitation& excitation, double t) {
       overloaded{[](const NoExcitation&) { return 0.0; },
                  [t](const HarmonicExcitation& h) { return h.amplitude * std::sin(h.omega * t); },
                  [t](const RecordExcitation& r) { return record_acceleration(r, t); }},
+      excitation);
+}
+
+double ForcingPiece::at(double t) const {
+  return kind == Kind::harmonic ? amplitude * std::sin(omega * t) : value + slope * (t - start);
+}
+
+ForcingPiece forcing_piece(const Excitation& excitation, double t) {
+  constexpr double forever = std::numeric_limits<double>::infinity();
+  return std::visit(
+      overloaded{[t](const NoExcitation&) { return ForcingPiece{.start = t, .end = forever}; },
+                 [t](const HarmonicExcitation& h) {
+                   return ForcingPiece{.kind = ForcingPiece::Kind::harmonic, .start = t,
+                                       .end = forever, .amplitude = h.amplitude, .omega = h.omega};
+                 },
+                 [t](const RecordExcitation& r) {
+                   if (t < r.time.front()) return ForcingPiece{.start = t, .end = r.time.front()};
+                   if (t >= r.time.back()) return ForcingPiece{.start = t, .end = forever};
+                   const auto k = static_cast<std::size_t>(
+                       std::upper_bound(r.time.begin(), r.time.end(), t) - r.time.begin());
+                   const double t0 = r.time[k - 1], t1 = r.time[k];
+                   const double slope = (r.acceleration[k] - r.acceleration[k - 1]) / (t1 - t0);
+                   return ForcingPiece{.start = t0, .end = t1, .value = r.acceleration[k - 1],
+                                       .slope = slope};
+                 }},
       excitation);
 }
 

@@ -126,7 +126,14 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
   }
   step_solver_.analyzePattern(effective_);
   substep_solver_.analyzePattern(effective_);
-  factorize(step_solver_, step_);
+}
+
+const LinearPhase::Solver& LinearPhase::step_solver() const {
+  if (!step_factorised_) {
+    factorize(step_solver_, step_);
+    step_factorised_ = true;
+  }
+  return step_solver_;
 }
 
 void LinearPhase::set_link_lengths(const Model& model, const DofLayout& layout,

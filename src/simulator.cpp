@@ -27,6 +27,10 @@ Model validated(Model model) {
 
 }  // namespace
 
+std::string_view to_string(Integrator integrator) {
+  return integrator == Integrator::exact ? "exact" : "newmark";
+}
+
 std::string_view to_string(EventKind kind) {
   switch (kind) {
     case EventKind::contact: return "contact";
@@ -132,6 +136,9 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
   }
   memory_.assign(ng, GapMemory{});
   bias_.assign(ng, 0.0);
+  memory_amplitude_.assign(2 * ng, 0.0);
+  memory_rate_.assign(2 * ng, 0.0);
+  node_.resize(n);
   stop_reaction_.assign(ng, 0.0);
   stop_noise_.assign(ng, 0.0);
   link_in_.assign(static_cast<std::size_t>(n), 0.0);
@@ -160,6 +167,7 @@ Simulator::~Simulator() = default;
 void Simulator::set_excitation(Excitation excitation) {
   validate(excitation);
   excitation_ = std::move(excitation);
+  segment_valid_ = false;
   newmark_.equilibrate(*phase_, ground_acceleration_now(), state_);
   evaluate_guards(state_, g_lo_, dg_lo_);
 }
@@ -188,9 +196,13 @@ double Simulator::base_shear(int f) const {
 }
 
 void Simulator::activate_phase() {
+  segment_valid_ = false;  // an exact segment belongs to one phase
   auto it = phases_.find(config_);
   if (it == phases_.end()) {
-    if (phases_.size() >= options_.phase_cache_size) phases_.clear();
+    if (phases_.size() >= options_.phase_cache_size) {
+      phases_.clear();
+      exact_phases_.clear();
+    }
     auto phase = std::make_unique<LinearPhase>(model_, layout_, config_, options_.dt);
     ++stats_.phases_factorised;
     it = phases_.emplace(config_, std::move(phase)).first;
@@ -226,6 +238,10 @@ void Simulator::trial_step(double tau, bool nominal, KinematicState& out) {
 
 void Simulator::integrate_to(double t_end, bool nominal) {
   events_this_step_ = 0;
+  if (options_.integrator == Integrator::exact) {
+    integrate_exact_to(t_end);
+    return;
+  }
   bool first = true;
   while (state_.t < t_end) {
     const bool use_step_solver = nominal && first;
@@ -360,6 +376,12 @@ void Simulator::compute_stop_reactions(const KinematicState& x) {
 
 void Simulator::accept(KinematicState& next, std::span<const double> guards) {
   energy_.step(state_, next, config_, memory_);
+  after_accept(next);
+  std::copy(guards.begin(), guards.end(), g_lo_.begin());
+  dg_lo_ = dg_hi_;
+}
+
+void Simulator::after_accept(KinematicState& next) {
   const double h = next.t - state_.t;
   for (std::size_t p = 0; p < config_.size(); ++p) {
     if (config_[p] == GapMode::locked) stats_.gaps[p].locked_time += h;
@@ -367,8 +389,6 @@ void Simulator::accept(KinematicState& next, std::span<const double> guards) {
   std::swap(state_, next);
   // Trial evaluations after this state's (grazing checks) may have overwritten λ.
   if (!phase_->is_unreduced()) compute_stop_reactions(state_);
-  std::copy(guards.begin(), guards.end(), g_lo_.begin());
-  dg_lo_ = dg_hi_;
   ++stats_.substeps;
   record_statistics();
 }

@@ -9,6 +9,7 @@
 ///   double a = ground_acceleration(h, 0.1);  // A sin(ω̄ t)
 /// @endcode
 
+#include <cstdint>
 #include <string>
 #include <variant>
 #include <vector>
@@ -36,6 +37,25 @@ using Excitation = std::variant<NoExcitation, HarmonicExcitation, RecordExcitati
 
 /// a_g(t) [m/s²].
 [[nodiscard]] double ground_acceleration(const Excitation& excitation, double t);
+
+/// The ground acceleration on the interval [start, end) around a time, in the closed form the
+/// exact integrator needs: a polynomial value + slope·(t − start) (no excitation, a record between
+/// two samples, or before or after the record), or A sin(ω t).
+struct ForcingPiece {
+  enum class Kind : std::uint8_t { linear, harmonic };
+  Kind kind = Kind::linear;
+  double start = 0.0;      ///< [s]
+  double end = 0.0;        ///< [s], +∞ when the form holds for ever
+  double value = 0.0;      ///< linear: a_g(start) [m/s²]
+  double slope = 0.0;      ///< linear: da_g/dt [m/s³]
+  double amplitude = 0.0;  ///< harmonic: A [m/s²]
+  double omega = 0.0;      ///< harmonic: ω̄ [rad/s]
+
+  [[nodiscard]] double at(double t) const;
+};
+
+/// The piece that holds on [t, piece.end), with piece.start ≤ t.
+[[nodiscard]] ForcingPiece forcing_piece(const Excitation& excitation, double t);
 
 /// Throws std::invalid_argument when the excitation breaks its invariants.
 void validate(const Excitation& excitation);

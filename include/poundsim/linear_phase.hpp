@@ -42,8 +42,8 @@ class LinearPhase {
   /// Sparse LDLᵀ in the natural (banded) order, reading the upper triangle.
   using Solver = Eigen::SimplicialLDLT<SparseMatrix, Eigen::Upper, Eigen::NaturalOrdering<int>>;
 
-  /// Assembles and factorises the system of `configuration` for the Newmark step `step` [s].
-  /// Throws SimulationError when the effective matrix cannot be factorised.
+  /// Assembles the system of `configuration` for the Newmark step `step` [s]. The factorisations
+  /// throw SimulationError when the effective matrix cannot be factorised.
   LinearPhase(const Model& model, const DofLayout& layout, ContactConfiguration configuration,
               double step);
 
@@ -83,8 +83,9 @@ class LinearPhase {
   [[nodiscard]] const SparseMatrix& full_stiffness() const { return stiffness_full_; }
   [[nodiscard]] const Eigen::VectorXd& full_constant_load() const { return load_full_; }
 
-  /// Factorisation of M_r + (h/2) C_r + (h²/4) K_r for the step given at construction.
-  [[nodiscard]] const Solver& step_solver() const { return step_solver_; }
+  /// Factorisation of M_r + (h/2) C_r + (h²/4) K_r for the step given at construction, made on
+  /// first use.
+  [[nodiscard]] const Solver& step_solver() const;
   [[nodiscard]] double step() const { return step_; }
   /// Factorisation for a sub-step τ ≠ h (event location, last partial step). The returned solver
   /// is valid until the next call. Throws SimulationError on failure.
@@ -114,7 +115,8 @@ class LinearPhase {
   Eigen::VectorXd effective_m_, effective_c_, effective_k_;
 
   double step_ = 0.0;
-  Solver step_solver_;
+  mutable bool step_factorised_ = false;
+  mutable Solver step_solver_;
   mutable Solver substep_solver_;
 };
 

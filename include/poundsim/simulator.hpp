@@ -45,6 +45,8 @@
 
 #include "poundsim/contact_state.hpp"
 #include "poundsim/energy.hpp"
+#include "poundsim/exact_phase.hpp"
+#include "poundsim/guard_expansion.hpp"
 #include "poundsim/event.hpp"
 #include "poundsim/event_location.hpp"
 #include "poundsim/excitation.hpp"
@@ -54,6 +56,19 @@
 
 namespace poundsim {
 
+/// How a phase is integrated between events.
+enum class Integrator : std::uint8_t {
+  /// Newmark's average-acceleration method with step dt; events located on its trajectory to
+  /// event_tolerance.
+  newmark,
+  /// The closed-form solution of each phase (exact_phase.hpp); events are roots of exact guard
+  /// functions, located to near machine precision with a proof that none is missed. dt is then
+  /// only the sampling interval of peaks, energies and outputs.
+  exact,
+};
+
+[[nodiscard]] std::string_view to_string(Integrator integrator);
+
 /// Options of the time-history integration. SI units.
 struct TimeHistoryOptions {
   double dt = 0.0;                 ///< Newmark step h [s]; required, > 0.
@@ -61,6 +76,7 @@ struct TimeHistoryOptions {
   /// A pressed pair whose next flight would be shorter than this locks [s]; ≥ 10 × event_tolerance.
   double lock_time = 1e-6;
   SeparationCriterion separation = SeparationCriterion::displacement;
+  Integrator integrator = Integrator::newmark;
   int max_events_per_step = 100000;        ///< Beyond this the run stops with an error.
   std::size_t phase_cache_size = 4096;     ///< Factorised configurations kept.
 
@@ -161,15 +177,25 @@ class Simulator {
  private:
   class TrialEvaluator;
   friend class TrialEvaluator;
+  struct ExactData {
+    std::unique_ptr<ExactPhase> phase;
+    Eigen::MatrixXd guard_rows;  ///< R: guards as affine functions of the phase state
+  };
 
   /// Makes the phase of config_ current, with the link lengths of its locked elements.
   void activate_phase();
   void integrate_to(double t_end, bool nominal);
+  void integrate_exact_to(double t_end);
+  void start_exact_segment();
+  void exact_state(double s, KinematicState& out);
+  void accept_exact(KinematicState& next);
+  [[nodiscard]] Eigen::MatrixXd guard_rows(const ExactPhase& exact) const;
   void trial_step(double tau, bool nominal, KinematicState& out);
   void evaluate_guards(const KinematicState& x, std::span<double> g, std::span<double> dg);
   void compute_stop_reactions(const KinematicState& x);
   bool find_grazing(double tau);
   void accept(KinematicState& next, std::span<const double> guards);
+  void after_accept(KinematicState& next);
   void apply_events(std::span<const double> fired_guards);
   void resolve_impacts(const std::vector<int>& pairs);
   void settle_after_events();
@@ -196,6 +222,13 @@ class Simulator {
 
   std::map<ContactConfiguration, std::unique_ptr<LinearPhase>> phases_;
   LinearPhase* phase_ = nullptr;
+  std::map<ContactConfiguration, ExactData> exact_phases_;
+  ExactTrajectory trajectory_;
+  GuardExpansion expansion_;
+  bool segment_valid_ = false;
+  Eigen::VectorXd x_work_, x_rate_work_, reduced_work_;
+  std::vector<double> memory_amplitude_, memory_rate_;
+  KinematicState node_;
   NewmarkIntegrator newmark_;
   EnergyMeter energy_;
   ResponseStatistics stats_;

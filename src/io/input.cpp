@@ -558,7 +558,8 @@ void read_analysis(TableReader& t, AnalysisSettings& a) {
   if (!(a.output_dt > 0) || std::abs(ratio - std::round(ratio)) > 1e-9 * ratio || ratio < 0.5) {
     t.fail("output_dt", fmt::format("{} s must be a positive multiple of dt = {} s", a.output_dt, o.dt));
   }
-  a.integrator = t.choice("integrator", {"newmark"}, std::string("newmark"));
+  a.integrator = t.choice("integrator", {"newmark", "exact"}, std::string("newmark"));
+  o.integrator = a.integrator == "exact" ? Integrator::exact : Integrator::newmark;
   o.event_tolerance = t.number_or("event_tolerance", o.event_tolerance);
   if (!(o.event_tolerance > 0 && o.event_tolerance < o.dt)) {
     t.fail("event_tolerance", fmt::format("{} s must be > 0 and smaller than dt", o.event_tolerance));

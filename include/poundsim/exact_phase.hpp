@@ -1,0 +1,109 @@
+#pragma once
+/// @file
+/// The exact solution of one linear phase (the exact integrator, integrator = "exact").
+///
+/// Between events the equations of motion of a phase (linear_phase.hpp) are, in its reduced
+/// coordinates with x = [q; q̇] (n groups, 2n states),
+///
+///     ẋ = A x + f + e a_g(t),   A = [[0, I], [−M⁻¹K, −M⁻¹C]],   f = [0; M⁻¹b],   e = [0; −1]
+///
+/// (M⁻¹m = 1: every floor feels the same ground acceleration). On a forcing piece (a_g linear in
+/// t, or A sin ω̄t; excitation.hpp) the solution is known in closed form:
+///
+///     x(t₀ + s) = x_p(s) + Re(V e^{Λs} c),   c = V⁻¹(x(t₀) − x_p(0))
+///
+/// with the eigen-decomposition A = V Λ V⁻¹ — complex, since the gap dashpots and storey dashpots
+/// that are not proportional make the modes complex — and the particular solution
+///
+///     x_p(s) = x_c + β s                         linear piece a_g = a₀ + a₁ s:
+///                                                 β = −a₁ A⁻¹e,  x_c = −A⁻¹f + A⁻¹(β − a₀ e)
+///     x_p(s) = x_c + Im(A_g h e^{iω̄(t₀+s)})      harmonic piece: (iω̄I − A) h = e, x_c = −A⁻¹f
+///
+/// When the modes are ill-conditioned (A nearly defective, e.g. a critically damped mode) the
+/// homogeneous part uses the matrix exponential e^{As}(x(t₀) − x_p(0)) instead; it costs O(n³)
+/// per evaluation rather than O(n²). A forcing at an undamped natural frequency has no bounded
+/// particular solution and is rejected.
+
+#include <complex>
+#include <memory>
+
+#include <Eigen/Core>
+#include <Eigen/LU>
+
+#include "poundsim/excitation.hpp"
+#include "poundsim/linear_phase.hpp"
+
+namespace poundsim {
+
+class ExactPhase {
+ public:
+  /// Builds A and its decomposition. Throws SimulationError when A cannot be decomposed.
+  explicit ExactPhase(const LinearPhase& phase);
+
+  [[nodiscard]] Eigen::Index groups() const { return n_; }
+  [[nodiscard]] Eigen::Index states() const { return 2 * n_; }
+  [[nodiscard]] const Eigen::MatrixXd& matrix() const { return a_; }
+  /// True when the eigen-decomposition is used (well-conditioned modes).
+  [[nodiscard]] bool modal() const { return modal_; }
+  [[nodiscard]] const Eigen::VectorXcd& eigenvalues() const { return lambda_; }
+  [[nodiscard]] const Eigen::MatrixXcd& modes() const { return v_; }
+  /// V⁻¹ r.
+  [[nodiscard]] Eigen::VectorXcd modal_coordinates(const Eigen::VectorXd& r) const;
+  /// A⁻¹ r.
+  [[nodiscard]] Eigen::VectorXd solve(const Eigen::VectorXd& r) const { return a_lu_.solve(r); }
+  /// A⁻¹ e.
+  [[nodiscard]] const Eigen::VectorXd& ground_response() const { return a_inv_e_; }
+  /// h with (iωI − A) h = e. Throws SimulationError at an undamped natural frequency.
+  [[nodiscard]] Eigen::VectorXcd harmonic_response(double omega) const;
+  /// max |λ| [1/s]: the fastest rate of the phase.
+  [[nodiscard]] double spectral_radius() const { return spectral_radius_; }
+  /// ‖A‖₂ and the logarithmic norm μ₂(A) (bounds for the matrix-exponential path).
+  [[nodiscard]] double norm() const { return norm_; }
+  [[nodiscard]] double log_norm() const { return log_norm_; }
+
+ private:
+  Eigen::Index n_ = 0;
+  Eigen::MatrixXd a_;
+  Eigen::PartialPivLU<Eigen::MatrixXd> a_lu_;
+  Eigen::VectorXd a_inv_e_;
+  bool modal_ = false;
+  Eigen::VectorXcd lambda_;
+  Eigen::MatrixXcd v_;
+  Eigen::PartialPivLU<Eigen::MatrixXcd> v_lu_;
+  double spectral_radius_ = 0.0, norm_ = 0.0, log_norm_ = 0.0;
+};
+
+/// The exact trajectory of a phase from (t₀, x₀) while one forcing piece holds.
+class ExactTrajectory {
+ public:
+  /// `constant_load` is the phase's b (reduced); `x0` = [q; q̇] at t0.
+  void start(const ExactPhase& phase, const Eigen::VectorXd& mass, const Eigen::VectorXd& constant_load,
+             double t0, const Eigen::VectorXd& x0, const ForcingPiece& piece);
+
+  [[nodiscard]] double start_time() const { return t0_; }
+  [[nodiscard]] const ForcingPiece& piece() const { return piece_; }
+  [[nodiscard]] const ExactPhase& phase() const { return *phase_; }
+
+  /// x(t₀+s) and ẋ(t₀+s).
+  void evaluate(double s, Eigen::VectorXd& x, Eigen::VectorXd& x_rate) const;
+
+  // The parts of x(s) = x_c + β s + Im(p e^{iω̄(t₀+s)}) + homogeneous(s), for guard expansions.
+  [[nodiscard]] const Eigen::VectorXd& constant_part() const { return xc_; }
+  [[nodiscard]] const Eigen::VectorXd& linear_part() const { return beta_; }
+  [[nodiscard]] const Eigen::VectorXcd& harmonic_part() const { return harmonic_; }
+  [[nodiscard]] double omega() const { return piece_.kind == ForcingPiece::Kind::harmonic ? piece_.omega : 0.0; }
+  /// Modal coordinates c (modal path).
+  [[nodiscard]] const Eigen::VectorXcd& modal_coefficients() const { return c_; }
+  /// x(t₀) − x_p(0) (both paths).
+  [[nodiscard]] const Eigen::VectorXd& homogeneous_start() const { return r0_; }
+
+ private:
+  const ExactPhase* phase_ = nullptr;
+  double t0_ = 0.0;
+  ForcingPiece piece_;
+  Eigen::VectorXd xc_, beta_, r0_;
+  Eigen::VectorXcd harmonic_, c_;
+  mutable Eigen::VectorXcd work_;
+};
+
+}  // namespace poundsim

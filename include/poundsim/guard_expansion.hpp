@@ -1,0 +1,67 @@
+#pragma once
+/// @file
+/// Guards of an exact segment as closed-form functions of time, and the search for the first one
+/// that becomes positive — with a proof that none was missed in between.
+///
+/// Every guard (see simulator.hpp) is affine in the state x = [q; q̇] of the phase: g = R_j x + κ_j,
+/// except the free end of a relaxing element, a known exponential. On an exact segment
+/// (exact_phase.hpp) each guard is therefore, with s = t − t₀,
+///
+///     g_j(s) = K_j + L_j s + Im(H_j e^{iω̄(t₀+s)}) + Re Σ_k γ_jk e^{λ_k s} − m_j e^{−ν_j s}
+///
+/// whose values, rates and derivative bounds are exact and cheap. first_crossing() searches an
+/// interval by subdivision: on [a, b] the cubic Hermite model p of a guard from its values and
+/// rates at both ends differs from the guard by at most max|g⁗|·(b−a)⁴/384, so
+/// max p + that bound ≤ 0 proves the guard stays non-positive; a positive end with a derivative
+/// bounded away from zero proves a single crossing, refined by safeguarded Newton steps to the
+/// requested resolution (near machine precision). No grazing contact escapes the proof.
+
+#include <optional>
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "poundsim/exact_phase.hpp"
+
+namespace poundsim {
+
+class GuardExpansion {
+ public:
+  /// `rows` R (guards × states); `at_start` the guard values at s = 0 (which fix κ); the free
+  /// ends of relaxing elements contribute −m_j e^{−ν_j s} (m_j = 0 for others). Guards equal to
+  /// −∞ at the start are inactive.
+  void build(const ExactTrajectory& trajectory, const Eigen::MatrixXd& rows,
+             std::span<const double> at_start, std::span<const double> memory_amplitude,
+             std::span<const double> memory_rate);
+
+  [[nodiscard]] int size() const { return static_cast<int>(constant_.size()); }
+  [[nodiscard]] bool active(int j) const { return active_[static_cast<std::size_t>(j)]; }
+  /// g_j(s) and dg_j/ds.
+  [[nodiscard]] double value(int j, double s) const;
+  [[nodiscard]] double rate(int j, double s) const;
+  /// An upper bound of |dᵐg_j/dsᵐ| over [a, b], m ≥ 1.
+  [[nodiscard]] double derivative_bound(int j, int order, double a, double b) const;
+
+ private:
+  const ExactTrajectory* trajectory_ = nullptr;
+  std::vector<bool> active_;
+  Eigen::VectorXd constant_, slope_, memory_, memory_rate_;
+  Eigen::VectorXcd harmonic_;
+  Eigen::MatrixXcd modal_;            // γ (modal path)
+  Eigen::MatrixXd rows_;              // R (matrix-exponential path)
+  Eigen::VectorXd row_norm_;
+};
+
+/// The first upward crossing of any active guard in (a, b]: guard j, and a bracket [lo, hi] of
+/// width ≤ resolution with g_j(lo) ≤ 0 < g_j(hi).
+struct Crossing {
+  int guard = -1;
+  double lo = 0.0, hi = 0.0;
+};
+
+/// Every active guard must be ≤ 0 at a. Returns nothing when no guard crosses in (a, b].
+std::optional<Crossing> first_crossing(const GuardExpansion& guards, double a, double b,
+                                       double resolution);
+
+}  // namespace poundsim

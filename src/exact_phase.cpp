@@ -1,0 +1,116 @@
+#include "poundsim/exact_phase.hpp"
+
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+#include <fmt/format.h>
+#include <unsupported/Eigen/MatrixFunctions>
+
+#include "poundsim/error.hpp"
+
+namespace poundsim {
+
+namespace {
+/// Modes whose matrix is worse conditioned than this lose too many digits: use e^{As}.
+constexpr double kMinModeConditioning = 1e-9;
+}  // namespace
+
+ExactPhase::ExactPhase(const LinearPhase& phase) : n_(phase.reduced_size()) {
+  const Eigen::VectorXd inv_m = phase.mass().cwiseInverse();
+  a_ = Eigen::MatrixXd::Zero(2 * n_, 2 * n_);
+  a_.topRightCorner(n_, n_).setIdentity();
+  a_.bottomLeftCorner(n_, n_) = -(inv_m.asDiagonal() * Eigen::MatrixXd(phase.stiffness()));
+  a_.bottomRightCorner(n_, n_) = -(inv_m.asDiagonal() * Eigen::MatrixXd(phase.damping()));
+  a_lu_.compute(a_);
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(2 * n_);
+  e.tail(n_).setConstant(-1.0);
+  a_inv_e_ = a_lu_.solve(e);
+
+  const Eigen::EigenSolver<Eigen::MatrixXd> eig(a_, true);
+  if (eig.info() == Eigen::Success) {
+    lambda_ = eig.eigenvalues();
+    v_ = eig.eigenvectors();
+    v_lu_.compute(v_);
+    modal_ = v_lu_.rcond() > kMinModeConditioning;
+    spectral_radius_ = lambda_.cwiseAbs().maxCoeff();
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(a_);
+  norm_ = svd.singularValues()(0);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> sym(0.5 * (a_ + a_.transpose()),
+                                                           Eigen::EigenvaluesOnly);
+  log_norm_ = sym.eigenvalues().maxCoeff();
+  if (!modal_) spectral_radius_ = norm_;
+}
+
+Eigen::VectorXcd ExactPhase::modal_coordinates(const Eigen::VectorXd& r) const {
+  return v_lu_.solve(r.cast<std::complex<double>>());
+}
+
+Eigen::VectorXcd ExactPhase::harmonic_response(double omega) const {
+  using Complex = std::complex<double>;
+  Eigen::MatrixXcd m = -a_.cast<Complex>();
+  m.diagonal().array() += Complex(0.0, omega);
+  const Eigen::PartialPivLU<Eigen::MatrixXcd> lu(m);
+  if (!(lu.rcond() > 1e-13)) {
+    throw SimulationError(fmt::format(
+        "exact integrator: the forcing frequency {} rad/s is a natural frequency of an undamped "
+        "phase, which has no bounded steady state; add damping or use integrator = \"newmark\"",
+        omega));
+  }
+  Eigen::VectorXcd e = Eigen::VectorXcd::Zero(2 * n_);
+  e.tail(n_).setConstant(-1.0);
+  return lu.solve(e);
+}
+
+void ExactTrajectory::start(const ExactPhase& phase, const Eigen::VectorXd& mass,
+                            const Eigen::VectorXd& constant_load, double t0,
+                            const Eigen::VectorXd& x0, const ForcingPiece& piece) {
+  phase_ = &phase;
+  t0_ = t0;
+  piece_ = piece;
+  const Eigen::Index n = phase.groups();
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(2 * n);
+  f.tail(n) = constant_load.cwiseQuotient(mass);
+  xc_ = -phase.solve(f);
+  beta_.setZero(2 * n);
+  harmonic_.setZero(2 * n);
+  Eigen::VectorXd x_p0 = xc_;
+  if (piece.kind == ForcingPiece::Kind::linear) {
+    // a_g = a₀ + a₁ s with s = t − t₀ (the piece may have started earlier).
+    const double a0 = piece.at(t0), a1 = piece.slope;
+    beta_ = -a1 * phase.ground_response();
+    xc_ += phase.solve(beta_) - a0 * phase.ground_response();
+    x_p0 = xc_;
+  } else {
+    harmonic_ = piece.amplitude * phase.harmonic_response(piece.omega);
+    x_p0 += (harmonic_ * std::exp(std::complex<double>(0.0, piece.omega * t0))).imag();
+  }
+  r0_ = x0 - x_p0;
+  if (phase.modal()) c_ = phase.modal_coordinates(r0_);
+  work_.resize(2 * n);
+}
+
+void ExactTrajectory::evaluate(double s, Eigen::VectorXd& x, Eigen::VectorXd& x_rate) const {
+  using Complex = std::complex<double>;
+  const ExactPhase& ph = *phase_;
+  x = xc_ + s * beta_;
+  x_rate = beta_;
+  if (piece_.kind == ForcingPiece::Kind::harmonic) {
+    const Complex phase_factor = std::exp(Complex(0.0, piece_.omega * (t0_ + s)));
+    x += (harmonic_ * phase_factor).imag();
+    x_rate += (harmonic_ * (Complex(0.0, piece_.omega) * phase_factor)).imag();
+  }
+  if (ph.modal()) {
+    work_ = (ph.eigenvalues() * s).array().exp() * c_.array();
+    x.noalias() += (ph.modes() * work_).real();
+    work_.array() *= ph.eigenvalues().array();
+    x_rate.noalias() += (ph.modes() * work_).real();
+  } else {
+    const Eigen::MatrixXd propagator = (ph.matrix() * s).exp();
+    const Eigen::VectorXd h = propagator * r0_;
+    x += h;
+    x_rate.noalias() += ph.matrix() * h;
+  }
+}
+
+}  // namespace poundsim

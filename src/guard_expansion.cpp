@@ -1,0 +1,196 @@
+#include "poundsim/guard_expansion.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <unsupported/Eigen/MatrixFunctions>
+
+#include "hermite_cubic.hpp"
+
+namespace poundsim {
+
+namespace {
+using Complex = std::complex<double>;
+}
+
+void GuardExpansion::build(const ExactTrajectory& trajectory, const Eigen::MatrixXd& rows,
+                           std::span<const double> at_start,
+                           std::span<const double> memory_amplitude,
+                           std::span<const double> memory_rate) {
+  trajectory_ = &trajectory;
+  const ExactPhase& phase = trajectory.phase();
+  const Eigen::Index g = rows.rows();
+  active_.assign(static_cast<std::size_t>(g), false);
+  Eigen::VectorXd x0, x0_rate;
+  trajectory.evaluate(0.0, x0, x0_rate);
+  memory_ = Eigen::Map<const Eigen::VectorXd>(memory_amplitude.data(), g);
+  memory_rate_ = Eigen::Map<const Eigen::VectorXd>(memory_rate.data(), g);
+  // κ from the start: g(0) = R x₀ + κ − m; the expansion's constant collects κ, R x_c and m.
+  constant_ = rows * trajectory.constant_part() + memory_;
+  for (Eigen::Index j = 0; j < g; ++j) {
+    const double start = at_start[static_cast<std::size_t>(j)];
+    active_[static_cast<std::size_t>(j)] = std::isfinite(start);
+    constant_(j) += std::isfinite(start) ? start - rows.row(j).dot(x0) : 0.0;
+  }
+  slope_ = rows * trajectory.linear_part();
+  harmonic_ = rows.cast<Complex>() * trajectory.harmonic_part();
+  if (phase.modal()) {
+    modal_ = (rows.cast<Complex>() * phase.modes()) * trajectory.modal_coefficients().asDiagonal();
+  } else {
+    rows_ = rows;
+    row_norm_ = rows.rowwise().norm();
+  }
+  // Make each expansion reproduce its start value to the last bit, and never start above zero
+  // when the guard did not: a guard that starts a segment exactly at zero (just biased after an
+  // impact) must not fire again at once through round-off.
+  for (Eigen::Index j = 0; j < g; ++j) {
+    if (!active_[static_cast<std::size_t>(j)]) continue;
+    const double start = at_start[static_cast<std::size_t>(j)];
+    constant_(j) += start - value(static_cast<int>(j), 0.0);
+    const double excess = value(static_cast<int>(j), 0.0);
+    if (start <= 0 && excess > 0) constant_(j) -= 2 * excess;
+  }
+}
+
+double GuardExpansion::value(int j, double s) const {
+  const ExactTrajectory& tr = *trajectory_;
+  double g = constant_(j) + slope_(j) * s - memory_(j) * std::exp(-memory_rate_(j) * s);
+  if (tr.omega() != 0.0) g += (harmonic_(j) * std::exp(Complex(0.0, tr.omega() * (tr.start_time() + s)))).imag();
+  if (tr.phase().modal()) {
+    const Eigen::VectorXcd& lambda = tr.phase().eigenvalues();
+    Complex sum = 0.0;
+    for (Eigen::Index k = 0; k < lambda.size(); ++k) sum += modal_(j, k) * std::exp(lambda(k) * s);
+    g += sum.real();
+  } else {
+    const Eigen::MatrixXd propagator = (tr.phase().matrix() * s).exp();
+    const Eigen::VectorXd h = propagator * tr.homogeneous_start();
+    g += rows_.row(j).dot(h);
+  }
+  return g;
+}
+
+double GuardExpansion::rate(int j, double s) const {
+  const ExactTrajectory& tr = *trajectory_;
+  double d = slope_(j) + memory_(j) * memory_rate_(j) * std::exp(-memory_rate_(j) * s);
+  if (tr.omega() != 0.0) {
+    d += (harmonic_(j) * Complex(0.0, tr.omega()) *
+          std::exp(Complex(0.0, tr.omega() * (tr.start_time() + s)))).imag();
+  }
+  if (tr.phase().modal()) {
+    const Eigen::VectorXcd& lambda = tr.phase().eigenvalues();
+    Complex sum = 0.0;
+    for (Eigen::Index k = 0; k < lambda.size(); ++k) {
+      sum += modal_(j, k) * lambda(k) * std::exp(lambda(k) * s);
+    }
+    d += sum.real();
+  } else {
+    const Eigen::MatrixXd propagator = (tr.phase().matrix() * s).exp();
+    const Eigen::VectorXd h_rate = tr.phase().matrix() * (propagator * tr.homogeneous_start());
+    d += rows_.row(j).dot(h_rate);
+  }
+  return d;
+}
+
+double GuardExpansion::derivative_bound(int j, int order, double a, double b) const {
+  const ExactTrajectory& tr = *trajectory_;
+  double bound = order == 1 ? std::abs(slope_(j)) : 0.0;
+  bound += std::abs(harmonic_(j)) * std::pow(tr.omega(), order);
+  bound += std::abs(memory_(j)) * std::pow(memory_rate_(j), order) * std::exp(-memory_rate_(j) * a);
+  if (tr.phase().modal()) {
+    const Eigen::VectorXcd& lambda = tr.phase().eigenvalues();
+    for (Eigen::Index k = 0; k < lambda.size(); ++k) {
+      const double re = lambda(k).real();
+      bound += std::abs(modal_(j, k)) * std::pow(std::abs(lambda(k)), order) *
+               std::exp(re * (re > 0 ? b : a));
+    }
+  } else {
+    // ‖e^{As}‖ ≤ e^{μ s} with μ the logarithmic norm.
+    const double mu = tr.phase().log_norm();
+    bound += row_norm_(j) * std::pow(tr.phase().norm(), order) * tr.homogeneous_start().norm() *
+             std::exp(mu * (mu > 0 ? b : a));
+  }
+  return bound;
+}
+
+namespace {
+
+/// Shrinks [lo, hi] (g(lo) ≤ 0 < g(hi)) to width ≤ resolution by Newton steps kept inside the
+/// bracket, with bisection when a step would leave it or fails to halve it.
+Crossing refine(const GuardExpansion& guards, int j, double lo, double hi, double resolution) {
+  double x = hi;
+  double previous_width = hi - lo;
+  for (int i = 0; i < 200 && hi - lo > resolution; ++i) {
+    const double g = guards.value(j, x);
+    if (g > 0) {
+      hi = x;
+    } else {
+      lo = x;
+    }
+    const double d = guards.rate(j, x);
+    double next = d != 0 ? x - g / d : 0.5 * (lo + hi);
+    const double width = hi - lo;
+    if (!(next > lo && next < hi) || width > 0.5 * previous_width) next = 0.5 * (lo + hi);
+    previous_width = width;
+    // Step a hair past a converged Newton point, to land on the other side of the root.
+    if (std::abs(next - x) < 0.5 * resolution) next = g > 0 ? x - 0.5 * resolution : x + 0.5 * resolution;
+    x = std::clamp(next, lo + 0.25 * resolution, hi - 0.25 * resolution);
+    if (hi - lo <= resolution) break;
+  }
+  return Crossing{j, lo, hi};
+}
+
+/// The first crossing of guard j in (a, b], b ≤ limit, proven by subdivision.
+std::optional<Crossing> search(const GuardExpansion& guards, int j, double a, double b,
+                               double resolution) {
+  struct Interval {
+    double a, b, ga, da, gb, db;
+  };
+  std::vector<Interval> stack;
+  stack.push_back({a, b, guards.value(j, a), guards.rate(j, a), guards.value(j, b), guards.rate(j, b)});
+  while (!stack.empty()) {
+    const Interval in = stack.back();
+    stack.pop_back();
+    const double h = in.b - in.a;
+    if (in.ga > 0) return Crossing{j, in.a, in.a};  // already past zero at the start
+    const detail::HermiteCubic cubic(in.ga, in.da, in.gb, in.db, h);
+    const double d4 = guards.derivative_bound(j, 4, in.a, in.b);
+    // Largest value of the cubic on [0, 1].
+    double top = std::max(in.ga, in.gb);
+    for (const double theta : cubic.critical_points()) {
+      if (theta > 0 && theta < 1) top = std::max(top, cubic(theta));
+    }
+    if (top + d4 * h * h * h * h / 384.0 <= 0.0) continue;  // proven non-positive
+    if (in.gb > 0) {
+      // A single crossing when the slope stays positive: g' ≥ min p' − error of the derivative.
+      const double d2 = guards.derivative_bound(j, 2, in.a, in.b);
+      const bool rising = std::min(in.da, in.db) - d2 * h > 0;
+      if (rising || h <= resolution) return refine(guards, j, in.a, in.b, resolution);
+    } else if (h <= resolution) {
+      continue;  // touches zero within the resolution without crossing
+    }
+    const double m = 0.5 * (in.a + in.b);
+    const double gm = guards.value(j, m), dm = guards.rate(j, m);
+    if (gm <= 0) stack.push_back({m, in.b, gm, dm, in.gb, in.db});
+    stack.push_back({in.a, m, in.ga, in.da, gm, dm});
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<Crossing> first_crossing(const GuardExpansion& guards, double a, double b,
+                                       double resolution) {
+  std::optional<Crossing> best;
+  for (int j = 0; j < guards.size(); ++j) {
+    if (!guards.active(j)) continue;
+    const double limit = best ? best->hi : b;
+    if (!(limit > a)) break;
+    if (auto c = search(guards, j, a, limit, resolution)) {
+      if (!best || c->hi < best->hi) best = c;
+    }
+  }
+  return best;
+}
+
+}  // namespace poundsim
