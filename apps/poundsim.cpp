@@ -2,6 +2,7 @@
 // 1 failure during the run (numerical or file system), 2 bad input or usage.
 
 #include <cstdio>
+#include <filesystem>
 #include <exception>
 #include <string>
 #include <vector>
@@ -11,7 +12,9 @@
 
 #include "poundsim/error.hpp"
 #include "poundsim/io/input.hpp"
+#include "poundsim/io/output_files.hpp"
 #include "poundsim/io/time_history_run.hpp"
+#include "poundsim/verification.hpp"
 
 namespace {
 
@@ -53,6 +56,12 @@ int main(int argc, char** argv) {
       ->take_all();
   run->add_flag("--quiet,-q", quiet, "Print nothing on success");
 
+  std::string verification_file;
+  CLI::App* verify = app.add_subcommand(
+      "verify", "Compare Newmark with the exact integrator on the paper's systems and print the tables");
+  verify->add_option("--write", verification_file,
+                     "Also write the report as Markdown (docs/verification.md)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
@@ -63,6 +72,19 @@ int main(int argc, char** argv) {
   }
 
   try {
+    if (verify->parsed()) {
+      const poundsim::VerificationReport report = poundsim::run_verification();
+      fmt::print("{}", poundsim::to_text(report));
+      if (!verification_file.empty()) {
+        const std::filesystem::path path(verification_file);
+        poundsim::io::OutputTransaction out(path.has_parent_path() ? path.parent_path()
+                                                                   : std::filesystem::path("."));
+        out.open(path.filename().string()).text(poundsim::to_markdown(report));
+        out.commit();
+        fmt::print("wrote {}\n", verification_file);
+      }
+      return 0;
+    }
     const poundsim::io::RunInput input = poundsim::io::read_input(model_file, overrides);
     const nlohmann::json summary = poundsim::io::run_time_history(input, out_dir);
     if (!quiet) print_report(summary, out_dir);

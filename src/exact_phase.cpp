@@ -11,8 +11,9 @@
 namespace poundsim {
 
 namespace {
-/// Modes whose matrix is worse conditioned than this lose too many digits: use e^{As}.
-constexpr double kMinModeConditioning = 1e-9;
+/// Round-off in the modal path grows like ε / rcond(V): below this (a nearly defective A, such as
+/// a critically damped mode) it would exceed 1e-11, so e^{As} is used instead.
+constexpr double kMinModeConditioning = 1e-5;
 }  // namespace
 
 ExactPhase::ExactPhase(const LinearPhase& phase) : n_(phase.reduced_size()) {
@@ -88,6 +89,7 @@ void ExactTrajectory::start(const ExactPhase& phase, const Eigen::VectorXd& mass
   r0_ = x0 - x_p0;
   if (phase.modal()) c_ = phase.modal_coordinates(r0_);
   work_.resize(2 * n);
+  product_.resize(2 * n);
 }
 
 void ExactTrajectory::evaluate(double s, Eigen::VectorXd& x, Eigen::VectorXd& x_rate) const {
@@ -97,14 +99,18 @@ void ExactTrajectory::evaluate(double s, Eigen::VectorXd& x, Eigen::VectorXd& x_
   x_rate = beta_;
   if (piece_.kind == ForcingPiece::Kind::harmonic) {
     const Complex phase_factor = std::exp(Complex(0.0, piece_.omega * (t0_ + s)));
-    x += (harmonic_ * phase_factor).imag();
-    x_rate += (harmonic_ * (Complex(0.0, piece_.omega) * phase_factor)).imag();
+    const double sine = phase_factor.imag(), cosine = phase_factor.real(), w = piece_.omega;
+    // Im(h e^{iφ}) = Re h sin φ + Im h cos φ, and its rate ω (Re h cos φ − Im h sin φ).
+    x += sine * harmonic_.real() + cosine * harmonic_.imag();
+    x_rate += (w * cosine) * harmonic_.real() - (w * sine) * harmonic_.imag();
   }
   if (ph.modal()) {
     work_ = (ph.eigenvalues() * s).array().exp() * c_.array();
-    x.noalias() += (ph.modes() * work_).real();
+    product_.noalias() = ph.modes() * work_;
+    x += product_.real();
     work_.array() *= ph.eigenvalues().array();
-    x_rate.noalias() += (ph.modes() * work_).real();
+    product_.noalias() = ph.modes() * work_;
+    x_rate += product_.real();
   } else {
     const Eigen::MatrixXd propagator = (ph.matrix() * s).exp();
     const Eigen::VectorXd h = propagator * r0_;

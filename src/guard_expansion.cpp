@@ -12,7 +12,13 @@ namespace poundsim {
 
 namespace {
 using Complex = std::complex<double>;
+
+double power(double x, int order) {
+  double p = 1.0;
+  for (int i = 0; i < order; ++i) p *= x;
+  return p;
 }
+}  // namespace
 
 void GuardExpansion::build(const ExactTrajectory& trajectory, const Eigen::MatrixXd& rows,
                            std::span<const double> at_start,
@@ -21,6 +27,7 @@ void GuardExpansion::build(const ExactTrajectory& trajectory, const Eigen::Matri
   trajectory_ = &trajectory;
   const ExactPhase& phase = trajectory.phase();
   const Eigen::Index g = rows.rows();
+  remembered_.assign(static_cast<std::size_t>(g), {});
   active_.assign(static_cast<std::size_t>(g), false);
   Eigen::VectorXd x0, x0_rate;
   trajectory.evaluate(0.0, x0, x0_rate);
@@ -47,67 +54,69 @@ void GuardExpansion::build(const ExactTrajectory& trajectory, const Eigen::Matri
   for (Eigen::Index j = 0; j < g; ++j) {
     if (!active_[static_cast<std::size_t>(j)]) continue;
     const double start = at_start[static_cast<std::size_t>(j)];
-    constant_(j) += start - value(static_cast<int>(j), 0.0);
-    const double excess = value(static_cast<int>(j), 0.0);
+    constant_(j) += start - compute(static_cast<int>(j), 0.0).first;
+    const double excess = compute(static_cast<int>(j), 0.0).first;
     if (start <= 0 && excess > 0) constant_(j) -= 2 * excess;
   }
 }
 
-double GuardExpansion::value(int j, double s) const {
+std::pair<double, double> GuardExpansion::value_and_rate(int j, double s) const {
+  auto& slots = remembered_[static_cast<std::size_t>(j)];
+  for (const Remembered& r : slots) {
+    if (r.s == s) return {r.value, r.rate};
+  }
+  const auto [g, d] = compute(j, s);
+  slots[1] = slots[0];
+  slots[0] = Remembered{s, g, d};
+  return {g, d};
+}
+
+std::pair<double, double> GuardExpansion::compute(int j, double s) const {
   const ExactTrajectory& tr = *trajectory_;
-  double g = constant_(j) + slope_(j) * s - memory_(j) * std::exp(-memory_rate_(j) * s);
-  if (tr.omega() != 0.0) g += (harmonic_(j) * std::exp(Complex(0.0, tr.omega() * (tr.start_time() + s)))).imag();
+  const double decay = std::exp(-memory_rate_(j) * s);
+  double g = constant_(j) + slope_(j) * s - memory_(j) * decay;
+  double d = slope_(j) + memory_(j) * memory_rate_(j) * decay;
+  if (tr.omega() != 0.0) {
+    const Complex rotation = std::exp(Complex(0.0, tr.omega() * (tr.start_time() + s)));
+    g += (harmonic_(j) * rotation).imag();
+    d += (harmonic_(j) * Complex(0.0, tr.omega()) * rotation).imag();
+  }
   if (tr.phase().modal()) {
     const Eigen::VectorXcd& lambda = tr.phase().eigenvalues();
-    Complex sum = 0.0;
-    for (Eigen::Index k = 0; k < lambda.size(); ++k) sum += modal_(j, k) * std::exp(lambda(k) * s);
+    Complex sum = 0.0, sum_rate = 0.0;
+    for (Eigen::Index k = 0; k < lambda.size(); ++k) {
+      const Complex term = modal_(j, k) * std::exp(lambda(k) * s);
+      sum += term;
+      sum_rate += lambda(k) * term;
+    }
     g += sum.real();
+    d += sum_rate.real();
   } else {
     const Eigen::MatrixXd propagator = (tr.phase().matrix() * s).exp();
     const Eigen::VectorXd h = propagator * tr.homogeneous_start();
+    const Eigen::VectorXd h_rate = tr.phase().matrix() * h;
     g += rows_.row(j).dot(h);
-  }
-  return g;
-}
-
-double GuardExpansion::rate(int j, double s) const {
-  const ExactTrajectory& tr = *trajectory_;
-  double d = slope_(j) + memory_(j) * memory_rate_(j) * std::exp(-memory_rate_(j) * s);
-  if (tr.omega() != 0.0) {
-    d += (harmonic_(j) * Complex(0.0, tr.omega()) *
-          std::exp(Complex(0.0, tr.omega() * (tr.start_time() + s)))).imag();
-  }
-  if (tr.phase().modal()) {
-    const Eigen::VectorXcd& lambda = tr.phase().eigenvalues();
-    Complex sum = 0.0;
-    for (Eigen::Index k = 0; k < lambda.size(); ++k) {
-      sum += modal_(j, k) * lambda(k) * std::exp(lambda(k) * s);
-    }
-    d += sum.real();
-  } else {
-    const Eigen::MatrixXd propagator = (tr.phase().matrix() * s).exp();
-    const Eigen::VectorXd h_rate = tr.phase().matrix() * (propagator * tr.homogeneous_start());
     d += rows_.row(j).dot(h_rate);
   }
-  return d;
+  return {g, d};
 }
 
 double GuardExpansion::derivative_bound(int j, int order, double a, double b) const {
   const ExactTrajectory& tr = *trajectory_;
   double bound = order == 1 ? std::abs(slope_(j)) : 0.0;
-  bound += std::abs(harmonic_(j)) * std::pow(tr.omega(), order);
-  bound += std::abs(memory_(j)) * std::pow(memory_rate_(j), order) * std::exp(-memory_rate_(j) * a);
+  bound += std::abs(harmonic_(j)) * power(tr.omega(), order);
+  bound += std::abs(memory_(j)) * power(memory_rate_(j), order) * std::exp(-memory_rate_(j) * a);
   if (tr.phase().modal()) {
     const Eigen::VectorXcd& lambda = tr.phase().eigenvalues();
     for (Eigen::Index k = 0; k < lambda.size(); ++k) {
       const double re = lambda(k).real();
-      bound += std::abs(modal_(j, k)) * std::pow(std::abs(lambda(k)), order) *
+      bound += std::abs(modal_(j, k)) * power(std::abs(lambda(k)), order) *
                std::exp(re * (re > 0 ? b : a));
     }
   } else {
     // ‖e^{As}‖ ≤ e^{μ s} with μ the logarithmic norm.
     const double mu = tr.phase().log_norm();
-    bound += row_norm_(j) * std::pow(tr.phase().norm(), order) * tr.homogeneous_start().norm() *
+    bound += row_norm_(j) * power(tr.phase().norm(), order) * tr.homogeneous_start().norm() *
              std::exp(mu * (mu > 0 ? b : a));
   }
   return bound;
@@ -121,13 +130,12 @@ Crossing refine(const GuardExpansion& guards, int j, double lo, double hi, doubl
   double x = hi;
   double previous_width = hi - lo;
   for (int i = 0; i < 200 && hi - lo > resolution; ++i) {
-    const double g = guards.value(j, x);
+    const auto [g, d] = guards.value_and_rate(j, x);
     if (g > 0) {
       hi = x;
     } else {
       lo = x;
     }
-    const double d = guards.rate(j, x);
     double next = d != 0 ? x - g / d : 0.5 * (lo + hi);
     const double width = hi - lo;
     if (!(next > lo && next < hi) || width > 0.5 * previous_width) next = 0.5 * (lo + hi);
@@ -147,7 +155,9 @@ std::optional<Crossing> search(const GuardExpansion& guards, int j, double a, do
     double a, b, ga, da, gb, db;
   };
   std::vector<Interval> stack;
-  stack.push_back({a, b, guards.value(j, a), guards.rate(j, a), guards.value(j, b), guards.rate(j, b)});
+  const auto [ga, da] = guards.value_and_rate(j, a);
+  const auto [gb, db] = guards.value_and_rate(j, b);
+  stack.push_back({a, b, ga, da, gb, db});
   while (!stack.empty()) {
     const Interval in = stack.back();
     stack.pop_back();
@@ -170,7 +180,7 @@ std::optional<Crossing> search(const GuardExpansion& guards, int j, double a, do
       continue;  // touches zero within the resolution without crossing
     }
     const double m = 0.5 * (in.a + in.b);
-    const double gm = guards.value(j, m), dm = guards.rate(j, m);
+    const auto [gm, dm] = guards.value_and_rate(j, m);
     if (gm <= 0) stack.push_back({m, in.b, gm, dm, in.gb, in.db});
     stack.push_back({in.a, m, in.ga, in.da, gm, dm});
   }

@@ -6,21 +6,50 @@
 #include <cmath>
 #include <limits>
 
+#include <Eigen/Eigenvalues>
+
 #include "poundsim/simulator.hpp"
 
 namespace poundsim {
 
 namespace {
 
-/// 10-point Gauss–Legendre rule on [−1, 1].
-constexpr std::array<double, 10> kNodes{
-    -0.9739065285171717, -0.8650633666889845, -0.6794095682990244, -0.4333953941292472,
-    -0.1488743389816312, 0.1488743389816312,  0.4333953941292472,  0.6794095682990244,
-    0.8650633666889845,  0.9739065285171717};
-constexpr std::array<double, 10> kWeights{
-    0.0666713443086881, 0.1494513491505806, 0.2190863625159820, 0.2692667193099963,
-    0.2955242247147529, 0.2955242247147529, 0.2692667193099963, 0.2190863625159820,
-    0.1494513491505806, 0.0666713443086881};
+/// Gauss–Legendre rules on [−1, 1] with n = 1 … 12 nodes, from the Golub–Welsch eigenproblem.
+struct GaussLegendre {
+  std::vector<double> nodes, weights;
+};
+
+const GaussLegendre& gauss_legendre(int n) {
+  static const std::vector<GaussLegendre> rules = [] {
+    std::vector<GaussLegendre> out(13);
+    for (int m = 1; m <= 12; ++m) {
+      Eigen::MatrixXd jacobi = Eigen::MatrixXd::Zero(m, m);
+      for (int i = 1; i < m; ++i) jacobi(i, i - 1) = jacobi(i - 1, i) = i / std::sqrt(4.0 * i * i - 1);
+      const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(jacobi);
+      for (int i = 0; i < m; ++i) {
+        out[static_cast<std::size_t>(m)].nodes.push_back(eig.eigenvalues()(i));
+        out[static_cast<std::size_t>(m)].weights.push_back(2 * eig.eigenvectors()(0, i) * eig.eigenvectors()(0, i));
+      }
+    }
+    return out;
+  }();
+  return rules[static_cast<std::size_t>(n)];
+}
+
+/// The fewest Gauss–Legendre nodes whose error for an integrand oscillating or decaying at rate r
+/// over an interval h is below 1e-17 of the integral: (rh)^{2n} (n!)⁴ / ((2n+1) ((2n)!)³).
+int nodes_for(double rh) {
+  double factorial_n = 1, factorial_2n = 1, rh_2n = 1;
+  for (int n = 1; n <= 12; ++n) {
+    factorial_n *= n;
+    factorial_2n *= (2.0 * n - 1) * (2.0 * n);
+    rh_2n *= rh * rh;
+    const double f4 = factorial_n * factorial_n * factorial_n * factorial_n;
+    const double error = rh_2n * f4 / ((2 * n + 1) * factorial_2n * factorial_2n * factorial_2n);
+    if (error < 1e-17) return n;
+  }
+  return 12;
+}
 
 }  // namespace
 
@@ -122,28 +151,70 @@ void Simulator::exact_state(double s, KinematicState& out) {
 }
 
 void Simulator::accept_exact(KinematicState& next) {
-  // Integrate the powers on the exact trajectory: Gauss–Legendre, sub-intervals short enough that
-  // the fastest mode turns by at most one radian (error far below round-off).
+  // Integrate the powers on the exact trajectory by Gauss–Legendre quadrature: sub-intervals over
+  // which the fastest product of two modes turns by at most one radian, and enough nodes that the
+  // rule's error is far below round-off.
   const double t0 = trajectory_.start_time();
   const double a = state_.t - t0, b = next.t - t0;
-  const double rate = std::max(trajectory_.phase().spectral_radius(), trajectory_.omega());
+  const double rate = 2 * std::max(trajectory_.phase().spectral_radius(), trajectory_.omega());
   const int pieces = std::max(1, static_cast<int>(std::ceil((b - a) * rate)));
   EnergyMeter::Powers integral;
   const double width = (b - a) / pieces;
+  const GaussLegendre& rule = gauss_legendre(nodes_for(rate * width));
   for (int piece = 0; piece < pieces; ++piece) {
     const double mid = a + (piece + 0.5) * width;
-    for (std::size_t k = 0; k < kNodes.size(); ++k) {
-      exact_state(mid + 0.5 * width * kNodes[k], node_);
+    for (std::size_t k = 0; k < rule.nodes.size(); ++k) {
+      exact_state(mid + 0.5 * width * rule.nodes[k], node_);
       const EnergyMeter::Powers p = energy_.powers(node_, config_);
-      const double w = 0.5 * width * kWeights[k];
+      const double w = 0.5 * width * rule.weights[k];
       integral.input += w * p.input;
       integral.storey_damping += w * p.storey_damping;
       integral.gap_damping += w * p.gap_damping;
     }
   }
   energy_.step_with(state_, next, integral, config_, memory_);
+  refine_exact_peaks(next);
   after_accept(next);
   evaluate_guards(state_, g_lo_, dg_lo_);
+}
+
+void Simulator::refine_exact_peaks(const KinematicState& next) {
+  // Extrema of a floor displacement (and of the base shear K₁u₁) or of a drift between samples
+  // lie where its rate changes sign: find that instant on the exact trajectory.
+  const double t0 = trajectory_.start_time();
+  const auto extremum = [&](auto rate, double a, double b, double ra) {
+    for (int i = 0; i < 60 && b - a > 1e-12 * std::max(1.0, b + t0); ++i) {
+      const double m = 0.5 * (a + b);
+      exact_state(m, node_);
+      if ((rate(node_) > 0) == (ra > 0)) {
+        a = m;
+      } else {
+        b = m;
+      }
+    }
+    exact_state(0.5 * (a + b), node_);
+  };
+  const double a = state_.t - t0, b = next.t - t0;
+  for (int i = 0; i < layout_.size(); ++i) {
+    FloorResponse& fr = stats_.floors[static_cast<std::size_t>(i)];
+    const double va = state_.v(i), vb = next.v(i);
+    if (va * vb < 0) {
+      extremum([i](const KinematicState& x) { return x.v(i); }, a, b, va);
+      fr.displacement.update(node_.u(i), node_.t);
+      if (layout_.floor_of(i) == 0) {
+        const int f = layout_.frame_of(i);
+        stats_.base_shear[static_cast<std::size_t>(f)].update(
+            model_.frames[static_cast<std::size_t>(f)].stiffness[0] * node_.u(i), node_.t);
+      }
+    }
+    const int below = layout_.below(i);
+    if (below < 0) continue;
+    const double da = va - state_.v(below), db = vb - next.v(below);
+    if (da * db < 0) {
+      extremum([i, below](const KinematicState& x) { return x.v(i) - x.v(below); }, a, b, da);
+      fr.drift.update(node_.u(i) - node_.u(below), node_.t);
+    }
+  }
 }
 
 void Simulator::integrate_exact_to(double t_end) {

@@ -103,7 +103,7 @@ class ExactTrajectory {
   ForcingPiece piece_;
   Eigen::VectorXd xc_, beta_, r0_;
   Eigen::VectorXcd harmonic_, c_;
-  mutable Eigen::VectorXcd work_;
+  mutable Eigen::VectorXcd work_, product_;
 };
 
 }  // namespace poundsim

@@ -16,6 +16,8 @@
 /// bounded away from zero proves a single crossing, refined by safeguarded Newton steps to the
 /// requested resolution (near machine precision). No grazing contact escapes the proof.
 
+#include <array>
+#include <limits>
 #include <optional>
 #include <span>
 #include <vector>
@@ -38,8 +40,11 @@ class GuardExpansion {
   [[nodiscard]] int size() const { return static_cast<int>(constant_.size()); }
   [[nodiscard]] bool active(int j) const { return active_[static_cast<std::size_t>(j)]; }
   /// g_j(s) and dg_j/ds.
-  [[nodiscard]] double value(int j, double s) const;
-  [[nodiscard]] double rate(int j, double s) const;
+  [[nodiscard]] double value(int j, double s) const { return value_and_rate(j, s).first; }
+  [[nodiscard]] double rate(int j, double s) const { return value_and_rate(j, s).second; }
+  /// Both at once; the last two points asked of each guard are remembered, since the search of
+  /// consecutive intervals starts where the previous one ended.
+  [[nodiscard]] std::pair<double, double> value_and_rate(int j, double s) const;
   /// An upper bound of |dᵐg_j/dsᵐ| over [a, b], m ≥ 1.
   [[nodiscard]] double derivative_bound(int j, int order, double a, double b) const;
 
@@ -51,6 +56,11 @@ class GuardExpansion {
   Eigen::MatrixXcd modal_;            // γ (modal path)
   Eigen::MatrixXd rows_;              // R (matrix-exponential path)
   Eigen::VectorXd row_norm_;
+  struct Remembered {
+    double s = std::numeric_limits<double>::quiet_NaN(), value = 0.0, rate = 0.0;
+  };
+  mutable std::vector<std::array<Remembered, 2>> remembered_;
+  [[nodiscard]] std::pair<double, double> compute(int j, double s) const;
 };
 
 /// The first upward crossing of any active guard in (a, b]: guard j, and a bracket [lo, hi] of

@@ -104,6 +104,8 @@ struct Peak {
   }
 };
 
+/// Peaks are taken at every accepted state (steps, events). The exact integrator also finds the
+/// extrema of displacements, drifts and base shears between them, so its peaks of those are exact.
 struct FloorResponse {
   Peak displacement;           ///< |u| [m]
   Peak velocity;               ///< |u̇| [m/s]
@@ -189,6 +191,7 @@ class Simulator {
   void start_exact_segment();
   void exact_state(double s, KinematicState& out);
   void accept_exact(KinematicState& next);
+  void refine_exact_peaks(const KinematicState& next);
   [[nodiscard]] Eigen::MatrixXd guard_rows(const ExactPhase& exact) const;
   void trial_step(double tau, bool nominal, KinematicState& out);
   void evaluate_guards(const KinematicState& x, std::span<double> g, std::span<double> dg);

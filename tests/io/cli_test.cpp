@@ -142,14 +142,28 @@ TEST_F(Cli, UnwritableOutputFailsWithCodeOne) {
   EXPECT_NE(r.output.find("cannot create the output folder"), std::string::npos) << r.output;
 }
 
-TEST_F(Cli, EveryExampleRuns) {
+TEST_F(Cli, EveryExampleRunsWithBothIntegrators) {
   for (const auto& entry : fs::directory_iterator(std::string(POUNDSIM_SOURCE_DIR) + "/examples")) {
     if (entry.path().extension() != ".toml") continue;
-    const Result r = run("run " + entry.path().string() + " --quiet --out " + (dir_ / "ex").string() +
-                         " --set analysis.duration=1");
-    EXPECT_EQ(r.code, 0) << entry.path() << "\n" << r.output;
-    EXPECT_EQ(r.output, "") << entry.path();
+    for (const char* integrator : {"newmark", "exact"}) {
+      const fs::path out = dir_ / integrator;
+      const Result r = run("run " + entry.path().string() + " --quiet --out " + out.string() +
+                           " --set analysis.integrator=" + integrator);
+      EXPECT_EQ(r.code, 0) << entry.path() << "\n" << r.output;
+      EXPECT_EQ(r.output, "") << entry.path();
+      const auto summary = nlohmann::json::parse(slurp(out / "summary.json"));
+      EXPECT_EQ(summary["analysis"]["integrator"], integrator);
+      EXPECT_LT(summary["energy"]["max_relative_residual"].get<double>(), 1e-9) << entry.path();
+    }
   }
+}
+
+TEST_F(Cli, VerifyPrintsTheTablesAndWritesTheReport) {
+  const fs::path report = dir_ / "verification.md";
+  const Result r = run("verify --write " + report.string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("Newmark against the exact integrator"), std::string::npos);
+  EXPECT_NE(slurp(report).find("# Verification"), std::string::npos);
 }
 
 }  // namespace

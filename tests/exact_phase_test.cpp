@@ -1,0 +1,151 @@
+// The exact integrator against closed-form solutions.
+
+#include "poundsim/exact_phase.hpp"
+
+#include <cmath>
+#include <complex>
+#include <numbers>
+
+#include <Eigen/Dense>
+#include <gtest/gtest.h>
+
+#include "poundsim/error.hpp"
+#include "poundsim/simulator.hpp"
+#include "test_models.hpp"
+
+namespace poundsim {
+namespace {
+
+constexpr double kFar = 1e6;
+
+TimeHistoryOptions exact_options(double dt) {
+  return TimeHistoryOptions{.dt = dt, .integrator = Integrator::exact};
+}
+
+TEST(ExactPhase, DampedFreeVibrationToRoundOff) {
+  const double m = 2.0, k = 800.0, zeta = 0.03, u0 = 0.01, v0 = -0.2;
+  const double w = std::sqrt(k / m), wd = w * std::sqrt(1 - zeta * zeta);
+  const Model model = make_model({make_uniform_frame(1, m, k, 2 * zeta * m * w)}, GapProperties{});
+  InitialConditions ic;
+  ic.displacement = {{u0}};
+  ic.velocity = {{v0}};
+  Simulator sim(model, NoExcitation{}, exact_options(0.05), ic);
+  double worst = 0;
+  for (int n = 1; n <= 100; ++n) {
+    sim.step();
+    const double t = sim.time();
+    const double exact = std::exp(-zeta * w * t) *
+                         (u0 * std::cos(wd * t) + (v0 + zeta * w * u0) / wd * std::sin(wd * t));
+    worst = std::max(worst, std::abs(sim.state().u(0) - exact));
+  }
+  EXPECT_LT(worst, 1e-14);  // m: |u| ≤ 1e-2, so relative 1e-12
+  EXPECT_LT(sim.energy_meter().max_relative_residual(), 1e-13);
+}
+
+TEST(ExactPhase, CriticallyDampedModeUsesTheMatrixExponential) {
+  // ζ = 1: a double eigenvalue −ω with one eigenvector; u = (u0 + (v0 + ω u0) t) e^{−ωt}.
+  const double m = 1.0, k = 100.0, w = 10.0, u0 = 0.02, v0 = 0.5;
+  const Model model = make_model({make_uniform_frame(1, m, k, 2 * m * w)}, GapProperties{});
+  const DofLayout layout(model);
+  const LinearPhase phase(model, layout, {}, 1e-3);
+  const ExactPhase exact(phase);
+  EXPECT_FALSE(exact.modal());
+  InitialConditions ic;
+  ic.displacement = {{u0}};
+  ic.velocity = {{v0}};
+  Simulator sim(model, NoExcitation{}, exact_options(0.01), ic);
+  double worst = 0;
+  for (int n = 1; n <= 50; ++n) {
+    sim.step();
+    const double t = sim.time();
+    worst = std::max(worst, std::abs(sim.state().u(0) - (u0 + (v0 + w * u0) * t) * std::exp(-w * t)));
+  }
+  EXPECT_LT(worst, 1e-14);
+}
+
+TEST(ExactPhase, PiecewiseLinearRecordRestartsAtEverySample) {
+  // Undamped oscillator from rest under a_g with slope changes a₁ₖ at t_k: by superposition
+  // u(t) = −Σ Δa₁ₖ/ω² ((t − t_k) − sin(ω(t − t_k))/ω) for t > t_k.
+  const double k = 400.0, w = 20.0;
+  const Model model = make_model({make_uniform_frame(1, 1.0, k, 0.0)}, GapProperties{});
+  const std::vector<double> t{0.0, 0.13, 0.31, 0.5, 0.77};
+  const std::vector<double> a{0.0, 1.3, -0.4, 0.9, 0.9};
+  const RecordExcitation record{t, a, "test"};
+  Simulator sim(model, record, exact_options(0.01));
+  const auto exact = [&](double time) {
+    double u = 0, previous_slope = 0;
+    for (std::size_t i = 0; i + 1 < t.size(); ++i) {
+      const double slope = (a[i + 1] - a[i]) / (t[i + 1] - t[i]);
+      const double change = slope - previous_slope;
+      previous_slope = slope;
+      if (time > t[i]) {
+        const double s = time - t[i];
+        u -= change / (w * w) * (s - std::sin(w * s) / w);
+      }
+    }
+    // After the last sample a_g drops to zero: a step of −a_last and the ramp's end.
+    if (time > t.back()) {
+      const double s = time - t.back();
+      u -= -previous_slope / (w * w) * (s - std::sin(w * s) / w);
+      u -= -a.back() / (w * w) * (1 - std::cos(w * s));
+    }
+    return u;
+  };
+  double worst = 0, scale = 0;
+  for (int n = 1; n <= 150; ++n) {
+    sim.step();
+    worst = std::max(worst, std::abs(sim.state().u(0) - exact(sim.time())));
+    scale = std::max(scale, std::abs(exact(sim.time())));
+  }
+  EXPECT_LT(worst, 1e-12 * scale);
+}
+
+TEST(ExactPhase, SteadyStateAmplitudeAndPhaseToOneInABillion) {
+  // Non-proportional damping (a dashpot in the top storey only) makes the modes complex. After the
+  // transient has decayed below 1e-11, the Fourier coefficient of each floor's response over one
+  // period must equal the closed-form U of (K − ω̄²M + iω̄C) U = −M 1 A.
+  Frame f = make_uniform_frame(3, 1.0, 400.0, 0.0);
+  f.damping = {0.0, 0.0, 8.0};
+  const Model model = make_model({f}, GapProperties{});
+  const double A = 0.2 * 9.81, omega = 1.3 * fundamental_frequency(f);
+  Simulator sim(model, HarmonicExcitation{A, omega}, exact_options(1e-2));
+  const DofLayout layout(model);
+  const ExactPhase phase(LinearPhase(model, layout, {}, 1e-2));
+  ASSERT_TRUE(phase.modal());
+  const double slowest = -phase.eigenvalues().real().maxCoeff();  // decay rate of the transient
+
+  using Complex = std::complex<double>;
+  Eigen::MatrixXcd dyn = stiffness_matrix(f).cast<Complex>() - omega * omega * Eigen::MatrixXcd::Identity(3, 3) +
+                         Complex(0, omega) * damping_matrix(f).cast<Complex>();
+  const Eigen::VectorXcd u = dyn.partialPivLu().solve(Eigen::VectorXcd::Constant(3, -A));
+
+  const double period = 2 * std::numbers::pi / omega;
+  const int start = static_cast<int>(std::ceil(30.0 / slowest / period));  // transient < 1e-13
+  sim.advance_to(start * period);
+  const int samples = 64;
+  Eigen::VectorXcd coefficient = Eigen::VectorXcd::Zero(3);
+  for (int j = 0; j < samples; ++j) {
+    sim.advance_to((start + (j + 1.0) / samples) * period);
+    const Complex basis = std::exp(Complex(0, -omega * sim.time()));
+    for (int i = 0; i < 3; ++i) coefficient(i) += sim.state().u(i) * basis;
+  }
+  // u(t) = Im(U e^{iω̄t}) = (U e^{iω̄t} − conj)/(2i): the e^{iω̄t} coefficient is U/(2i).
+  coefficient *= 2.0 * Complex(0, 1) / double(samples);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(std::abs(coefficient(i)), std::abs(u(i)), 1e-9 * std::abs(u(i))) << "floor " << i + 1;
+    EXPECT_NEAR(std::arg(coefficient(i) / u(i)), 0.0, 1e-9) << "floor " << i + 1;
+  }
+}
+
+TEST(ExactPhase, UndampedForcingAtResonanceIsRejected) {
+  const Model model = make_model({make_uniform_frame(1, 1.0, 100.0, 0.0)}, GapProperties{});
+  EXPECT_THROW(
+      {
+        Simulator sim(model, HarmonicExcitation{1.0, 10.0}, exact_options(1e-2));
+        sim.step();
+      },
+      SimulationError);
+}
+
+}  // namespace
+}  // namespace poundsim
