@@ -1,8 +1,12 @@
 // poundsim command line: parses arguments, calls the library, reports. Exit codes: 0 success,
 // 1 failure during the run (numerical or file system), 2 bad input or usage.
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <mutex>
 #include <exception>
 #include <string>
 #include <vector>
@@ -12,6 +16,7 @@
 
 #include "poundsim/error.hpp"
 #include "poundsim/io/input.hpp"
+#include "poundsim/io/frequency_response_run.hpp"
 #include "poundsim/io/output_files.hpp"
 #include "poundsim/io/time_history_run.hpp"
 #include "poundsim/verification.hpp"
@@ -38,6 +43,41 @@ void print_report(const nlohmann::json& s, const std::string& out_dir) {
              s["energy"]["input_J"].get<double>(), s["energy"]["max_relative_residual"].get<double>());
   fmt::print("  wrote {}/history.csv, events.csv, summary.json\n", out_dir);
 }
+
+void print_frf_report(const nlohmann::json& s, const std::string& out_dir) {
+  fmt::print("poundsim {}: {} (frequency response, {} points, {:.3f} s)\n", POUNDSIM_VERSION,
+             s["input"].get<std::string>(), s["analysis"]["points"].get<int>(),
+             s["run_time_s"].get<double>());
+  for (const auto& [branch, b] : s["branches"].items()) {
+    for (const auto& f : b["frames"]) {
+      fmt::print("  {:<4} frame {}: peak V/W {:.4f} at ω̄/ω₁ = {:.3f} (free {:.4f} at {:.3f})\n", branch,
+                 f["frame"].get<int>(), f["peak_V_W"].get<double>(), f["peak_ratio"].get<double>(),
+                 f["peak_free_V_W"].get<double>(), f["peak_free_ratio"].get<double>());
+    }
+  }
+  fmt::print("  wrote {}/frf.csv, summary.json\n", out_dir);
+}
+
+/// A one-line progress bar on a terminal; silent otherwise. Updates come from worker threads.
+class ProgressBar {
+ public:
+  explicit ProgressBar(bool enabled) : enabled_(enabled) {}
+  void update(int done, int total) {
+    if (!enabled_) return;
+    const std::lock_guard lock(mutex_);
+    const int width = 40, filled = width * done / std::max(total, 1);
+    fmt::print(stderr, "\r  [{}{}] {}/{} points", std::string(static_cast<std::size_t>(filled), '#'),
+               std::string(static_cast<std::size_t>(width - filled), '.'), done, total);
+    std::fflush(stderr);
+  }
+  void finish() {
+    if (enabled_) fmt::print(stderr, "\n");
+  }
+
+ private:
+  bool enabled_;
+  std::mutex mutex_;
+};
 
 }  // namespace
 
@@ -86,6 +126,14 @@ int main(int argc, char** argv) {
       return 0;
     }
     const poundsim::io::RunInput input = poundsim::io::read_input(model_file, overrides);
+    if (input.analysis.kind == "frf") {
+      ProgressBar bar(!quiet && ::isatty(STDERR_FILENO) != 0);
+      const nlohmann::json summary = poundsim::io::run_frequency_response(
+          input, out_dir, [&bar](int done, int total) { bar.update(done, total); });
+      bar.finish();
+      if (!quiet) print_frf_report(summary, out_dir);
+      return 0;
+    }
     const nlohmann::json summary = poundsim::io::run_time_history(input, out_dir);
     if (!quiet) print_report(summary, out_dir);
     return 0;

@@ -28,6 +28,7 @@ void GuardExpansion::build(const ExactTrajectory& trajectory, const Eigen::Matri
   const ExactPhase& phase = trajectory.phase();
   const Eigen::Index g = rows.rows();
   remembered_.assign(static_cast<std::size_t>(g), {});
+  start_.resize(0);
   active_.assign(static_cast<std::size_t>(g), false);
   Eigen::VectorXd x0, x0_rate;
   trajectory.evaluate(0.0, x0, x0_rate);
@@ -48,15 +49,30 @@ void GuardExpansion::build(const ExactTrajectory& trajectory, const Eigen::Matri
     rows_ = rows;
     row_norm_ = rows.rowwise().norm();
   }
-  // Make each expansion reproduce its start value to the last bit, and never start above zero
-  // when the guard did not: a guard that starts a segment exactly at zero (just biased after an
-  // impact) must not fire again at once through round-off.
+  // Make each expansion reproduce its start value as closely as round-off allows; at s = 0 it
+  // returns the start value itself, so a guard that starts a segment exactly at zero (just
+  // biased after an impact) cannot fire again at once through the last bit of a sum.
+  start_ = Eigen::Map<const Eigen::VectorXd>(at_start.data(), g);
   for (Eigen::Index j = 0; j < g; ++j) {
     if (!active_[static_cast<std::size_t>(j)]) continue;
-    const double start = at_start[static_cast<std::size_t>(j)];
-    constant_(j) += start - compute(static_cast<int>(j), 0.0).first;
-    const double excess = compute(static_cast<int>(j), 0.0).first;
-    if (start <= 0 && excess > 0) constant_(j) -= 2 * excess;
+    constant_(j) += start_(j) - compute(static_cast<int>(j), 0.0).first;
+  }
+  // Each value is a sum of terms much larger than itself near a root; its round-off is a few ulps
+  // of their sizes. Shift every guard down by that much, so that only a crossing the sum can
+  // resolve counts (a pair just bounced off the stop must not "cross" again in the noise of its
+  // first femtoseconds).
+  constexpr double eps = std::numeric_limits<double>::epsilon();
+  for (Eigen::Index j = 0; j < g; ++j) {
+    if (!active_[static_cast<std::size_t>(j)]) continue;
+    double size = std::abs(constant_(j)) + std::abs(harmonic_(j)) + std::abs(memory_(j));
+    if (phase.modal()) {
+      size += modal_.row(j).cwiseAbs().sum();
+    } else {
+      size += row_norm_(j) * trajectory.homogeneous_start().norm();
+    }
+    const double noise = 16 * eps * size;
+    constant_(j) -= noise;
+    start_(j) -= noise;
   }
 }
 
@@ -73,6 +89,7 @@ std::pair<double, double> GuardExpansion::value_and_rate(int j, double s) const 
 
 std::pair<double, double> GuardExpansion::compute(int j, double s) const {
   const ExactTrajectory& tr = *trajectory_;
+  const bool at_start = s == 0.0 && start_.size() > 0;
   const double decay = std::exp(-memory_rate_(j) * s);
   double g = constant_(j) + slope_(j) * s - memory_(j) * decay;
   double d = slope_(j) + memory_(j) * memory_rate_(j) * decay;
@@ -98,7 +115,7 @@ std::pair<double, double> GuardExpansion::compute(int j, double s) const {
     g += rows_.row(j).dot(h);
     d += rows_.row(j).dot(h_rate);
   }
-  return {g, d};
+  return {at_start ? start_(j) : g, d};
 }
 
 double GuardExpansion::derivative_bound(int j, int order, double a, double b) const {

@@ -147,18 +147,53 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
 
   stats_.floors.resize(static_cast<std::size_t>(n));
   stats_.base_shear.resize(static_cast<std::size_t>(model_.frame_count()));
+  stats_.storey_shear.resize(static_cast<std::size_t>(model_.frame_count()));
   stats_.gaps.resize(ng);
 
   link_length_.assign(ng, 0.0);
+  settle_state();
+}
+
+void Simulator::settle_state() {
   activate_phase();
-  newmark_.equilibrate(*phase_, ground_acceleration(excitation_, 0.0), state_);
+  newmark_.equilibrate(*phase_, ground_acceleration(excitation_, state_.t), state_);
   energy_.start(state_, config_, memory_);
   evaluate_guards(state_, g_lo_, dg_lo_);
   while (any_positive(g_lo_)) {
     g_work_ = g_lo_;
     apply_events(g_work_);
   }
+  energy_.start(state_, config_, memory_);
   events_this_step_ = 0;
+  record_statistics();
+}
+
+void Simulator::restart(Excitation excitation, double dt) {
+  validate(excitation);
+  TimeHistoryOptions options = options_;
+  options.dt = dt;
+  options.validate();
+  options_ = options;
+  excitation_ = std::move(excitation);
+  // Shift the clock to 0; the relaxing free ends remember their release relative to it.
+  for (GapMemory& m : memory_) m.release_time -= state_.t;
+  state_.t = 0.0;
+  grid_origin_ = 0.0;
+  grid_index_ = 0;
+  phases_.clear();  // factorised for the old step
+  exact_phases_.clear();
+  settle_state();
+  reset_statistics();
+}
+
+void Simulator::reset_statistics() {
+  const ResponseStatistics empty{};
+  stats_.steps = stats_.substeps = stats_.guard_evaluations = stats_.events = 0;
+  stats_.phases_factorised = empty.phases_factorised;
+  for (FloorResponse& f : stats_.floors) f = FloorResponse{};
+  for (Peak& p : stats_.base_shear) p = Peak{};
+  for (Peak& p : stats_.storey_shear) p = Peak{};
+  for (GapResponse& g : stats_.gaps) g = GapResponse{};
   record_statistics();
 }
 
@@ -193,6 +228,11 @@ double Simulator::gap_force(int p) const {
 
 double Simulator::base_shear(int f) const {
   return model_.frames[f].stiffness[0] * state_.u(layout_.dof(f, 0));
+}
+
+double Simulator::storey_shear(int f) const {
+  const int d = layout_.dof(f, 0);
+  return model_.frames[f].stiffness[0] * state_.u(d) + model_.frames[f].damping[0] * state_.v(d);
 }
 
 void Simulator::activate_phase() {
@@ -376,6 +416,7 @@ void Simulator::compute_stop_reactions(const KinematicState& x) {
 
 void Simulator::accept(KinematicState& next, std::span<const double> guards) {
   energy_.step(state_, next, config_, memory_);
+  refine_step_peaks(next);
   after_accept(next);
   std::copy(guards.begin(), guards.end(), g_lo_.begin());
   dg_lo_ = dg_hi_;
@@ -393,6 +434,37 @@ void Simulator::after_accept(KinematicState& next) {
   record_statistics();
 }
 
+void Simulator::refine_step_peaks(const KinematicState& next) {
+  // Inside one Newmark step a quantity q with rate q̇ is modelled by the cubic Hermite
+  // interpolant of (q, q̇) at both ends; where q̇ changes sign it peaks inside the step.
+  const double t0 = state_.t, h = next.t - t0;
+  if (!(h > 0)) return;
+  const auto refine = [&](Peak& peak, double q0, double r0, double q1, double r1) {
+    if (!(r0 * r1 < 0)) return;
+    const detail::HermiteCubic cubic(q0, r0, q1, r1, h);
+    for (const double theta : cubic.critical_points()) {
+      if (theta > 0 && theta < 1) peak.update(cubic(theta), t0 + theta * h);
+    }
+  };
+  for (int i = 0; i < layout_.size(); ++i) {
+    FloorResponse& fr = stats_.floors[static_cast<std::size_t>(i)];
+    refine(fr.displacement, state_.u(i), state_.v(i), next.u(i), next.v(i));
+    const int b = layout_.below(i);
+    if (b >= 0) {
+      refine(fr.drift, state_.u(i) - state_.u(b), state_.v(i) - state_.v(b), next.u(i) - next.u(b),
+             next.v(i) - next.v(b));
+    }
+  }
+  for (int f = 0; f < model_.frame_count(); ++f) {
+    const int d = layout_.dof(f, 0);
+    const double k = model_.frames[f].stiffness[0], c = model_.frames[f].damping[0];
+    const auto fi = static_cast<std::size_t>(f);
+    refine(stats_.base_shear[fi], k * state_.u(d), k * state_.v(d), k * next.u(d), k * next.v(d));
+    refine(stats_.storey_shear[fi], k * state_.u(d) + c * state_.v(d), k * state_.v(d) + c * state_.a(d),
+           k * next.u(d) + c * next.v(d), k * next.v(d) + c * next.a(d));
+  }
+}
+
 void Simulator::record_statistics() {
   const double t = state_.t, ground = state_.ground;
   for (int i = 0; i < layout_.size(); ++i) {
@@ -406,6 +478,7 @@ void Simulator::record_statistics() {
   }
   for (int f = 0; f < model_.frame_count(); ++f) {
     stats_.base_shear[static_cast<std::size_t>(f)].update(base_shear(f), t);
+    stats_.storey_shear[static_cast<std::size_t>(f)].update(storey_shear(f), t);
   }
   for (std::size_t p = 0; p < config_.size(); ++p) {
     if (config_[p] == GapMode::open) continue;

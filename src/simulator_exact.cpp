@@ -207,6 +207,16 @@ void Simulator::refine_exact_peaks(const KinematicState& next) {
             model_.frames[static_cast<std::size_t>(f)].stiffness[0] * node_.u(i), node_.t);
       }
     }
+    if (layout_.floor_of(i) == 0) {
+      const int f = layout_.frame_of(i);
+      const double k = model_.frames[static_cast<std::size_t>(f)].stiffness[0];
+      const double c = model_.frames[static_cast<std::size_t>(f)].damping[0];
+      const double sa = k * va + c * state_.a(i), sb = k * vb + c * next.a(i);
+      if (sa * sb < 0) {
+        extremum([i, k, c](const KinematicState& x) { return k * x.v(i) + c * x.a(i); }, a, b, sa);
+        stats_.storey_shear[static_cast<std::size_t>(f)].update(k * node_.u(i) + c * node_.v(i), node_.t);
+      }
+    }
     const int below = layout_.below(i);
     if (below < 0) continue;
     const double da = va - state_.v(below), db = vb - next.v(below);
@@ -233,15 +243,23 @@ void Simulator::integrate_exact_to(double t_end) {
       if (limit >= trajectory_.piece().end) segment_valid_ = false;  // the next forcing piece
       continue;
     }
-    // Every guard positive at the upper end of the bracket fires: simultaneous events.
-    const double hi = std::max(crossing->hi, state_.t - t0);
-    for (int j = 0; j < expansion_.size(); ++j) {
-      g_work_[static_cast<std::size_t>(j)] =
-          expansion_.active(j) ? expansion_.value(j, hi) : -std::numeric_limits<double>::infinity();
+    // The bracket is a few ulps wide, below the round-off of the guards computed from a state.
+    // Move its upper end past the root until the guard of the state there has fired too, so the
+    // event decision and every later guard evaluation agree; all guards positive there fire
+    // together (simultaneous events).
+    const double lo = std::max(crossing->lo, state_.t - t0);
+    double hi = std::max(crossing->hi, lo);
+    const double end = limit - t0;
+    for (int widen = 0;; ++widen) {
+      exact_state(hi, upper_);
+      evaluate_guards(upper_, g_work_, dg_work_);
+      if (g_work_[static_cast<std::size_t>(crossing->guard)] > 0 || hi >= end || widen > 60) break;
+      hi = std::min(end, lo + 2 * (hi - lo) + resolution);
     }
-    g_work_[static_cast<std::size_t>(crossing->guard)] =
-        std::max(g_work_[static_cast<std::size_t>(crossing->guard)], std::numeric_limits<double>::min());
-    exact_state(hi, upper_);
+    if (!std::any_of(g_work_.begin(), g_work_.end(), [](double x) { return x > 0.0; })) {
+      accept_exact(upper_);  // a touch within round-off: no event
+      continue;
+    }
     const std::vector<double> fired = g_work_;
     accept_exact(upper_);
     apply_events(fired);

@@ -33,7 +33,9 @@ TEST(GuardExpansion, FirstContactTimeToMachinePrecision) {
     if (first < 0) first = e.time;
   });
   sim.advance_to(0.1);
-  EXPECT_NEAR(first, exact, 1e-15);
+  // Near machine precision: the event is taken where the guard clears its own round-off.
+  EXPECT_NEAR(first, exact, 1e-14);
+  EXPECT_GE(first, exact);
 }
 
 TEST(GuardExpansion, GrazingContactsAreProvenOrFound) {

@@ -51,7 +51,7 @@ class GuardExpansion {
  private:
   const ExactTrajectory* trajectory_ = nullptr;
   std::vector<bool> active_;
-  Eigen::VectorXd constant_, slope_, memory_, memory_rate_;
+  Eigen::VectorXd constant_, slope_, memory_, memory_rate_, start_;
   Eigen::VectorXcd harmonic_;
   Eigen::MatrixXcd modal_;            // γ (modal path)
   Eigen::MatrixXd rows_;              // R (matrix-exponential path)

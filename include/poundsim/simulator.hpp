@@ -104,8 +104,10 @@ struct Peak {
   }
 };
 
-/// Peaks are taken at every accepted state (steps, events). The exact integrator also finds the
-/// extrema of displacements, drifts and base shears between them, so its peaks of those are exact.
+/// Peaks are taken at every accepted state (steps, events) and between them: a displacement, drift
+/// or shear whose rate changes sign inside a step peaks there. Newmark takes that peak from the
+/// cubic Hermite model of the step (values and rates at both ends, error O(h⁴)); the exact
+/// integrator finds it on its exact trajectory.
 struct FloorResponse {
   Peak displacement;           ///< |u| [m]
   Peak velocity;               ///< |u̇| [m/s]
@@ -126,6 +128,7 @@ struct GapResponse {
 struct ResponseStatistics {
   std::vector<FloorResponse> floors;  ///< By DOF (DofLayout numbering).
   std::vector<Peak> base_shear;       ///< |V| = |K_1 u_1| per frame [N].
+  std::vector<Peak> storey_shear;     ///< |K_1 u_1 + C_1 u̇_1| per frame: spring and dashpot [N].
   std::vector<GapResponse> gaps;
   std::int64_t steps = 0;             ///< Grid steps.
   std::int64_t substeps = 0;          ///< Accepted Newmark steps, including partial ones.
@@ -152,6 +155,14 @@ class Simulator {
 
   /// Integrates grid steps of h until `t` [s]; the last step is shortened to end exactly at t.
   void advance_to(double t);
+
+  /// Continues from the current state (displacements, velocities, contact configuration, locked
+  /// links) under a new excitation and step, with the clock reset to 0 — a frequency sweep's next
+  /// point. Statistics and the energy balance start afresh.
+  void restart(Excitation excitation, double dt);
+
+  /// Forgets the peaks and counts gathered so far (e.g. after a transient).
+  void reset_statistics();
   /// One grid step.
   void step();
 
@@ -171,6 +182,8 @@ class Simulator {
   [[nodiscard]] double gap_force(int p) const;
   /// V = K_1 u_1 of frame f now [N].
   [[nodiscard]] double base_shear(int f) const;
+  /// K_1 u_1 + C_1 u̇_1 of frame f now [N].
+  [[nodiscard]] double storey_shear(int f) const;
 
   [[nodiscard]] const EnergyBalance& energy() const { return energy_.balance(); }
   [[nodiscard]] const EnergyMeter& energy_meter() const { return energy_; }
@@ -192,6 +205,8 @@ class Simulator {
   void exact_state(double s, KinematicState& out);
   void accept_exact(KinematicState& next);
   void refine_exact_peaks(const KinematicState& next);
+  void refine_step_peaks(const KinematicState& next);
+  void settle_state();
   [[nodiscard]] Eigen::MatrixXd guard_rows(const ExactPhase& exact) const;
   void trial_step(double tau, bool nominal, KinematicState& out);
   void evaluate_guards(const KinematicState& x, std::span<double> g, std::span<double> dg);

@@ -547,8 +547,25 @@ void read_excitation(TableReader& t, const Model& model, const std::filesystem::
   t.finish(context);
 }
 
-void read_analysis(TableReader& t, AnalysisSettings& a) {
-  a.kind = t.choice("kind", {"time_history"});
+/// The integration keys shared by every kind of analysis.
+void read_integration(TableReader& t, AnalysisSettings& a) {
+  TimeHistoryOptions& o = a.options;
+  a.integrator = t.choice("integrator", {"newmark", "exact"}, std::string("newmark"));
+  o.integrator = a.integrator == "exact" ? Integrator::exact : Integrator::newmark;
+  o.event_tolerance = t.number_or("event_tolerance", o.event_tolerance);
+  if (!(o.event_tolerance > 0)) {
+    t.fail("event_tolerance", fmt::format("{} s must be > 0", o.event_tolerance));
+  }
+  o.lock_time = t.number_or("lock_time", o.lock_time);
+  if (!(o.lock_time >= 10 * o.event_tolerance)) {
+    t.fail("lock_time", fmt::format("{} s must be at least 10 × event_tolerance", o.lock_time));
+  }
+  o.separation = t.choice("separation", {"displacement", "force"}, std::string("displacement")) == "force"
+                     ? SeparationCriterion::force
+                     : SeparationCriterion::displacement;
+}
+
+void read_time_history(TableReader& t, AnalysisSettings& a) {
   a.duration = t.positive("duration", t.number("duration"));
   TimeHistoryOptions& o = a.options;
   o.dt = t.positive("dt", t.number("dt"));
@@ -558,20 +575,63 @@ void read_analysis(TableReader& t, AnalysisSettings& a) {
   if (!(a.output_dt > 0) || std::abs(ratio - std::round(ratio)) > 1e-9 * ratio || ratio < 0.5) {
     t.fail("output_dt", fmt::format("{} s must be a positive multiple of dt = {} s", a.output_dt, o.dt));
   }
-  a.integrator = t.choice("integrator", {"newmark", "exact"}, std::string("newmark"));
-  o.integrator = a.integrator == "exact" ? Integrator::exact : Integrator::newmark;
-  o.event_tolerance = t.number_or("event_tolerance", o.event_tolerance);
-  if (!(o.event_tolerance > 0 && o.event_tolerance < o.dt)) {
-    t.fail("event_tolerance", fmt::format("{} s must be > 0 and smaller than dt", o.event_tolerance));
+  read_integration(t, a);
+  if (!(o.event_tolerance < o.dt)) {
+    t.fail("event_tolerance", fmt::format("{} s must be smaller than dt = {} s", o.event_tolerance, o.dt));
   }
-  o.lock_time = t.number_or("lock_time", o.lock_time);
-  if (!(o.lock_time >= 10 * o.event_tolerance)) {
-    t.fail("lock_time", fmt::format("{} s must be at least 10 × event_tolerance", o.lock_time));
+}
+
+FrfSettings read_frf(TableReader& t, const Model& model, const AnalysisSettings& a) {
+  FrfSettings f;
+  f.amplitude_g = t.number("amplitude_g");
+  const bool listed = t.has("ratios");
+  const bool range = t.has("ratio_min") || t.has("ratio_max") || t.has("points");
+  if (listed == range) {
+    t.fail_table("give either ratios = [...] or ratio_min, ratio_max and points");
   }
-  o.separation = t.choice("separation", {"displacement", "force"}, std::string("displacement")) == "force"
-                     ? SeparationCriterion::force
-                     : SeparationCriterion::displacement;
-  t.finish(fmt::format("for kind = \"{}\"", a.kind));
+  if (listed) {
+    f.ratios = t.numbers("ratios");
+    for (const double r : f.ratios) {
+      if (!(r > 0)) t.fail("ratios", fmt::format("every ratio must be > 0 (got {})", r));
+    }
+  } else {
+    const double lo = t.positive("ratio_min", t.number("ratio_min"));
+    const double hi = t.positive("ratio_max", t.number("ratio_max"));
+    const int n = t.integer("points");
+    if (n < 1) t.fail("points", "must be ≥ 1");
+    if (!(hi >= lo) || (n > 1 && hi == lo)) t.fail("ratio_max", "must be larger than ratio_min");
+    for (int i = 0; i < n; ++i) f.ratios.push_back(n == 1 ? lo : lo + (hi - lo) * i / (n - 1));
+  }
+  std::sort(f.ratios.begin(), f.ratios.end());
+  const std::string sweep = t.choice("sweep", {"rest", "up", "down", "both"}, std::string("rest"));
+  f.sweep = sweep == "up"     ? SweepMode::up
+            : sweep == "down" ? SweepMode::down
+            : sweep == "both" ? SweepMode::both
+                              : SweepMode::from_rest;
+  SteadyStateOptions& s = f.steady;
+  if (auto n = t.optional_integer("steps_per_period")) s.steps_per_period = *n;
+  if (s.steps_per_period < 8) t.fail("steps_per_period", "must be ≥ 8");
+  s.tolerance = t.number_or("tolerance", s.tolerance);
+  if (!(s.tolerance > 0 && s.tolerance < 1)) t.fail("tolerance", "must be in (0, 1)");
+  if (auto n = t.optional_integer("max_periodicity")) s.max_periodicity = *n;
+  if (s.max_periodicity < 1) t.fail("max_periodicity", "must be ≥ 1");
+  if (auto n = t.optional_integer("max_periods")) s.max_periods = *n;
+  if (s.max_periods < 2 * s.max_periodicity + 2) {
+    t.fail("max_periods", "must be at least 2 × max_periodicity + 2");
+  }
+  if (auto n = t.optional_integer("window_periods")) s.window_periods = *n;
+  if (s.window_periods < 1) t.fail("window_periods", "must be ≥ 1");
+  if (auto n = t.optional_integer("threads")) f.threads = *n;
+  if (f.threads < 0) t.fail("threads", "must be ≥ 0 (0: all cores)");
+  // The shortest step: the highest frequency's period over steps_per_period.
+  const double shortest = 2 * std::numbers::pi / (f.ratios.back() * fundamental_frequency(model.frames.front())) /
+                          s.steps_per_period;
+  if (!(a.options.event_tolerance < shortest)) {
+    t.fail("steps_per_period", fmt::format("gives steps of {} s at the highest frequency, not longer "
+                                           "than analysis.event_tolerance", shortest));
+  }
+  t.finish();
+  return f;
 }
 
 RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::path& base_dir,
@@ -597,10 +657,27 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
     run.model = read_physical(top);
   }
   if (auto initial = top.optional_table("initial")) read_initial(*initial, run.model, run.initial);
-  TableReader excitation = top.table("excitation");
-  read_excitation(excitation, run.model, base_dir, run);
   TableReader analysis = top.table("analysis");
-  read_analysis(analysis, run.analysis);
+  run.analysis.kind = analysis.choice("kind", {"time_history", "frf"});
+  const std::string context = fmt::format("for kind = \"{}\"", run.analysis.kind);
+  if (run.analysis.kind == "time_history") {
+    read_time_history(analysis, run.analysis);
+    TableReader excitation = top.table("excitation");
+    read_excitation(excitation, run.model, base_dir, run);
+    if (top.has("frf")) top.fail("frf", "only for analysis.kind = \"frf\"");
+  } else {
+    read_integration(analysis, run.analysis);
+    if (top.has("excitation")) {
+      top.fail("excitation", "a frequency response sets its own harmonic excitation from [frf]");
+    }
+    if (top.has("initial")) top.fail("initial", "a frequency response starts from rest or from the previous point");
+    TableReader frf = top.table("frf");
+    run.frf = read_frf(frf, run.model, run.analysis);
+    run.excitation_info.kind = "harmonic";
+    run.excitation_info.amplitude_g = run.frf->amplitude_g;
+    run.excitation_info.omega1 = fundamental_frequency(run.model.frames.front());
+  }
+  analysis.finish(context);
   top.finish();
 
   // Cross-checks that need the whole model.

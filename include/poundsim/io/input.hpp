@@ -15,6 +15,7 @@
 
 #include "poundsim/dimensionless.hpp"
 #include "poundsim/excitation.hpp"
+#include "poundsim/frequency_response.hpp"
 #include "poundsim/model.hpp"
 #include "poundsim/simulator.hpp"
 
@@ -31,13 +32,22 @@ struct ExcitationInfo {
   std::string record_units;           ///< Record: units of the file's accelerations.
 };
 
-/// [analysis] of a time history.
+/// [analysis]: what to run. Time-history keys apply to kind = "time_history".
 struct AnalysisSettings {
-  std::string kind = "time_history";
+  std::string kind = "time_history";  ///< "time_history" or "frf"
   double duration = 0.0;        ///< [s]
   double output_dt = 0.0;       ///< Spacing of history rows [s], a multiple of dt.
   std::string integrator = "newmark";
-  TimeHistoryOptions options;   ///< dt, event_tolerance, lock_time, separation.
+  TimeHistoryOptions options;   ///< dt, event_tolerance, lock_time, separation, integrator.
+};
+
+/// [frf] of a frequency-response analysis.
+struct FrfSettings {
+  double amplitude_g = 0.0;           ///< A/g of a_g = A sin(ω̄t)
+  std::vector<double> ratios;         ///< ω̄/ω₁, ascending
+  SweepMode sweep = SweepMode::from_rest;
+  SteadyStateOptions steady;
+  int threads = 0;                    ///< 0: all cores
 };
 
 /// Everything a run needs, in SI.
@@ -49,6 +59,7 @@ struct RunInput {
   Excitation excitation;
   ExcitationInfo excitation_info;
   AnalysisSettings analysis;
+  std::optional<FrfSettings> frf;  ///< For kind = "frf" (which has no [excitation]).
   InitialConditions initial;
 };
 

@@ -1,0 +1,96 @@
+#pragma once
+/// @file
+/// Frequency responses of pounding frames under harmonic base acceleration a_g = A sin(ω̄t): the
+/// paper's results (Figs. 2–4) are the steady-state amplitude of each frame's base shear V = K₁u₁,
+/// divided by the weight W of frame 1, against ω̄/ω₁.
+///
+/// The steady state is detected, not assumed. The state y = [u; u̇/ω̄] (and the contact
+/// configuration) is sampled on the Poincaré section t = m T, T = 2π/ω̄. The response is periodic
+/// with period kT when the last k sections each repeat the one k periods earlier to a relative
+/// `tolerance`; the smallest such k ≤ max_periodicity is reported, after which k more periods are
+/// run and the peaks over them are the amplitudes. If no k is found within `max_periods`, the
+/// response is reported as not periodic (k = 0: quasi-periodic or chaotic) and the peaks are taken
+/// over the following `window_periods` periods.
+///
+/// A point starts from rest (default), or — in a sweep up or down in frequency — from the steady
+/// state of the previous point, so that coexisting periodic branches and the jumps between them
+/// show. The frames without gap elements are linear: their amplitudes are computed in closed form
+/// from (K − ω̄²M + iω̄C) U = −M 1 A, frame by frame.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "poundsim/model.hpp"
+#include "poundsim/simulator.hpp"
+
+namespace poundsim {
+
+enum class SweepMode : std::uint8_t {
+  from_rest,  ///< every frequency from rest, independently (in parallel)
+  up,         ///< increasing frequency, each from the previous steady state
+  down,       ///< decreasing frequency, likewise
+  both,       ///< up and down sweeps, both reported
+};
+
+[[nodiscard]] std::string_view to_string(SweepMode mode);
+
+struct SteadyStateOptions {
+  int steps_per_period = 128;   ///< Newmark steps (exact integrator: samples) per period T.
+  double tolerance = 1e-6;      ///< Poincaré repetition, relative to the largest |y| seen.
+  int max_periods = 600;        ///< Periods simulated before the response is called non-periodic.
+  int max_periodicity = 8;      ///< Largest k looked for.
+  int window_periods = 64;      ///< Periods over which a non-periodic response's peaks are taken.
+
+  /// Throws std::invalid_argument naming the field that is out of range.
+  void validate() const;
+};
+
+struct FrequencyResponseOptions {
+  double amplitude = 0.0;        ///< A [m/s²]
+  std::vector<double> ratios;    ///< ω̄/ω₁, ω₁ of frame 1 alone
+  SweepMode sweep = SweepMode::from_rest;
+  SteadyStateOptions steady;
+  /// Integrator, event tolerance, lock time, separation; dt is set per point from T.
+  TimeHistoryOptions time_history;
+  int threads = 0;               ///< 0: all hardware threads. Results do not depend on it.
+  /// Called after every point with (points done, points in all); from worker threads.
+  std::function<void(int, int)> progress;
+};
+
+/// Steady-state peaks per frame.
+struct FrameAmplitudes {
+  std::vector<double> base_shear;        ///< max |K₁u₁| [N]
+  std::vector<double> storey_shear;      ///< max |K₁u₁ + C₁u̇₁| [N]
+  std::vector<double> top_displacement;  ///< max |u| of the top floor [m]
+};
+
+struct FrfPoint {
+  double ratio = 0.0;            ///< ω̄/ω₁
+  double omega = 0.0;            ///< ω̄ [rad/s]
+  SweepMode branch = SweepMode::from_rest;  ///< from_rest, up or down
+  FrameAmplitudes interacting;
+  FrameAmplitudes free;          ///< the frames without gap elements (closed form)
+  int periodicity = 0;           ///< k ≥ 1, or 0 when not periodic within the budget
+  int transient_periods = 0;     ///< periods simulated until the repetition was found (or the budget)
+  long events = 0;               ///< events over the steady-state window
+  long impacts = 0;              ///< impacts over the steady-state window
+};
+
+/// ω₁: fundamental circular frequency of frame 1 alone [rad/s].
+[[nodiscard]] double reference_frequency(const Model& model);
+
+/// Closed-form steady-state amplitudes of every frame alone (no gap elements).
+[[nodiscard]] FrameAmplitudes free_response(const Model& model, double amplitude, double omega);
+
+/// One point: the steady state reached from `start` (or from rest when null), which is then left
+/// at that steady state (at a Poincaré section) for the next point of a sweep.
+FrfPoint steady_state_point(const Model& model, double amplitude, double ratio,
+                            const SteadyStateOptions& steady, const TimeHistoryOptions& options,
+                            std::unique_ptr<Simulator>& sim);
+
+/// The whole frequency response. Throws std::invalid_argument for bad options; errors of a point
+/// (SimulationError) propagate.
+std::vector<FrfPoint> frequency_response(const Model& model, const FrequencyResponseOptions& options);
+
+}  // namespace poundsim

@@ -1,0 +1,18 @@
+#pragma once
+/// @file
+/// A parallel loop over independent tasks. Each task writes only its own results, so the outcome
+/// does not depend on the number of threads or on the order in which tasks finish.
+
+#include <functional>
+
+namespace poundsim {
+
+/// Runs body(0) … body(count−1) on `threads` threads (0: all hardware threads, at most count).
+/// The first exception thrown by a task is rethrown after every thread has stopped; tasks not
+/// yet started are skipped once one has failed.
+void parallel_for(int count, int threads, const std::function<void(int)>& body);
+
+/// The number of threads `threads` = 0 stands for.
+[[nodiscard]] int hardware_threads();
+
+}  // namespace poundsim

@@ -1,0 +1,225 @@
+#include "poundsim/frequency_response.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <complex>
+#include <deque>
+#include <exception>
+#include <limits>
+#include <mutex>
+#include <numbers>
+#include <stdexcept>
+#include <thread>
+
+#include <Eigen/Dense>
+#include <fmt/format.h>
+
+#include "poundsim/parallel.hpp"
+
+namespace poundsim {
+
+std::string_view to_string(SweepMode mode) {
+  switch (mode) {
+    case SweepMode::from_rest: return "rest";
+    case SweepMode::up: return "up";
+    case SweepMode::down: return "down";
+    case SweepMode::both: return "both";
+  }
+  return "?";
+}
+
+void SteadyStateOptions::validate() const {
+  if (steps_per_period < 8) throw std::invalid_argument("steps_per_period must be ≥ 8");
+  if (!(tolerance > 0 && tolerance < 1)) throw std::invalid_argument("tolerance must be in (0, 1)");
+  if (max_periodicity < 1) throw std::invalid_argument("max_periodicity must be ≥ 1");
+  if (max_periods < 2 * max_periodicity + 2) {
+    throw std::invalid_argument("max_periods must be at least 2 × max_periodicity + 2");
+  }
+  if (window_periods < 1) throw std::invalid_argument("window_periods must be ≥ 1");
+}
+
+double reference_frequency(const Model& model) { return fundamental_frequency(model.frames.front()); }
+
+FrameAmplitudes free_response(const Model& model, double amplitude, double omega) {
+  using Complex = std::complex<double>;
+  FrameAmplitudes out;
+  for (const Frame& f : model.frames) {
+    const Eigen::Index n = f.storeys();
+    const Eigen::VectorXd m = Eigen::Map<const Eigen::VectorXd>(f.mass.data(), n);
+    const Eigen::MatrixXcd dynamic = stiffness_matrix(f).cast<Complex>() -
+                                     Eigen::MatrixXcd((omega * omega * m).asDiagonal()) +
+                                     Complex(0, omega) * damping_matrix(f).cast<Complex>();
+    const Eigen::VectorXcd u = dynamic.partialPivLu().solve((-amplitude * m).cast<Complex>());
+    out.base_shear.push_back(f.stiffness[0] * std::abs(u(0)));
+    out.storey_shear.push_back(std::abs(Complex(f.stiffness[0], omega * f.damping[0]) * u(0)));
+    out.top_displacement.push_back(std::abs(u(n - 1)));
+  }
+  return out;
+}
+
+namespace {
+
+/// The Poincaré samples of one run and the search for a repetition.
+class PoincareSection {
+ public:
+  PoincareSection(int max_periodicity, double tolerance)
+      : max_k_(max_periodicity), tolerance_(tolerance) {}
+
+  void add(const Simulator& sim, double omega) {
+    const KinematicState& x = sim.state();
+    Eigen::VectorXd y(2 * x.u.size());
+    y << x.u, x.v / omega;
+    scale_ = std::max(scale_, y.cwiseAbs().maxCoeff());
+    samples_.push_back({std::move(y), sim.configuration()});
+    if (static_cast<int>(samples_.size()) > 2 * max_k_) samples_.pop_front();
+  }
+
+  /// The smallest k whose last k samples each repeat the sample k earlier, provided the orbit is
+  /// clearly not of a shorter period j < k; 0 if none, or not yet decided.
+  ///
+  /// The second condition rejects a decaying transient whose natural period is commensurate with
+  /// the forcing (e.g. a free mode at ω̄/3 makes the sections nearly repeat every 3 periods long
+  /// before they repeat every period): a genuine period-k orbit keeps its k sections apart by far
+  /// more than the tolerance.
+  [[nodiscard]] int periodicity() const {
+    for (int k = 1; k <= max_k_; ++k) {
+      if (difference(k) > tolerance_ * scale_) continue;
+      for (int j = 1; j < k; ++j) {
+        if (difference(j) <= kDistinct * tolerance_ * scale_) return 0;  // undecided yet
+      }
+      return k;
+    }
+    return 0;
+  }
+
+ private:
+  static constexpr double kDistinct = 100.0;
+
+  /// max over the last k samples of |y − y k samples earlier| (∞ if too few samples or a
+  /// different contact configuration).
+  [[nodiscard]] double difference(int k) const {
+    const int n = static_cast<int>(samples_.size());
+    if (2 * k > n) return std::numeric_limits<double>::infinity();
+    double worst = 0;
+    for (int j = 0; j < k; ++j) {
+      const Sample& now = samples_[static_cast<std::size_t>(n - 1 - j)];
+      const Sample& before = samples_[static_cast<std::size_t>(n - 1 - j - k)];
+      if (now.config != before.config) return std::numeric_limits<double>::infinity();
+      worst = std::max(worst, (now.y - before.y).cwiseAbs().maxCoeff());
+    }
+    return worst;
+  }
+
+ public:
+
+ private:
+  struct Sample {
+    Eigen::VectorXd y;
+    ContactConfiguration config;
+  };
+  int max_k_;
+  double tolerance_;
+  double scale_ = 0.0;
+  std::deque<Sample> samples_;
+};
+
+}  // namespace
+
+FrfPoint steady_state_point(const Model& model, double amplitude, double ratio,
+                            const SteadyStateOptions& steady, const TimeHistoryOptions& options,
+                            std::unique_ptr<Simulator>& sim) {
+  const double omega = ratio * reference_frequency(model);
+  const double period = 2 * std::numbers::pi / omega;
+  const double dt = period / steady.steps_per_period;
+  const HarmonicExcitation forcing{amplitude, omega};
+  if (sim) {
+    sim->restart(forcing, dt);
+  } else {
+    TimeHistoryOptions o = options;
+    o.dt = dt;
+    sim = std::make_unique<Simulator>(model, forcing, o);
+  }
+  FrfPoint point;
+  point.ratio = ratio;
+  point.omega = omega;
+  point.free = free_response(model, amplitude, omega);
+
+  PoincareSection section(steady.max_periodicity, steady.tolerance);
+  section.add(*sim, omega);
+  int m = 0;
+  for (m = 1; m <= steady.max_periods; ++m) {
+    sim->advance_to(m * period);
+    section.add(*sim, omega);
+    point.periodicity = section.periodicity();
+    if (point.periodicity > 0) break;
+  }
+  point.transient_periods = std::min(m, steady.max_periods);
+  const int window = point.periodicity > 0 ? point.periodicity : steady.window_periods;
+  sim->reset_statistics();
+  sim->advance_to((point.transient_periods + window) * period);
+
+  const ResponseStatistics& st = sim->statistics();
+  const DofLayout& layout = sim->layout();
+  for (int f = 0; f < model.frame_count(); ++f) {
+    point.interacting.base_shear.push_back(st.base_shear[static_cast<std::size_t>(f)].value);
+    point.interacting.storey_shear.push_back(st.storey_shear[static_cast<std::size_t>(f)].value);
+    const int top = layout.dof(f, model.frames[static_cast<std::size_t>(f)].storeys() - 1);
+    point.interacting.top_displacement.push_back(st.floors[static_cast<std::size_t>(top)].displacement.value);
+  }
+  point.events = st.events;
+  for (const GapResponse& g : st.gaps) point.impacts += g.impacts;
+  return point;
+}
+
+std::vector<FrfPoint> frequency_response(const Model& model, const FrequencyResponseOptions& options) {
+  options.steady.validate();
+  if (options.ratios.empty()) throw std::invalid_argument("no frequency ratios");
+  for (const double r : options.ratios) {
+    if (!(r > 0) || !std::isfinite(r)) throw std::invalid_argument(fmt::format("frequency ratio {} must be > 0", r));
+  }
+  validate(model);
+
+  std::vector<double> ascending = options.ratios;
+  std::sort(ascending.begin(), ascending.end());
+  const int n = static_cast<int>(ascending.size());
+
+  // Tasks: one per point from rest, or one per sweep direction.
+  struct Task {
+    SweepMode branch;
+    std::vector<double> ratios;
+  };
+  std::vector<Task> tasks;
+  if (options.sweep == SweepMode::from_rest) {
+    for (const double r : options.ratios) tasks.push_back({SweepMode::from_rest, {r}});
+  } else {
+    if (options.sweep == SweepMode::up || options.sweep == SweepMode::both) {
+      tasks.push_back({SweepMode::up, ascending});
+    }
+    if (options.sweep == SweepMode::down || options.sweep == SweepMode::both) {
+      tasks.push_back({SweepMode::down, std::vector<double>(ascending.rbegin(), ascending.rend())});
+    }
+  }
+  const int total = options.sweep == SweepMode::from_rest ? n : n * static_cast<int>(tasks.size());
+  std::vector<std::vector<FrfPoint>> results(tasks.size());
+  std::atomic<int> done{0};
+  parallel_for(static_cast<int>(tasks.size()), options.threads, [&](int t) {
+    std::unique_ptr<Simulator> sim;
+    for (const double r : tasks[static_cast<std::size_t>(t)].ratios) {
+      if (tasks[static_cast<std::size_t>(t)].branch == SweepMode::from_rest) sim.reset();
+      FrfPoint p = steady_state_point(model, options.amplitude, r, options.steady,
+                                      options.time_history, sim);
+      p.branch = tasks[static_cast<std::size_t>(t)].branch;
+      results[static_cast<std::size_t>(t)].push_back(std::move(p));
+      const int count = ++done;
+      if (options.progress) options.progress(count, total);
+    }
+  });
+  std::vector<FrfPoint> out;
+  for (auto& r : results) {
+    for (auto& p : r) out.push_back(std::move(p));
+  }
+  return out;
+}
+
+}  // namespace poundsim

@@ -1,0 +1,162 @@
+#include "poundsim/io/frequency_response_run.hpp"
+
+#include <chrono>
+#include <map>
+
+#include <fmt/format.h>
+
+#include "poundsim/error.hpp"
+#include "poundsim/units.hpp"
+
+namespace poundsim::io {
+
+namespace {
+double weight(const Frame& f) {
+  double m = 0;
+  for (const double x : f.mass) m += x;
+  return m * standard_gravity;
+}
+}  // namespace
+
+FrequencyResponseOptions frequency_response_options(const RunInput& input) {
+  if (!input.frf) throw InputError(fmt::format("{}: no [frf] table", input.source.string()));
+  const FrfSettings& f = *input.frf;
+  FrequencyResponseOptions o;
+  o.amplitude = f.amplitude_g * standard_gravity;
+  o.ratios = f.ratios;
+  o.sweep = f.sweep;
+  o.steady = f.steady;
+  o.time_history = input.analysis.options;
+  o.threads = f.threads;
+  return o;
+}
+
+void write_frf_table(OutputFile& out, const Model& model, const std::vector<FrfPoint>& points) {
+  const int frames = model.frame_count();
+  const double w1 = weight(model.frames.front());
+  out.text("ratio");
+  for (int f = 1; f <= frames; ++f) out.print(",V{}_W", f);
+  for (int f = 1; f <= frames; ++f) out.print(",V{}_free_W", f);
+  out.text(",periodicity,branch,transient_periods,omega_rad_s");
+  for (int f = 1; f <= frames; ++f) out.print(",S{}_W", f);
+  for (int f = 1; f <= frames; ++f) out.print(",S{}_free_W", f);
+  for (int f = 1; f <= frames; ++f) out.print(",top{}_m", f);
+  for (int f = 1; f <= frames; ++f) out.print(",top{}_free_m", f);
+  out.text(",events,impacts\n");
+  const auto row = [&](const std::vector<double>& values, double scale) {
+    for (const double v : values) {
+      out.character(',');
+      out.number(v / scale);
+    }
+  };
+  for (const FrfPoint& p : points) {
+    out.number(p.ratio);
+    row(p.interacting.base_shear, w1);
+    row(p.free.base_shear, w1);
+    out.print(",{},{},{},", p.periodicity, to_string(p.branch), p.transient_periods);
+    out.number(p.omega);
+    row(p.interacting.storey_shear, w1);
+    row(p.free.storey_shear, w1);
+    row(p.interacting.top_displacement, 1.0);
+    row(p.free.top_displacement, 1.0);
+    out.print(",{},{}\n", p.events, p.impacts);
+  }
+}
+
+nlohmann::json summarize_frequency_response(const RunInput& input, const std::vector<FrfPoint>& points,
+                                            double run_time) {
+  using nlohmann::json;
+  const Model& model = input.model;
+  const double w1 = weight(model.frames.front());
+  // Peaks of every curve, per branch.
+  std::map<std::string, json> branches;
+  for (const FrfPoint& p : points) {
+    json& b = branches[std::string(to_string(p.branch))];
+    if (b.is_null()) {
+      b = json{{"points", 0}, {"periodicity", json::object()}, {"frames", json::array()}};
+      for (int f = 0; f < model.frame_count(); ++f) {
+        b["frames"].push_back({{"frame", f + 1},
+                               {"peak_V_W", 0.0}, {"peak_ratio", 0.0},
+                               {"peak_free_V_W", 0.0}, {"peak_free_ratio", 0.0}});
+      }
+    }
+    b["points"] = b["points"].get<int>() + 1;
+    const std::string k = std::to_string(p.periodicity);
+    b["periodicity"][k] = b["periodicity"].value(k, 0) + 1;
+    for (int f = 0; f < model.frame_count(); ++f) {
+      json& fr = b["frames"][static_cast<std::size_t>(f)];
+      const double v = p.interacting.base_shear[static_cast<std::size_t>(f)] / w1;
+      const double vf = p.free.base_shear[static_cast<std::size_t>(f)] / w1;
+      if (v > fr["peak_V_W"].get<double>()) {
+        fr["peak_V_W"] = v;
+        fr["peak_ratio"] = p.ratio;
+      }
+      if (vf > fr["peak_free_V_W"].get<double>()) {
+        fr["peak_free_V_W"] = vf;
+        fr["peak_free_ratio"] = p.ratio;
+      }
+    }
+  }
+  const FrfSettings& f = *input.frf;
+  json frames = json::array();
+  for (const Frame& fr : model.frames) {
+    const Eigen::VectorXd w = natural_frequencies(fr);
+    frames.push_back({{"storeys", fr.storeys()},
+                      {"weight_N", weight(fr)},
+                      {"natural_frequencies_rad_s", std::vector<double>(w.begin(), w.end())}});
+  }
+  json summary{{"poundsim_version", POUNDSIM_VERSION},
+               {"input", input.source.string()},
+               {"title", input.title},
+               {"analysis",
+                {{"kind", "frf"},
+                 {"integrator", input.analysis.integrator},
+                 {"amplitude_g", f.amplitude_g},
+                 {"points", f.ratios.size()},
+                 {"ratio_min", f.ratios.front()},
+                 {"ratio_max", f.ratios.back()},
+                 {"sweep", std::string(to_string(f.sweep))},
+                 {"steps_per_period", f.steady.steps_per_period},
+                 {"tolerance", f.steady.tolerance},
+                 {"max_periods", f.steady.max_periods},
+                 {"max_periodicity", f.steady.max_periodicity},
+                 {"window_periods", f.steady.window_periods}}},
+               {"omega1_rad_s", fundamental_frequency(model.frames.front())},
+               {"weight1_N", w1},
+               {"frames", frames},
+               {"branches", branches},
+               {"run_time_s", run_time}};
+  if (input.dimensionless) {
+    const DimensionlessParameters& d = *input.dimensionless;
+    summary["dimensionless"] = {{"lambda2", d.lambda2}, {"alpha", d.alpha}, {"beta", d.beta},
+                                {"gamma", d.gamma},     {"xi", d.xi},       {"delta", d.delta},
+                                {"eta", d.eta},         {"mu", d.mu},       {"epsilon", d.epsilon},
+                                {"restitution", d.restitution}};
+  }
+  return summary;
+}
+
+nlohmann::json run_frequency_response(const RunInput& input, const std::filesystem::path& out_dir,
+                                      const std::function<void(int, int)>& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  FrequencyResponseOptions options = frequency_response_options(input);
+  options.progress = progress;
+  std::vector<FrfPoint> points;
+  try {
+    points = frequency_response(input.model, options);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(fmt::format("{}: {}", input.source.string(), e.what()));
+  }
+  const double run_time =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const nlohmann::json summary = summarize_frequency_response(input, points, run_time);
+  OutputTransaction out(out_dir);
+  write_frf_table(out.open("frf.csv"), input.model, points);
+  OutputFile& s = out.open("summary.json");
+  s.text(summary.dump(2));
+  s.character('\n');
+  out.commit();
+  return summary;
+}
+
+}  // namespace poundsim::io

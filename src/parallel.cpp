@@ -1,0 +1,41 @@
+#include "poundsim/parallel.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace poundsim {
+
+int hardware_threads() { return std::max(1, static_cast<int>(std::thread::hardware_concurrency())); }
+
+void parallel_for(int count, int threads, const std::function<void(int)>& body) {
+  if (count <= 0) return;
+  const int workers = std::clamp(threads > 0 ? threads : hardware_threads(), 1, count);
+  std::atomic<int> next{0};
+  std::atomic<bool> failed{false};
+  std::exception_ptr error;
+  std::mutex error_mutex;
+  const auto work = [&] {
+    for (int i = next++; i < count && !failed; i = next++) {
+      try {
+        body(i);
+      } catch (...) {
+        const std::lock_guard lock(error_mutex);
+        if (!error) error = std::current_exception();
+        failed = true;
+      }
+    }
+  };
+  if (workers == 1) {
+    work();
+  } else {
+    std::vector<std::jthread> pool;
+    for (int w = 0; w < workers; ++w) pool.emplace_back(work);
+  }
+  if (error) std::rethrow_exception(error);
+}
+
+}  // namespace poundsim
