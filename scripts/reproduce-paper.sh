@@ -3,21 +3,28 @@
 # examples/paper/, the frequency response from rest (results/paper/fig2a.csv …) and a two-way
 # sweep (…_sweep.csv), and a PNG of each figure (results/paper/fig2a.png …).
 #
-#   scripts/reproduce-paper.sh [BUILD_DIR] [--docs]
+#   scripts/reproduce-paper.sh [BUILD_DIR] [--out DIR] [--docs]
 #
-# --docs also rewrites docs/paper-reproduction.md and its figures from these results.
+# BUILD_DIR holds the poundsim program (default build/release); --out the results (default
+# results/paper); --docs also rewrites docs/paper-reproduction.md and its figures from them.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build="$root/build/release"
+out="$root/results/paper"
 docs=false
-for arg in "$@"; do
-  case "$arg" in
+while [ $# -gt 0 ]; do
+  case "$1" in
     --docs) docs=true ;;
-    *) build="$arg" ;;
+    --out) out="$2"; shift ;;
+    *) build="$1" ;;
   esac
+  shift
 done
 poundsim="$build/poundsim"
-out="$root/results/paper"
+if [ ! -x "$poundsim" ]; then
+  echo "reproduce-paper: $poundsim not found; build first (cmake --preset release && cmake --build --preset release)" >&2
+  exit 2
+fi
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 mkdir -p "$out"
@@ -46,8 +53,8 @@ t3=$(now)
 if $docs; then
   /usr/bin/python3 "$root/python/paper_report.py" "$out" "$root/docs"
 fi
-awk -v a="$t0" -v b="$t1" -v c="$t2" -v d="$t3" -v n="$(nproc)" 'BEGIN {
-  printf "reproduced Figs. 2a–4b in %s/\n", "results/paper"
+awk -v a="$t0" -v b="$t1" -v c="$t2" -v d="$t3" -v n="$(nproc)" -v out="$out" 'BEGIN {
+  printf "reproduced Figs. 2a–4b in %s/\n", out
   printf "  7 frequency responses from rest (71 points each, interacting and free): %.2f s on %d cores\n", b - a, n
   printf "  7 two-way sweeps (2 × 71 points each): %.2f s\n", c - b
   printf "  7 figures drawn: %.2f s\n", d - c

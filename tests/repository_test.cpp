@@ -22,13 +22,16 @@ TEST(Repository, CiRunsTheReadmeTestCommand) {
   EXPECT_NE(readme.find("\n" + command + "\n"), std::string::npos);
 }
 
-TEST(Repository, ReadmeMainJobRunsAnExampleThatExists) {
+TEST(Repository, ReadmeMainJobReproducesThePaper) {
   const std::string readme = slurp("README.md");
-  const auto at = readme.find("./build/release/poundsim run examples/");
-  ASSERT_NE(at, std::string::npos);
-  const auto start = readme.find("examples/", at);
-  const std::string example = readme.substr(start, readme.find(' ', start) - start);
-  EXPECT_FALSE(slurp(example).empty()) << example;
+  EXPECT_NE(readme.find("\n./scripts/install-deps.sh && cmake --preset release && cmake --build --preset "
+                        "release && ./scripts/reproduce-paper.sh\n"),
+            std::string::npos);
+  const std::string script = slurp("scripts/reproduce-paper.sh");
+  for (const char* figure : {"2a", "2b", "2c", "3a", "3b", "4a", "4b"}) {
+    EXPECT_FALSE(slurp(std::string("examples/paper/fig") + figure + ".toml").empty()) << figure;
+  }
+  EXPECT_NE(script.find("figures=(2a 2b 2c 3a 3b 4a 4b)"), std::string::npos);
 }
 
 }  // namespace

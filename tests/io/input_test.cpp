@@ -247,6 +247,60 @@ INSTANTIATE_TEST_SUITE_P(
                  R"(initial\.velocity: frame 1 has 2 floors, 1 values given)"}),
     [](const ::testing::TestParamInfo<BadInput>& p) { return p.param.name; });
 
+const std::string kFrf = R"([model]
+storeys = [1, 1]
+[model.dimensionless]
+lambda2 = 200.0
+alpha = 0.25
+beta = 1.0
+gamma = 0.5
+xi = 0.05
+delta = 0.25
+eta = 0.0
+mu = 0.0
+epsilon = 0.0
+restitution = 1.0
+[analysis]
+kind = "frf"
+integrator = "exact"
+[frf]
+amplitude_g = 0.2
+ratio_min = 0.5
+ratio_max = 1.5
+points = 5
+sweep = "both"
+steps_per_period = 32
+)";
+
+TEST(InputFrf, ReadsTheSweep) {
+  const RunInput in = read(kFrf);
+  ASSERT_TRUE(in.frf.has_value());
+  EXPECT_EQ(in.frf->ratios, (std::vector<double>{0.5, 0.75, 1.0, 1.25, 1.5}));
+  EXPECT_EQ(in.frf->sweep, SweepMode::both);
+  EXPECT_EQ(in.frf->steady.steps_per_period, 32);
+  EXPECT_DOUBLE_EQ(in.frf->steady.tolerance, 1e-6);
+  EXPECT_EQ(in.analysis.options.integrator, Integrator::exact);
+  const RunInput listed = read(replace(kFrf, "ratio_min = 0.5\nratio_max = 1.5\npoints = 5", "ratios = [1.2, 0.7]"));
+  EXPECT_EQ(listed.frf->ratios, (std::vector<double>{0.7, 1.2}));
+}
+
+TEST(InputFrf, RejectsWhatAFrequencyResponseDoesNotUse) {
+  EXPECT_NE(error_of(kFrf + "[excitation]\nkind = \"none\"\n").find("excitation: a frequency response sets its own"),
+            std::string::npos);
+  EXPECT_NE(error_of(replace(kFrf, "kind = \"frf\"", "kind = \"frf\"\nduration = 3")).find(
+                "analysis.duration: unknown key for kind = \"frf\""),
+            std::string::npos);
+  EXPECT_NE(error_of(replace(kFrf, "points = 5", "points = 5\nratios = [1.0]")).find("give either ratios"),
+            std::string::npos);
+  EXPECT_NE(error_of(replace(kFrf, "steps_per_period = 32", "steps_per_period = 4")).find(
+                "frf.steps_per_period: must be ≥ 8"),
+            std::string::npos);
+  EXPECT_NE(error_of(replace(kFrf, "sweep = \"both\"", "sweep = \"sideways\"")).find("frf.sweep"),
+            std::string::npos);
+  EXPECT_NE(error_of(replace(kFrf, "[frf]", "[frf]\ncolour = 1")).find("frf.colour: unknown key"),
+            std::string::npos);
+}
+
 TEST(InputRecord, ReadsAndScalesARecordBesideTheModel) {
   const auto dir = std::filesystem::temp_directory_path() / "poundsim_input_record";
   std::filesystem::create_directories(dir);

@@ -1,0 +1,154 @@
+// Frequency responses: steady-state detection against known answers, coexisting branches,
+// determinism whatever the thread count.
+
+#include "poundsim/frequency_response.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "test_models.hpp"
+
+namespace poundsim {
+namespace {
+
+constexpr double kG = 9.81;
+
+TEST(FreeResponse, SingleStoreyMatchesTheDynamicAmplification) {
+  // V = K u with |u| = (A/ω²) / √((1 − r²)² + (2ζr)²), r = ω̄/ω.
+  const double m = 2.0, k = 800.0, zeta = 0.05, w = std::sqrt(k / m);
+  const Model model = make_model({make_uniform_frame(1, m, k, 2 * zeta * m * w)}, GapProperties{});
+  for (const double r : {0.3, 1.0, 1.7}) {
+    const FrameAmplitudes a = free_response(model, 2.0, r * w);
+    const double u = (2.0 / (w * w)) / std::hypot(1 - r * r, 2 * zeta * r);
+    EXPECT_NEAR(a.base_shear[0], k * u, 1e-12 * k * u);
+    EXPECT_NEAR(a.top_displacement[0], u, 1e-12 * u);
+    EXPECT_NEAR(a.storey_shear[0], std::hypot(k, r * w * 2 * zeta * m * w) * u, 1e-12 * k * u);
+  }
+}
+
+TEST(FrequencyResponse, WithoutContactTheSteadyStateIsTheLinearOne) {
+  // The Fig. 2 frames far apart: every point is periodic with period 1 and equals the closed form,
+  // to Newmark's error with 128 steps per period and to round-off with the exact integrator.
+  DimensionlessParameters p = testing::fig2('c');
+  p.delta = 1e6;
+  const Model model = make_model(p, {1, 1});
+  for (const Integrator integrator : {Integrator::newmark, Integrator::exact}) {
+    FrequencyResponseOptions o;
+    o.amplitude = 0.2 * kG;
+    o.ratios = {0.35, 0.5, 0.8, 1.0, 1.4};
+    o.time_history.integrator = integrator;
+    // The amplitudes are as accurate as the transient left when the sections repeat (the
+    // detection tolerance) and as the integrator.
+    if (integrator == Integrator::exact) {
+      o.steady.steps_per_period = 16;
+      o.steady.tolerance = 1e-12;
+      o.steady.max_periods = 3000;
+    }
+    const double tolerance = integrator == Integrator::exact ? 1e-9 : 2e-3;
+    for (const FrfPoint& point : frequency_response(model, o)) {
+      EXPECT_EQ(point.periodicity, 1) << point.ratio;
+      EXPECT_GT(point.transient_periods, 2);
+      EXPECT_EQ(point.events, 0);
+      for (int f = 0; f < 2; ++f) {
+        EXPECT_NEAR(point.interacting.base_shear[f], point.free.base_shear[f], tolerance * point.free.base_shear[f])
+            << "ratio " << point.ratio << " frame " << f + 1;
+        EXPECT_NEAR(point.interacting.storey_shear[f], point.free.storey_shear[f], tolerance * point.free.storey_shear[f]);
+        EXPECT_NEAR(point.interacting.top_displacement[f], point.free.top_displacement[f],
+                    tolerance * point.free.top_displacement[f]);
+      }
+    }
+  }
+}
+
+TEST(FrequencyResponse, PeriodTwoResponseCoexistsWithTheLinearOne) {
+  // Fig. 2a (elastic impacts) at ω̄/ω₁ = 1.3: from rest the frames settle on a pounding response
+  // that repeats every two periods; sweeping down from 1.6, where they do not touch, they stay
+  // apart and the response is the linear one, known in closed form.
+  const Model model = make_model(testing::fig2('a'), {1, 1});
+  const double ratio = 1.3;
+  std::unique_ptr<Simulator> sim;
+  const SteadyStateOptions steady;
+  TimeHistoryOptions exact;
+  exact.integrator = Integrator::exact;
+  const FrfPoint pounding = steady_state_point(model, 0.2 * kG, ratio, steady, exact, sim);
+  EXPECT_EQ(pounding.periodicity, 2);
+  EXPECT_GT(pounding.impacts, 0);
+  // Independent check of the period: the state returns after two periods, not after one.
+  const double period = 2 * std::numbers::pi / pounding.omega;
+  const Eigen::VectorXd y0 = sim->state().u;
+  sim->advance_to(sim->time() + period);
+  const Eigen::VectorXd y1 = sim->state().u;
+  sim->advance_to(sim->time() + period);
+  const Eigen::VectorXd y2 = sim->state().u;
+  EXPECT_LT((y2 - y0).norm(), 1e-6 * y0.norm());
+  EXPECT_GT((y1 - y0).norm(), 1e-2 * y0.norm());
+
+  FrequencyResponseOptions down;
+  down.amplitude = 0.2 * kG;
+  down.ratios = {1.3, 1.4, 1.5, 1.6};
+  down.sweep = SweepMode::down;
+  down.time_history.integrator = Integrator::exact;
+  down.steady.steps_per_period = 16;
+  down.steady.tolerance = 1e-12;
+  down.steady.max_periods = 3000;
+  const std::vector<FrfPoint> branch = frequency_response(model, down);
+  ASSERT_EQ(branch.size(), 4u);
+  const FrfPoint& linear = branch.back();
+  EXPECT_DOUBLE_EQ(linear.ratio, 1.3);
+  EXPECT_EQ(linear.branch, SweepMode::down);
+  EXPECT_EQ(linear.periodicity, 1);
+  EXPECT_EQ(linear.impacts, 0);
+  EXPECT_NEAR(linear.interacting.base_shear[0], linear.free.base_shear[0], 1e-9 * linear.free.base_shear[0]);
+  // The two coexisting responses differ: a jump for a sweep.
+  EXPECT_GT(pounding.interacting.base_shear[0], 1.05 * linear.interacting.base_shear[0]);
+}
+
+TEST(FrequencyResponse, SameBitsWhateverTheThreadCount) {
+  const Model model = make_model(testing::fig2('b'), {1, 1});
+  FrequencyResponseOptions o;
+  o.amplitude = 0.2 * kG;
+  for (int i = 0; i < 9; ++i) o.ratios.push_back(0.4 + 0.1 * i);
+  const auto run = [&](int threads, SweepMode sweep) {
+    FrequencyResponseOptions copy = o;
+    copy.threads = threads;
+    copy.sweep = sweep;
+    return frequency_response(model, copy);
+  };
+  for (const SweepMode sweep : {SweepMode::from_rest, SweepMode::both}) {
+    const auto one = run(1, sweep), two = run(2, sweep), three = run(3, sweep);
+    ASSERT_EQ(one.size(), two.size());
+    ASSERT_EQ(one.size(), three.size());
+    for (std::size_t i = 0; i < one.size(); ++i) {
+      for (const auto* other : {&two, &three}) {
+        const FrfPoint& a = one[i];
+        const FrfPoint& b = (*other)[i];
+        EXPECT_EQ(a.ratio, b.ratio);
+        EXPECT_EQ(a.branch, b.branch);
+        EXPECT_EQ(a.periodicity, b.periodicity);
+        EXPECT_EQ(a.transient_periods, b.transient_periods);
+        EXPECT_EQ(a.events, b.events);
+        EXPECT_EQ(std::memcmp(a.interacting.base_shear.data(), b.interacting.base_shear.data(),
+                              sizeof(double) * a.interacting.base_shear.size()),
+                  0);
+      }
+    }
+  }
+}
+
+TEST(FrequencyResponse, RejectsBadOptions) {
+  const Model model = make_model(testing::fig2('a'), {1, 1});
+  FrequencyResponseOptions o;
+  o.amplitude = 1.0;
+  EXPECT_THROW(frequency_response(model, o), std::invalid_argument);  // no ratios
+  o.ratios = {-1.0};
+  EXPECT_THROW(frequency_response(model, o), std::invalid_argument);
+  o.ratios = {1.0};
+  o.steady.steps_per_period = 4;
+  EXPECT_THROW(frequency_response(model, o), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace poundsim
