@@ -17,7 +17,9 @@
 #include "poundsim/error.hpp"
 #include "poundsim/io/input.hpp"
 #include "poundsim/io/frequency_response_run.hpp"
+#include "poundsim/io/optimize_run.hpp"
 #include "poundsim/io/output_files.hpp"
+#include "poundsim/io/study_run.hpp"
 #include "poundsim/io/time_history_run.hpp"
 #include "poundsim/verification.hpp"
 
@@ -58,6 +60,33 @@ void print_frf_report(const nlohmann::json& s, const std::string& out_dir) {
   fmt::print("  wrote {}/frf.csv, summary.json\n", out_dir);
 }
 
+void print_study_report(const nlohmann::json& s, const std::string& out_dir) {
+  fmt::print("poundsim {}: {} (study, {} points: {} finished, {} of them now, {} failed; {:.3f} s)\n",
+             POUNDSIM_VERSION, s["input"].get<std::string>(), s["points"].get<long>(),
+             s["finished"].get<long>(), s["run_this_time"].get<long>(), s["failed"].get<long>(),
+             s["run_time_s"].get<double>());
+  if (!s["lowest_max_peak"].is_null()) {
+    const auto& b = s["lowest_max_peak"];
+    fmt::print("  lowest larger peak V/W {:.4f} at point {}: {}\n", b["metrics"]["max_peak_V_W"].get<double>(),
+               b["id"].get<long>(), b["parameters"].dump());
+  }
+  fmt::print("  wrote {}/study.sqlite, study.csv, summary.json{}\n", out_dir,
+             s["complete"].get<bool>() ? "" : " (incomplete: run again to go on)");
+}
+
+void print_optimization_report(const nlohmann::json& s, const std::string& out_dir) {
+  fmt::print("poundsim {}: {} (optimisation, {} evaluations, {:.3f} s)\n", POUNDSIM_VERSION,
+             s["input"].get<std::string>(), s["evaluations"].get<long>(), s["run_time_s"].get<double>());
+  fmt::print("  optimum {}: {} = {:.4f}\n", s["optimum"].dump(), s["analysis"]["objective"].get<std::string>(),
+             s["objective"].get<double>());
+  if (s["comparison"].contains("bare_pounding")) {
+    fmt::print("  bare pounding at the same gap and restitution: {:.4f}\n",
+               s["comparison"]["bare_pounding"]["max_peak_V_W"].get<double>());
+  }
+  fmt::print("  wrote {}/optimize.json, evaluations.csv{}\n", out_dir,
+             s["comparison"].contains("optimum") ? ", optimum_frf.csv, bare_frf.csv" : "");
+}
+
 /// A one-line progress bar on a terminal; silent otherwise. Updates come from worker threads.
 class ProgressBar {
  public:
@@ -95,6 +124,15 @@ int main(int argc, char** argv) {
   run->add_option("--set", overrides, "Override an input key: --set analysis.dt=0.001 (repeatable)")
       ->take_all();
   run->add_flag("--quiet,-q", quiet, "Print nothing on success");
+  long max_points = 0;
+  run->add_option("--max-points", max_points,
+                  "Study: run at most this many new points, then stop (run again to go on)")
+      ->check(CLI::PositiveNumber);
+
+  std::string database, export_file;
+  CLI::App* exporter = app.add_subcommand("export", "Write the points of a study database as CSV");
+  exporter->add_option("database", database, "study.sqlite of a study")->required();
+  exporter->add_option("--out,-o", export_file, "CSV file to write")->required();
 
   std::string verification_file;
   CLI::App* verify = app.add_subcommand(
@@ -125,7 +163,33 @@ int main(int argc, char** argv) {
       }
       return 0;
     }
+    if (exporter->parsed()) {
+      poundsim::io::export_study(database, export_file);
+      if (!quiet) fmt::print("wrote {}\n", export_file);
+      return 0;
+    }
     const poundsim::io::RunInput input = poundsim::io::read_input(model_file, overrides);
+    if (input.analysis.kind == "study") {
+      ProgressBar bar(!quiet && ::isatty(STDERR_FILENO) != 0);
+      poundsim::io::StudyRunOptions options;
+      if (max_points > 0) options.max_points = max_points;
+      options.progress = [&bar](int done, int total) { bar.update(done, total); };
+      const nlohmann::json summary = poundsim::io::run_study(input, out_dir, options);
+      bar.finish();
+      if (!quiet) print_study_report(summary, out_dir);
+      return 0;
+    }
+    if (input.analysis.kind == "optimize") {
+      ProgressBar bar(!quiet && ::isatty(STDERR_FILENO) != 0);
+      const nlohmann::json summary = poundsim::io::run_optimization(
+          input, out_dir, [&bar](int done, int total) { bar.update(done, total); });
+      bar.finish();
+      if (!quiet) print_optimization_report(summary, out_dir);
+      return 0;
+    }
+    if (max_points > 0) {
+      throw poundsim::InputError("--max-points applies to studies (analysis.kind = \"study\") only");
+    }
     if (input.analysis.kind == "frf") {
       ProgressBar bar(!quiet && ::isatty(STDERR_FILENO) != 0);
       const nlohmann::json summary = poundsim::io::run_frequency_response(

@@ -4,7 +4,7 @@
 (sweep = "both") is drawn over it as markers, ▲ sweeping up and ▼ down, so that coexisting
 branches and jumps show; responses that are not periodic (periodicity 0) are marked ×.
 
-    plot_frf.py FRF.csv OUT.png [--sweep SWEEP.csv] [--title TEXT]
+    plot_frf.py FRF.csv OUT.png [--sweep SWEEP.csv] [--compare OTHER.csv LABEL] [--title TEXT]
     plot_frf.py --figure FRF.csv OUT.png SWEEP.csv TITLE [--figure ...]   (several at once)
 """
 
@@ -33,7 +33,7 @@ def column(rows, key):
     return [float(r[key]) for r in rows]
 
 
-def draw(frf, png, sweep=None, title=""):
+def draw(frf, png, sweep=None, title="", compare=None):
     rows, frames = read(frf)
     rows.sort(key=lambda r: float(r["ratio"]))
     ratio = column(rows, "ratio")
@@ -46,6 +46,12 @@ def draw(frf, png, sweep=None, title=""):
         if chaotic:
             ax.plot(column(chaotic, "ratio"), column(chaotic, f"V{f}_W"), "x", color=colour, ms=5,
                     label="not periodic" if i == 0 else None)
+    if compare:
+        other, _ = read(compare[0])
+        other.sort(key=lambda r: float(r["ratio"]))
+        for i, f in enumerate(frames):
+            ax.plot(column(other, "ratio"), column(other, f"V{f}_W"), ":", color=COLOURS[i % len(COLOURS)], lw=1.4,
+                    label=f"frame {f}, {compare[1]}")
     if sweep:
         swept, _ = read(sweep)
         for branch, marker, name in (("up", "^", "sweep up"), ("down", "v", "sweep down")):
@@ -72,6 +78,8 @@ def main():
     parser.add_argument("png", nargs="?")
     parser.add_argument("--sweep", help="frf.csv of a two-way sweep to mark over the curves")
     parser.add_argument("--title", default="")
+    parser.add_argument("--compare", nargs=2, metavar=("OTHER", "LABEL"),
+                        help="frf.csv of another model to draw dotted, e.g. bare pounding")
     parser.add_argument("--figure", nargs=4, action="append", metavar=("FRF", "PNG", "SWEEP", "TITLE"),
                         help="draw one more figure (SWEEP may be '-')")
     args = parser.parse_args()
@@ -79,7 +87,7 @@ def main():
     if args.frf:
         if not args.png:
             parser.error("give the PNG to write")
-        jobs.append((args.frf, args.png, args.sweep, args.title))
+        jobs.append((args.frf, args.png, args.sweep, args.title, args.compare))
     if not jobs:
         parser.error("nothing to draw")
     for job in jobs:

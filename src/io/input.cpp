@@ -634,6 +634,156 @@ FrfSettings read_frf(TableReader& t, const Model& model, const AnalysisSettings&
   return f;
 }
 
+/// A value as --set takes it: numbers in shortest form, strings quoted, booleans as words.
+std::string value_text(TableReader& t, std::string_view key, const toml::node& node) {
+  if (node.is_integer()) return std::to_string(*node.value<std::int64_t>());
+  if (node.is_floating_point()) {
+    const double v = *node.value<double>();
+    if (!std::isfinite(v)) t.fail(key, "values must be finite");
+    std::string text = fmt::format("{}", v);
+    if (text.find_first_of(".eEn") == std::string::npos) text += ".0";  // stays a float in TOML
+    return text;
+  }
+  if (node.is_boolean()) return *node.value<bool>() ? "true" : "false";
+  if (node.is_string()) {
+    std::ostringstream out;
+    out << *node.as_string();
+    return out.str();
+  }
+  t.fail(key, fmt::format("values must be numbers, strings or booleans, not a {}", type_name(node)));
+}
+
+StudySettings read_study(TableReader& t) {
+  StudySettings s;
+  s.each = t.choice("each", {"frf", "time_history"});
+  s.sampling = t.choice("sampling", {"grid", "list", "random"}, std::string("grid"));
+  if (s.sampling == "random") {
+    s.samples = t.integer("samples");
+    if (s.samples < 1) t.fail("samples", "must be ≥ 1");
+    if (auto seed = t.optional_integer("seed")) {
+      if (*seed < 0) t.fail("seed", "must be ≥ 0");
+      s.seed = static_cast<unsigned>(*seed);
+    }
+  }
+  if (t.has("band")) {
+    if (s.each != "frf") t.fail("band", "only for each = \"frf\"");
+    const std::vector<double> band = t.numbers("band");
+    if (band.size() != 2 || !(band[0] > 0) || !(band[1] > band[0])) {
+      t.fail("band", "expected [ratio_min, ratio_max] with 0 < ratio_min < ratio_max");
+    }
+    s.band_min = band[0];
+    s.band_max = band[1];
+  } else {
+    t.find("band");
+  }
+  if (t.has("baseline")) {
+    const toml::node& node = t.require("baseline");
+    if (!node.is_boolean()) t.fail("baseline", "expected true or false");
+    s.baseline = *node.value<bool>();
+  } else {
+    t.find("baseline");
+  }
+  if (auto n = t.optional_integer("threads")) s.threads = *n;
+  if (s.threads < 0) t.fail("threads", "must be ≥ 0 (0: all cores)");
+  std::size_t list_length = 0;
+  for (TableReader& p : t.tables("parameter")) {
+    StudyParameter param;
+    param.key = p.string("key");
+    if (param.key.empty()) p.fail("key", "must not be empty");
+    for (const StudyParameter& seen : s.parameters) {
+      if (seen.key == param.key) p.fail("key", fmt::format("'{}' is varied twice", param.key));
+    }
+    const bool has_values = p.has("values");
+    const bool has_range = p.has("min") || p.has("max") || p.has("points");
+    if (s.sampling == "random") {
+      if (has_values || p.has("points")) p.fail_table("random sampling takes min and max (and scale), not values or points");
+    } else if (has_values == has_range) {
+      p.fail_table("give either values = [...] or min, max and points");
+    }
+    if (s.sampling == "list" && !has_values) p.fail_table("list sampling takes values = [...]");
+    if (has_values) {
+      const toml::node& node = p.require("values");
+      const toml::array* values = node.as_array();
+      if (values == nullptr || values->empty()) p.fail("values", "expected a non-empty array");
+      for (std::size_t i = 0; i < values->size(); ++i) param.values.push_back(value_text(p, "values", (*values)[i]));
+      if (s.sampling == "list") {
+        if (list_length != 0 && param.values.size() != list_length) {
+          p.fail("values", fmt::format("list sampling needs the same number of values for every parameter "
+                                       "({} here, {} before)", param.values.size(), list_length));
+        }
+        list_length = param.values.size();
+      }
+    } else {
+      param.min = p.number("min");
+      param.max = p.number("max");
+      if (!(param.max > param.min)) p.fail("max", "must be larger than min");
+      param.log = p.choice("scale", {"linear", "log"}, std::string("linear")) == "log";
+      if (param.log && !(param.min > 0)) p.fail("min", "must be > 0 on a log scale");
+      if (s.sampling == "grid") {
+        param.points = p.integer("points");
+        if (param.points < 2) p.fail("points", "must be ≥ 2");
+      }
+    }
+    p.finish();
+    s.parameters.push_back(std::move(param));
+  }
+  t.finish();
+  return s;
+}
+
+OptimizeSettings read_optimize(TableReader& t) {
+  OptimizeSettings o;
+  o.each = t.choice("each", {"frf", "time_history"});
+  o.objective = t.choice("objective", {"max_peak", "max_ratio_to_free"}, std::string("max_peak"));
+  if (t.has("band")) {
+    if (o.each != "frf") t.fail("band", "only for each = \"frf\"");
+    const std::vector<double> band = t.numbers("band");
+    if (band.size() != 2 || !(band[0] > 0) || !(band[1] > band[0])) {
+      t.fail("band", "expected [ratio_min, ratio_max] with 0 < ratio_min < ratio_max");
+    }
+    o.band_min = band[0];
+    o.band_max = band[1];
+  } else {
+    t.find("band");
+  }
+  o.global_algorithm = t.string_or("global", o.global_algorithm);
+  o.local_algorithm = t.string_or("local", o.local_algorithm);
+  if (o.global_algorithm != "none" && o.global_algorithm.rfind("G", 0) != 0) {
+    t.fail("global", fmt::format("\"{}\" is not a global NLopt algorithm (GN_… or GD_…) or \"none\"", o.global_algorithm));
+  }
+  if (o.local_algorithm != "none" && o.local_algorithm.rfind("L", 0) != 0) {
+    t.fail("local", fmt::format("\"{}\" is not a local NLopt algorithm (LN_… or LD_…) or \"none\"", o.local_algorithm));
+  }
+  if (auto n = t.optional_integer("global_evaluations")) o.global_evaluations = *n;
+  if (auto n = t.optional_integer("local_evaluations")) o.local_evaluations = *n;
+  if (o.global_evaluations < 1) t.fail("global_evaluations", "must be ≥ 1");
+  if (o.local_evaluations < 1) t.fail("local_evaluations", "must be ≥ 1");
+  o.relative_tolerance = t.number_or("relative_tolerance", o.relative_tolerance);
+  if (!(o.relative_tolerance > 0)) t.fail("relative_tolerance", "must be > 0");
+  if (auto seed = t.optional_integer("seed")) {
+    if (*seed < 0) t.fail("seed", "must be ≥ 0");
+    o.seed = static_cast<unsigned>(*seed);
+  }
+  if (auto n = t.optional_integer("threads")) o.threads = *n;
+  if (o.threads < 0) t.fail("threads", "must be ≥ 0 (0: all cores)");
+  for (TableReader& v : t.tables("variable")) {
+    OptimizeVariable var;
+    var.key = v.string("key");
+    for (const OptimizeVariable& seen : o.variables) {
+      if (seen.key == var.key) v.fail("key", fmt::format("'{}' is a variable twice", var.key));
+    }
+    var.min = v.number("min");
+    var.max = v.number("max");
+    if (!(var.max > var.min)) v.fail("max", "must be larger than min");
+    var.start = v.optional_number("start");
+    if (var.start && !(*var.start >= var.min && *var.start <= var.max)) v.fail("start", "must lie in [min, max]");
+    v.finish();
+    o.variables.push_back(std::move(var));
+  }
+  t.finish();
+  return o;
+}
+
 RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::path& base_dir,
                    std::span<const std::string> overrides) {
   for (const std::string& text : overrides) {
@@ -658,9 +808,23 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
   }
   if (auto initial = top.optional_table("initial")) read_initial(*initial, run.model, run.initial);
   TableReader analysis = top.table("analysis");
-  run.analysis.kind = analysis.choice("kind", {"time_history", "frf"});
+  run.analysis.kind = analysis.choice("kind", {"time_history", "frf", "study", "optimize"});
   const std::string context = fmt::format("for kind = \"{}\"", run.analysis.kind);
-  if (run.analysis.kind == "time_history") {
+  std::string each = run.analysis.kind;
+  if (run.analysis.kind == "study") {
+    TableReader study = top.table("study");
+    run.study = read_study(study);
+    each = run.study->each;
+  } else if (run.analysis.kind == "optimize") {
+    TableReader optimize = top.table("optimize");
+    run.optimize = read_optimize(optimize);
+    each = run.optimize->each;
+  } else {
+    for (const char* table : {"study", "optimize"}) {
+      if (top.has(table)) top.fail(table, fmt::format("only for analysis.kind = \"{}\"", table));
+    }
+  }
+  if (each == "time_history") {
     read_time_history(analysis, run.analysis);
     TableReader excitation = top.table("excitation");
     read_excitation(excitation, run.model, base_dir, run);
@@ -676,6 +840,13 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
     run.excitation_info.kind = "harmonic";
     run.excitation_info.amplitude_g = run.frf->amplitude_g;
     run.excitation_info.omega1 = fundamental_frequency(run.model.frames.front());
+    // The band of the study and optimiser metrics defaults to the whole response.
+    for (double* lo : {run.study ? &run.study->band_min : nullptr, run.optimize ? &run.optimize->band_min : nullptr}) {
+      if (lo != nullptr && lo[0] == 0.0 && lo[1] == 0.0) {
+        lo[0] = run.frf->ratios.front();
+        lo[1] = run.frf->ratios.back();
+      }
+    }
   }
   analysis.finish(context);
   top.finish();
@@ -716,6 +887,8 @@ RunInput read_input_string(std::string_view text, const std::string& name,
   }
   RunInput run = read_root(root, origin, base_dir, overrides);
   run.source = name;
+  run.text = std::string(text);
+  run.base_dir = base_dir;
   return run;
 }
 

@@ -143,17 +143,40 @@ TEST_F(Cli, UnwritableOutputFailsWithCodeOne) {
 }
 
 TEST_F(Cli, EveryExampleRunsWithBothIntegrators) {
-  for (const auto& entry : fs::directory_iterator(std::string(POUNDSIM_SOURCE_DIR) + "/examples")) {
-    if (entry.path().extension() != ".toml") continue;
+  // Time histories and frequency responses with both integrators; studies and the optimiser
+  // (whose points are frequency responses) with Newmark and a smaller budget.
+  std::vector<fs::path> examples;
+  for (const auto& dir : {"/examples", "/examples/paper"}) {
+    for (const auto& entry : fs::directory_iterator(std::string(POUNDSIM_SOURCE_DIR) + dir)) {
+      if (entry.path().extension() == ".toml") examples.push_back(entry.path());
+    }
+  }
+  EXPECT_GE(examples.size(), 13u);
+  for (const fs::path& example : examples) {
+    const std::string text = slurp(example);
+    const bool frf = text.find("kind = \"frf\"") != std::string::npos;
+    const bool study = text.find("kind = \"study\"") != std::string::npos;
+    const bool optimize = text.find("kind = \"optimize\"") != std::string::npos;
     for (const char* integrator : {"newmark", "exact"}) {
-      const fs::path out = dir_ / integrator;
-      const Result r = run("run " + entry.path().string() + " --quiet --out " + out.string() +
-                           " --set analysis.integrator=" + integrator);
-      EXPECT_EQ(r.code, 0) << entry.path() << "\n" << r.output;
-      EXPECT_EQ(r.output, "") << entry.path();
-      const auto summary = nlohmann::json::parse(slurp(out / "summary.json"));
-      EXPECT_EQ(summary["analysis"]["integrator"], integrator);
-      EXPECT_LT(summary["energy"]["max_relative_residual"].get<double>(), 1e-9) << entry.path();
+      if ((study || optimize) && std::string(integrator) == "exact") continue;
+      const fs::path out = dir_ / (example.stem().string() + "_" + integrator);
+      std::string extra = std::string(" --set analysis.integrator=") + integrator;
+      if (frf && std::string(integrator) == "exact") extra += " --set frf.points=12 --set frf.steps_per_period=16";
+      if (optimize) extra += " --set optimize.global_evaluations=6 --set optimize.local_evaluations=4";
+      const Result r = run("run " + example.string() + " --quiet --out " + out.string() + extra);
+      EXPECT_EQ(r.code, 0) << example << "\n" << r.output;
+      EXPECT_EQ(r.output, "") << example;
+      if (study) {
+        EXPECT_TRUE(fs::exists(out / "study.csv")) << example;
+      } else if (optimize) {
+        EXPECT_TRUE(fs::exists(out / "optimize.json")) << example;
+      } else if (frf) {
+        EXPECT_TRUE(fs::exists(out / "frf.csv")) << example;
+      } else {
+        const auto summary = nlohmann::json::parse(slurp(out / "summary.json"));
+        EXPECT_EQ(summary["analysis"]["integrator"], integrator);
+        EXPECT_LT(summary["energy"]["max_relative_residual"].get<double>(), 1e-9) << example;
+      }
     }
   }
 }

@@ -34,7 +34,7 @@ struct ExcitationInfo {
 
 /// [analysis]: what to run. Time-history keys apply to kind = "time_history".
 struct AnalysisSettings {
-  std::string kind = "time_history";  ///< "time_history" or "frf"
+  std::string kind = "time_history";  ///< "time_history", "frf", "study" or "optimize"
   double duration = 0.0;        ///< [s]
   double output_dt = 0.0;       ///< Spacing of history rows [s], a multiple of dt.
   std::string integrator = "newmark";
@@ -50,9 +50,54 @@ struct FrfSettings {
   int threads = 0;                    ///< 0: all cores
 };
 
+/// One varied input key of a parametric study.
+struct StudyParameter {
+  std::string key;                  ///< Any input key, dotted (as --set takes it).
+  std::vector<std::string> values;  ///< Grid or list: each a TOML value, as --set takes it.
+  double min = 0.0, max = 0.0;      ///< Range (grid with `points`, or random).
+  int points = 0;
+  bool log = false;                 ///< Logarithmic spacing / sampling of the range.
+};
+
+/// [study] (analysis.kind = "study").
+struct StudySettings {
+  std::string each = "frf";          ///< What each point runs: "frf" or "time_history".
+  std::string sampling = "grid";     ///< "grid" (all combinations), "list" (zipped) or "random".
+  std::vector<StudyParameter> parameters;
+  int samples = 0;                   ///< Random sampling: number of points.
+  unsigned seed = 1;                 ///< Random sampling: seed (same seed, same points).
+  double band_min = 0.0, band_max = 0.0;  ///< Frequency band of the peak metrics (ω̄/ω₁).
+  bool baseline = true;              ///< Also run bare pounding (k = c = ε = 0) for the ratios.
+  int threads = 0;                   ///< 0: all cores.
+};
+
+/// One design variable of the optimiser.
+struct OptimizeVariable {
+  std::string key;
+  double min = 0.0, max = 0.0;
+  std::optional<double> start;       ///< Default: the middle of [min, max].
+};
+
+/// [optimize] (analysis.kind = "optimize").
+struct OptimizeSettings {
+  std::string each = "frf";                 ///< Each evaluation: "frf" or "time_history".
+  std::string objective = "max_peak";       ///< "max_peak" or "max_ratio_to_free".
+  double band_min = 0.0, band_max = 0.0;    ///< Band of the frequency-response objective.
+  std::vector<OptimizeVariable> variables;
+  std::string global_algorithm = "GN_DIRECT_L";  ///< NLopt name; "none" skips the global stage.
+  std::string local_algorithm = "LN_BOBYQA";     ///< NLopt name; "none" skips the local stage.
+  int global_evaluations = 100;
+  int local_evaluations = 60;
+  double relative_tolerance = 1e-4;         ///< Local stage: stop when the objective changes less.
+  unsigned seed = 1;                        ///< For stochastic NLopt algorithms.
+  int threads = 0;                          ///< Threads of each evaluation's frequency response.
+};
+
 /// Everything a run needs, in SI.
 struct RunInput {
   std::filesystem::path source;  ///< The model file.
+  std::string text;              ///< Its text (studies re-read it with each point's overrides).
+  std::filesystem::path base_dir;  ///< Folder that relative paths in it start from.
   std::string title;
   Model model;
   std::optional<DimensionlessParameters> dimensionless;  ///< When given in that form.
@@ -60,6 +105,12 @@ struct RunInput {
   ExcitationInfo excitation_info;
   AnalysisSettings analysis;
   std::optional<FrfSettings> frf;  ///< For kind = "frf" (which has no [excitation]).
+  std::optional<StudySettings> study;        ///< For kind = "study".
+  std::optional<OptimizeSettings> optimize;  ///< For kind = "optimize".
+  /// What one point of the analysis runs: kind itself, or study.each / optimize.each.
+  [[nodiscard]] const std::string& each() const {
+    return study ? study->each : optimize ? optimize->each : analysis.kind;
+  }
   InitialConditions initial;
 };
 

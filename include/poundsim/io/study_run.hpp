@@ -1,0 +1,58 @@
+#pragma once
+/// @file
+/// Parametric studies (analysis.kind = "study"): the same input run over a grid, a list or a
+/// random sample of values of any input keys, each point a frequency response or a time history,
+/// with figures of merit per point written to an SQLite database as the points finish.
+/// docs/studies.md describes the input, the metrics and the files.
+
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "poundsim/io/input.hpp"
+
+namespace poundsim::io {
+
+/// The key = value overrides of one point, in parameter order.
+using PointValues = std::vector<std::pair<std::string, std::string>>;
+
+/// The points of a study, in a fixed order (ids 0, 1, …): grid (the first parameter varies
+/// slowest), list (zipped) or random (uniform, or log-uniform, from the seed).
+std::vector<PointValues> study_points(const StudySettings& study);
+
+/// `base` (a study or optimiser input) with one point's overrides applied.
+RunInput read_point(const RunInput& base, const PointValues& values);
+
+/// A stable fingerprint of everything that determines a run's results (model, analysis,
+/// excitation, study or optimiser definition): FNV-1a of its canonical description.
+std::string fingerprint(const RunInput& input);
+
+/// Key of the bare-pounding reference of a point: points that share it share the reference.
+std::string baseline_key(const RunInput& point);
+
+/// Figures of merit of one point (docs/studies.md), `baseline` the bare-pounding point's own
+/// metrics (or null). `threads` for a frequency response's points.
+nlohmann::json point_metrics(const RunInput& point, int threads, const nlohmann::json* baseline);
+
+/// The bare-pounding version of a point (k = c = ε = 0 in every gap element), its metrics.
+nlohmann::json baseline_metrics(const RunInput& point, int threads);
+
+struct StudyRunOptions {
+  std::optional<long> max_points;               ///< Run at most this many new points, then stop.
+  std::function<void(int, int)> progress;       ///< (done, to do) after every point.
+};
+
+/// Runs the study of `input` into `out_dir`: study.sqlite (resumable), then study.csv and
+/// summary.json. Returns the summary.
+nlohmann::json run_study(const RunInput& input, const std::filesystem::path& out_dir,
+                         const StudyRunOptions& options = {});
+
+/// Writes the points of a study database as CSV: id, status, parameters, metrics, error, run time.
+void export_study(const std::filesystem::path& database, const std::filesystem::path& csv);
+
+}  // namespace poundsim::io

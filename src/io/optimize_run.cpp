@@ -1,0 +1,237 @@
+#include "poundsim/io/optimize_run.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <map>
+
+#include <fmt/format.h>
+#include <nlopt.hpp>
+
+#include "poundsim/error.hpp"
+#include "poundsim/frequency_response.hpp"
+#include "poundsim/io/frequency_response_run.hpp"
+#include "poundsim/io/output_files.hpp"
+#include "poundsim/io/study_run.hpp"
+#include "poundsim/response_metrics.hpp"
+
+namespace poundsim::io {
+
+namespace {
+
+using nlohmann::json;
+
+/// Objective value of an evaluation that could not be run (a combination the input rejects).
+constexpr double kRejected = 1e30;
+
+nlopt::algorithm algorithm(const std::string& name, const RunInput& input, const char* key) {
+  const int a = static_cast<int>(nlopt_algorithm_from_string(name.c_str()));
+  if (a < 0) {
+    throw InputError(fmt::format("{}: optimize.{}: \"{}\" is not an NLopt algorithm name (e.g. "
+                                 "GN_DIRECT_L, GN_CRS2_LM, LN_BOBYQA, LN_NELDERMEAD)",
+                                 input.source.string(), key, name));
+  }
+  if (name.size() > 1 && name[1] == 'D') {  // GD_… and LD_…
+    throw InputError(fmt::format("{}: optimize.{}: \"{}\" needs gradients, which a pounding response "
+                                 "does not have; use a derivative-free (GN_/LN_) algorithm",
+                                 input.source.string(), key, name));
+  }
+  return static_cast<nlopt::algorithm>(a);
+}
+
+std::string format_value(double x) {
+  std::string text = fmt::format("{}", x);
+  if (text.find_first_of(".eEn") == std::string::npos) text += ".0";
+  return text;
+}
+
+struct Evaluation {
+  std::vector<double> x;
+  double objective = kRejected;
+  std::string stage, status, error;
+  json metrics;
+};
+
+class Problem {
+ public:
+  Problem(const RunInput& input, const std::function<void(int, int)>& progress, int budget)
+      : input_(input), settings_(*input.optimize), progress_(progress), budget_(budget) {}
+
+  double operator()(const std::vector<double>& x, const std::string& stage) {
+    if (auto it = memo_.find(x); it != memo_.end()) return it->second;
+    Evaluation e{x, kRejected, stage, "done", "", json()};
+    PointValues values;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      values.emplace_back(settings_.variables[i].key, format_value(x[i]));
+    }
+    try {
+      const RunInput point = read_point(input_, values);
+      e.metrics = point_metrics(point, settings_.threads, nullptr);
+      e.objective = e.metrics[settings_.objective == "max_peak" ? "max_peak_V_W" : "max_ratio_to_free"].get<double>();
+    } catch (const InputError& err) {
+      e.status = "rejected";
+      e.error = err.what();
+    } catch (const SimulationError& err) {
+      e.status = "failed";
+      e.error = err.what();
+    }
+    memo_[x] = e.objective;
+    evaluations_.push_back(e);
+    if (progress_) progress_(static_cast<int>(evaluations_.size()), budget_);
+    return e.objective;
+  }
+
+  [[nodiscard]] const std::vector<Evaluation>& evaluations() const { return evaluations_; }
+  [[nodiscard]] const Evaluation* best() const {
+    const Evaluation* b = nullptr;
+    for (const Evaluation& e : evaluations_) {
+      if (e.status == "done" && (b == nullptr || e.objective < b->objective)) b = &e;
+    }
+    return b;
+  }
+
+ private:
+  const RunInput& input_;
+  const OptimizeSettings& settings_;
+  std::function<void(int, int)> progress_;
+  int budget_;
+  std::map<std::vector<double>, double> memo_;
+  std::vector<Evaluation> evaluations_;
+};
+
+struct Stage {
+  Problem* problem;
+  std::string name;
+};
+
+double objective(const std::vector<double>& x, std::vector<double>& /*gradient*/, void* data) {
+  auto* stage = static_cast<Stage*>(data);
+  return (*stage->problem)(x, stage->name);
+}
+
+/// Runs one NLopt stage from x; returns NLopt's outcome as text.
+std::string run_stage(nlopt::opt& opt, Problem& problem, const std::string& name, std::vector<double>& x) {
+  Stage stage{&problem, name};
+  opt.set_min_objective(objective, &stage);
+  double value = 0;
+  try {
+    const nlopt::result r = opt.optimize(x, value);
+    return nlopt_result_to_string(static_cast<nlopt_result>(r));
+  } catch (const nlopt::roundoff_limited&) {
+    return "ROUNDOFF_LIMITED";
+  } catch (const nlopt::forced_stop&) {
+    return "FORCED_STOP";
+  } catch (const std::invalid_argument& e) {
+    throw SimulationError(fmt::format("NLopt rejected the {} stage: {}", name, e.what()));
+  }
+}
+
+}  // namespace
+
+json run_optimization(const RunInput& input, const std::filesystem::path& out_dir,
+                      const std::function<void(int, int)>& progress) {
+  if (!input.optimize) throw InputError(fmt::format("{}: no [optimize] table", input.source.string()));
+  const OptimizeSettings& s = *input.optimize;
+  if (s.variables.empty()) {
+    throw InputError(fmt::format("{}: optimize: no [[optimize.variable]]", input.source.string()));
+  }
+  const bool global = s.global_algorithm != "none", local = s.local_algorithm != "none";
+  if (!global && !local) throw InputError(fmt::format("{}: optimize: both stages are \"none\"", input.source.string()));
+  const auto start = std::chrono::steady_clock::now();
+  const auto n = static_cast<unsigned>(s.variables.size());
+  std::vector<double> lower, upper, x;
+  for (const OptimizeVariable& v : s.variables) {
+    lower.push_back(v.min);
+    upper.push_back(v.max);
+    x.push_back(v.start.value_or(0.5 * (v.min + v.max)));
+  }
+  const int budget = (global ? s.global_evaluations : 0) + (local ? s.local_evaluations : 0);
+  Problem problem(input, progress, budget);
+  // The starting point is evaluated first, so that a bad key is reported before any search.
+  problem(x, "start");
+  if (problem.evaluations().back().status == "rejected") {
+    throw InputError(fmt::format("optimize: the starting point is rejected: {}", problem.evaluations().back().error));
+  }
+  nlopt::srand(s.seed);
+  json stages = json::array();
+  if (global) {
+    nlopt::opt opt(algorithm(s.global_algorithm, input, "global"), n);
+    opt.set_lower_bounds(lower);
+    opt.set_upper_bounds(upper);
+    opt.set_maxeval(s.global_evaluations);
+    const std::size_t before = problem.evaluations().size();
+    std::vector<double> g = x;
+    const std::string outcome = run_stage(opt, problem, "global", g);
+    stages.push_back({{"stage", "global"}, {"algorithm", s.global_algorithm}, {"outcome", outcome},
+                      {"evaluations", problem.evaluations().size() - before}});
+  }
+  if (local) {
+    const Evaluation* best = problem.best();
+    std::vector<double> l = best != nullptr ? best->x : x;
+    nlopt::opt opt(algorithm(s.local_algorithm, input, "local"), n);
+    opt.set_lower_bounds(lower);
+    opt.set_upper_bounds(upper);
+    opt.set_maxeval(s.local_evaluations);
+    opt.set_ftol_rel(s.relative_tolerance);
+    std::vector<double> step;
+    for (unsigned i = 0; i < n; ++i) step.push_back(0.1 * (upper[i] - lower[i]));
+    opt.set_initial_step(step);
+    const std::size_t before = problem.evaluations().size();
+    const std::string outcome = run_stage(opt, problem, "local", l);
+    stages.push_back({{"stage", "local"}, {"algorithm", s.local_algorithm}, {"outcome", outcome},
+                      {"evaluations", problem.evaluations().size() - before}});
+  }
+  const Evaluation* best = problem.best();
+  if (best == nullptr) throw SimulationError("optimize: no evaluation succeeded");
+
+  json optimum = json::object();
+  for (unsigned i = 0; i < n; ++i) optimum[s.variables[i].key] = best->x[i];
+  OutputTransaction out(out_dir);
+  // The optimum's response against bare pounding and the free frames.
+  json comparison;
+  if (s.each == "frf") {
+    PointValues values;
+    for (unsigned i = 0; i < n; ++i) values.emplace_back(s.variables[i].key, format_value(best->x[i]));
+    const RunInput point = read_point(input, values);
+    FrequencyResponseOptions o = frequency_response_options(point);
+    o.threads = s.threads;
+    write_frf_table(out.open("optimum_frf.csv"), point.model, frequency_response(point.model, o));
+    const json bare = baseline_metrics(point, s.threads);
+    RunInput bare_point = point;
+    bare_point.model = bare_pounding(point.model);
+    write_frf_table(out.open("bare_frf.csv"), bare_point.model, frequency_response(bare_point.model, o));
+    comparison = {{"optimum", best->metrics}, {"bare_pounding", bare}};
+  }
+  OutputFile& csv = out.open("evaluations.csv");
+  csv.text("evaluation,stage");
+  for (const OptimizeVariable& v : s.variables) csv.print(",{}", v.key);
+  csv.text(",objective,status,error\n");
+  for (std::size_t k = 0; k < problem.evaluations().size(); ++k) {
+    const Evaluation& e = problem.evaluations()[k];
+    csv.print("{},{}", k + 1, e.stage);
+    for (const double xi : e.x) csv.print(",{}", xi);
+    csv.print(",{},{},\"{}\"\n", e.status == "done" ? fmt::format("{}", e.objective) : "", e.status, e.error);
+  }
+  const double run_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  json summary{{"poundsim_version", POUNDSIM_VERSION},
+               {"input", input.source.string()},
+               {"title", input.title},
+               {"analysis", {{"kind", "optimize"}, {"each", s.each}, {"objective", s.objective},
+                             {"band", {s.band_min, s.band_max}}}},
+               {"variables", json::array()},
+               {"optimum", optimum},
+               {"objective", best->objective},
+               {"optimum_metrics", best->metrics},
+               {"comparison", comparison},
+               {"stages", stages},
+               {"evaluations", problem.evaluations().size()},
+               {"run_time_s", run_time}};
+  for (const OptimizeVariable& v : s.variables) summary["variables"].push_back({{"key", v.key}, {"min", v.min}, {"max", v.max}});
+  OutputFile& js = out.open("optimize.json");
+  js.text(summary.dump(2));
+  js.character('\n');
+  out.commit();
+  return summary;
+}
+
+}  // namespace poundsim::io

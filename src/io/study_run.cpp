@@ -1,0 +1,406 @@
+#include "poundsim/io/study_run.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <mutex>
+#include <random>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "poundsim/error.hpp"
+#include "poundsim/frequency_response.hpp"
+#include "poundsim/io/frequency_response_run.hpp"
+#include "poundsim/io/output_files.hpp"
+#include "poundsim/io/study_database.hpp"
+#include "poundsim/parallel.hpp"
+#include "poundsim/response_metrics.hpp"
+#include "poundsim/simulator.hpp"
+#include "poundsim/units.hpp"
+
+namespace poundsim::io {
+
+namespace {
+
+using nlohmann::json;
+
+std::string fnv1a(const std::string& text) {
+  std::uint64_t h = 14695981039346656037ull;
+  for (const unsigned char c : text) {
+    h ^= c;
+    h *= 1099511628211ull;
+  }
+  return fmt::format("{:016x}", h);
+}
+
+json describe_model(const Model& model) {
+  json frames = json::array();
+  for (const Frame& f : model.frames) {
+    frames.push_back({{"m", f.mass}, {"k", f.stiffness}, {"c", f.damping}});
+  }
+  json gaps = json::array();
+  for (const GapElement& g : model.gaps) {
+    const GapProperties& p = g.properties;
+    gaps.push_back({g.left_frame, g.floor, p.stiffness, p.damping, p.gap, p.shortening, p.restitution});
+  }
+  return {{"frames", frames}, {"gaps", gaps}};
+}
+
+json describe_analysis(const RunInput& in) {
+  const TimeHistoryOptions& o = in.analysis.options;
+  json a{{"each", in.each()},
+         {"integrator", to_string(o.integrator)},
+         {"event_tolerance", o.event_tolerance},
+         {"lock_time", o.lock_time},
+         {"separation", o.separation == SeparationCriterion::force ? "force" : "displacement"}};
+  if (in.frf) {
+    const FrfSettings& f = *in.frf;
+    a["frf"] = {{"amplitude_g", f.amplitude_g},     {"ratios", f.ratios},
+                {"sweep", to_string(f.sweep)},      {"steps", f.steady.steps_per_period},
+                {"tolerance", f.steady.tolerance},  {"max_periods", f.steady.max_periods},
+                {"max_periodicity", f.steady.max_periodicity}, {"window", f.steady.window_periods}};
+  } else {
+    a["duration"] = in.analysis.duration;
+    a["dt"] = o.dt;
+    const ExcitationInfo& e = in.excitation_info;
+    a["excitation"] = {{"kind", e.kind}, {"amplitude_g", e.amplitude_g}, {"omega", e.omega},
+                       {"file", e.record_file.string()}, {"scale", e.record_scale}, {"units", e.record_units}};
+  }
+  return a;
+}
+
+std::string format_number(double x) {
+  std::string text = fmt::format("{}", x);
+  if (text.find_first_of(".eEn") == std::string::npos) text += ".0";
+  return text;
+}
+
+/// One CSV field, quoted when it holds a comma, a quote or a line break.
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"') out += '"';
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string csv_value(const json& v) {
+  if (v.is_number()) return fmt::format("{}", v.get<double>());
+  if (v.is_string()) return csv_field(v.get<std::string>());
+  if (v.is_null()) return "";
+  return csv_field(v.dump());
+}
+
+}  // namespace
+
+std::vector<PointValues> study_points(const StudySettings& study) {
+  std::vector<PointValues> points;
+  const auto& params = study.parameters;
+  const auto grid_values = [](const StudyParameter& p) {
+    if (!p.values.empty()) return p.values;
+    std::vector<std::string> v;
+    for (int i = 0; i < p.points; ++i) {
+      const double f = static_cast<double>(i) / (p.points - 1);
+      const double x = p.log ? p.min * std::pow(p.max / p.min, f) : p.min + (p.max - p.min) * f;
+      v.push_back(format_number(x));
+    }
+    return v;
+  };
+  if (study.sampling == "grid") {
+    std::vector<std::vector<std::string>> axes;
+    for (const StudyParameter& p : params) axes.push_back(grid_values(p));
+    std::vector<std::size_t> index(axes.size(), 0);
+    if (axes.empty()) return points;
+    for (;;) {
+      PointValues point;
+      for (std::size_t k = 0; k < axes.size(); ++k) point.emplace_back(params[k].key, axes[k][index[k]]);
+      points.push_back(std::move(point));
+      // Odometer: the last parameter varies fastest.
+      std::size_t k = axes.size();
+      while (k > 0) {
+        --k;
+        if (++index[k] < axes[k].size()) break;
+        index[k] = 0;
+        if (k == 0) return points;
+      }
+    }
+  }
+  if (study.sampling == "list") {
+    const std::size_t n = params.empty() ? 0 : params.front().values.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      PointValues point;
+      for (const StudyParameter& p : params) point.emplace_back(p.key, p.values[i]);
+      points.push_back(std::move(point));
+    }
+    return points;
+  }
+  std::mt19937_64 rng(study.seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int i = 0; i < study.samples; ++i) {
+    PointValues point;
+    for (const StudyParameter& p : params) {
+      const double f = unit(rng);
+      const double x = p.log ? p.min * std::pow(p.max / p.min, f) : p.min + (p.max - p.min) * f;
+      point.emplace_back(p.key, format_number(x));
+    }
+    points.push_back(std::move(point));
+  }
+  return points;
+}
+
+RunInput read_point(const RunInput& base, const PointValues& values) {
+  std::vector<std::string> overrides;
+  for (const auto& [key, value] : values) overrides.push_back(key + "=" + value);
+  return read_input_string(base.text, base.source.string(), base.base_dir, overrides);
+}
+
+std::string fingerprint(const RunInput& input) {
+  json d{{"model", describe_model(input.model)}, {"analysis", describe_analysis(input)}, {"text", input.text}};
+  return fnv1a(d.dump());
+}
+
+std::string baseline_key(const RunInput& point) {
+  json d{{"model", describe_model(bare_pounding(point.model))}, {"analysis", describe_analysis(point)}};
+  return fnv1a(d.dump());
+}
+
+namespace {
+
+json frf_metrics(const RunInput& point, int threads, double band_min, double band_max) {
+  FrequencyResponseOptions o = frequency_response_options(point);
+  o.threads = threads;
+  const std::vector<FrfPoint> response = frequency_response(point.model, o);
+  const BandPeaks b = band_peaks(point.model, response, band_min, band_max);
+  json m{{"points", b.points}, {"non_periodic", b.non_periodic}};
+  double max_peak = 0, max_ratio = 0;
+  for (std::size_t f = 0; f < b.interacting.size(); ++f) {
+    m[fmt::format("peak_V{}_W", f + 1)] = b.interacting[f];
+    m[fmt::format("peak_V{}_at", f + 1)] = b.interacting_at[f];
+    m[fmt::format("free_peak_V{}_W", f + 1)] = b.free[f];
+    const double ratio = b.free[f] > 0 ? b.interacting[f] / b.free[f] : 0.0;
+    m[fmt::format("ratio_to_free_{}", f + 1)] = ratio;
+    max_peak = std::max(max_peak, b.interacting[f]);
+    max_ratio = std::max(max_ratio, ratio);
+  }
+  m["max_peak_V_W"] = max_peak;
+  m["max_ratio_to_free"] = max_ratio;
+  return m;
+}
+
+json time_history_metrics(const RunInput& point) {
+  const double w = reference_weight(point.model);
+  const auto run = [&](const Model& model) {
+    Simulator sim(model, point.excitation, point.analysis.options, point.initial);
+    sim.advance_to(point.analysis.duration);
+    return std::make_pair(sim.statistics(), sim.energy_meter().max_relative_residual());
+  };
+  const auto [stats, residual] = run(point.model);
+  const auto [free, free_residual] = run(free_frames(point.model));
+  json m{{"energy_residual", residual}};
+  double max_peak = 0, max_ratio = 0, impulse = 0, force = 0;
+  int impacts = 0;
+  for (std::size_t f = 0; f < stats.base_shear.size(); ++f) {
+    const double v = stats.base_shear[f].value / w, vf = free.base_shear[f].value / w;
+    m[fmt::format("peak_V{}_W", f + 1)] = v;
+    m[fmt::format("free_peak_V{}_W", f + 1)] = vf;
+    m[fmt::format("ratio_to_free_{}", f + 1)] = vf > 0 ? v / vf : 0.0;
+    max_peak = std::max(max_peak, v);
+    max_ratio = std::max(max_ratio, vf > 0 ? v / vf : 0.0);
+  }
+  for (const GapResponse& g : stats.gaps) {
+    impacts += g.impacts;
+    impulse = std::max(impulse, g.impulse.value);
+    force = std::max(force, g.force.value);
+  }
+  m["max_peak_V_W"] = max_peak;
+  m["max_ratio_to_free"] = max_ratio;
+  m["impacts"] = impacts;
+  m["max_impact_impulse_Ns"] = impulse;
+  m["max_gap_force_N"] = force;
+  return m;
+}
+
+std::pair<double, double> band_of(const RunInput& point) {
+  if (point.study) return {point.study->band_min, point.study->band_max};
+  if (point.optimize) return {point.optimize->band_min, point.optimize->band_max};
+  return {0.0, std::numeric_limits<double>::infinity()};
+}
+
+}  // namespace
+
+json point_metrics(const RunInput& point, int threads, const json* baseline) {
+  const auto [lo, hi] = band_of(point);
+  json m = point.each() == "frf" ? frf_metrics(point, threads, lo, hi) : time_history_metrics(point);
+  if (baseline != nullptr) {
+    double max_ratio = 0;
+    for (int f = 1; f <= point.model.frame_count(); ++f) {
+      const std::string key = fmt::format("peak_V{}_W", f);
+      const double bare = (*baseline)[key].get<double>();
+      m[fmt::format("bare_peak_V{}_W", f)] = bare;
+      const double ratio = bare > 0 ? m[key].get<double>() / bare : 0.0;
+      m[fmt::format("ratio_to_bare_{}", f)] = ratio;
+      max_ratio = std::max(max_ratio, ratio);
+    }
+    m["max_ratio_to_bare"] = max_ratio;
+  }
+  return m;
+}
+
+json baseline_metrics(const RunInput& point, int threads) {
+  RunInput bare = point;
+  bare.model = bare_pounding(point.model);
+  return point_metrics(bare, threads, nullptr);
+}
+
+json run_study(const RunInput& input, const std::filesystem::path& out_dir,
+               const StudyRunOptions& options) {
+  if (!input.study) throw InputError(fmt::format("{}: no [study] table", input.source.string()));
+  const StudySettings& study = *input.study;
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<PointValues> all = study_points(study);
+
+  std::error_code ec;
+  std::filesystem::create_directories(out_dir, ec);
+  if (ec) throw std::runtime_error(fmt::format("{}: cannot create the output folder: {}", out_dir.string(), ec.message()));
+  json definition{{"input", input.source.string()}, {"each", study.each}, {"sampling", study.sampling},
+                  {"points", all.size()}, {"parameters", json::array()}};
+  for (const StudyParameter& p : study.parameters) definition["parameters"].push_back(p.key);
+  StudyDatabase db(out_dir / "study.sqlite", fingerprint(input), definition);
+  const std::set<long> finished = db.finished();
+
+  // The points still to run, read (and so validated) before anything runs.
+  struct Todo {
+    long id;
+    RunInput input;
+    std::string baseline;
+  };
+  std::vector<Todo> todo;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const long id = static_cast<long>(i);
+    if (finished.contains(id)) continue;
+    if (options.max_points && static_cast<long>(todo.size()) >= *options.max_points) break;
+    try {
+      RunInput point = read_point(input, all[i]);
+      std::string key = study.baseline ? baseline_key(point) : std::string();
+      todo.push_back({id, std::move(point), std::move(key)});
+    } catch (const InputError& e) {
+      std::string values;
+      for (const auto& [k, v] : all[i]) values += fmt::format("{}{} = {}", values.empty() ? "" : ", ", k, v);
+      throw InputError(fmt::format("study point {} ({}): {}", id + 1, values, e.what()));
+    }
+  }
+
+  // Bare-pounding references, each computed once and stored.
+  std::map<std::string, json> baselines;
+  std::vector<const Todo*> missing;
+  for (const Todo& t : todo) {
+    if (t.baseline.empty() || baselines.contains(t.baseline)) continue;
+    if (auto stored = db.baseline(t.baseline)) {
+      baselines[t.baseline] = *stored;
+    } else {
+      baselines[t.baseline] = json();
+      missing.push_back(&t);
+    }
+  }
+  std::mutex baseline_mutex;
+  parallel_for(static_cast<int>(missing.size()), study.threads, [&](int k) {
+    const Todo& t = *missing[static_cast<std::size_t>(k)];
+    const json m = baseline_metrics(t.input, 1);
+    db.record_baseline(t.baseline, m);
+    const std::lock_guard lock(baseline_mutex);
+    baselines[t.baseline] = m;
+  });
+
+  std::atomic<int> done{0};
+  std::atomic<int> failed{0};
+  const int total = static_cast<int>(todo.size());
+  parallel_for(total, study.threads, [&](int k) {
+    const Todo& t = todo[static_cast<std::size_t>(k)];
+    const auto point_start = std::chrono::steady_clock::now();
+    json parameters = json::object();
+    for (const auto& [key, value] : all[static_cast<std::size_t>(t.id)]) parameters[key] = json::parse(value, nullptr, false).is_discarded() ? json(value) : json::parse(value);
+    std::string status = "done", error;
+    json metrics = json::object();
+    try {
+      metrics = point_metrics(t.input, 1, t.baseline.empty() ? nullptr : &baselines.at(t.baseline));
+    } catch (const SimulationError& e) {
+      status = "failed";
+      error = e.what();
+      ++failed;
+    }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - point_start).count();
+    db.record(t.id, parameters, status, error, metrics, seconds);
+    const int count = ++done;
+    if (options.progress) options.progress(count, total);
+  });
+
+  const double run_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // The whole database, earlier runs included.
+  const std::vector<StudyDatabase::Row> rows = db.rows();
+  json best;
+  int complete = 0, failures = 0;
+  for (const StudyDatabase::Row& r : rows) {
+    if (r.status != "done") {
+      ++failures;
+      continue;
+    }
+    ++complete;
+    const double objective = r.metrics.value("max_peak_V_W", std::numeric_limits<double>::infinity());
+    if (best.is_null() || objective < best["metrics"]["max_peak_V_W"].get<double>()) {
+      best = {{"id", r.id + 1}, {"parameters", r.parameters}, {"metrics", r.metrics}};
+    }
+  }
+  json summary{{"poundsim_version", POUNDSIM_VERSION},
+               {"input", input.source.string()},
+               {"title", input.title},
+               {"analysis", {{"kind", "study"}, {"each", study.each}, {"sampling", study.sampling},
+                             {"band", {study.band_min, study.band_max}}, {"baseline", study.baseline}}},
+               {"parameters", definition["parameters"]},
+               {"points", all.size()},
+               {"finished", complete + failures},
+               {"failed", failures},
+               {"skipped_as_finished", finished.size()},
+               {"run_this_time", total},
+               {"complete", complete + failures == static_cast<int>(all.size())},
+               {"lowest_max_peak", best},
+               {"database", (out_dir / "study.sqlite").string()},
+               {"run_time_s", run_time}};
+  OutputTransaction out(out_dir);
+  OutputFile& s = out.open("summary.json");
+  s.text(summary.dump(2));
+  s.character('\n');
+  out.commit();
+  export_study(out_dir / "study.sqlite", out_dir / "study.csv");
+  return summary;
+}
+
+void export_study(const std::filesystem::path& database, const std::filesystem::path& csv) {
+  const StudyDatabase db(database);
+  const std::vector<StudyDatabase::Row> rows = db.rows();
+  std::vector<std::string> parameters;
+  for (const auto& p : db.definition().value("parameters", json::array())) parameters.push_back(p.get<std::string>());
+  std::set<std::string> metric_keys;
+  for (const auto& r : rows) {
+    for (const auto& [k, v] : r.metrics.items()) metric_keys.insert(k);
+  }
+  OutputTransaction out(csv.has_parent_path() ? csv.parent_path() : std::filesystem::path("."));
+  OutputFile& f = out.open(csv.filename().string());
+  f.text("id,status");
+  for (const std::string& p : parameters) f.print(",{}", csv_field(p));
+  for (const std::string& k : metric_keys) f.print(",{}", k);
+  f.text(",run_time_s,error\n");
+  for (const auto& r : rows) {
+    f.print("{},{}", r.id + 1, r.status);
+    for (const std::string& p : parameters) f.print(",{}", csv_value(r.parameters.value(p, json())));
+    for (const std::string& k : metric_keys) f.print(",{}", csv_value(r.metrics.value(k, json())));
+    f.print(",{},{}\n", r.run_time, csv_field(r.error));
+  }
+  out.commit();
+}
+
+}  // namespace poundsim::io

@@ -1,0 +1,335 @@
+// Parametric studies and the optimiser: sampling, resumption after a kill, determinism, reports.
+
+#include "poundsim/io/study_run.hpp"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "poundsim/error.hpp"
+#include "poundsim/io/optimize_run.hpp"
+#include "poundsim/io/study_database.hpp"
+
+namespace poundsim::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kStudy = R"([model]
+storeys = [1, 1]
+[model.dimensionless]
+lambda2 = 200.0
+alpha = 0.25
+beta = 1.0
+gamma = 0.5
+xi = 0.05
+delta = 0.25
+eta = 0.125
+mu = 1.0
+epsilon = 0.5
+restitution = 0.75
+[analysis]
+kind = "study"
+[frf]
+amplitude_g = 0.2
+ratio_min = 0.4
+ratio_max = 1.2
+points = 9
+[study]
+each = "frf"
+threads = 2
+[[study.parameter]]
+key = "model.dimensionless.eta"
+values = [0.0, 0.125, 0.25]
+[[study.parameter]]
+key = "model.dimensionless.mu"
+min = 0.5
+max = 2.0
+points = 3
+)";
+
+RunInput read(const std::string& text, std::vector<std::string> overrides = {}) {
+  return read_input_string(text, "study.toml", ".", overrides);
+}
+
+fs::path fresh(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("poundsim_study_" + name);
+  fs::remove_all(dir);
+  return dir;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+TEST(StudyPoints, GridListAndRandomSampling) {
+  const RunInput in = read(kStudy);
+  const std::vector<PointValues> grid = study_points(*in.study);
+  ASSERT_EQ(grid.size(), 9u);
+  // The first parameter varies slowest; ranges are evenly spaced and printed exactly.
+  EXPECT_EQ(grid[0], (PointValues{{"model.dimensionless.eta", "0.0"}, {"model.dimensionless.mu", "0.5"}}));
+  EXPECT_EQ(grid[1][1].second, "1.25");
+  EXPECT_EQ(grid[3][0].second, "0.125");
+  EXPECT_EQ(grid[8], (PointValues{{"model.dimensionless.eta", "0.25"}, {"model.dimensionless.mu", "2.0"}}));
+
+  StudySettings list = *in.study;
+  list.sampling = "list";
+  list.parameters[1].values = {"0.5", "1.0", "2.0"};
+  const std::vector<PointValues> zipped = study_points(list);
+  ASSERT_EQ(zipped.size(), 3u);
+  EXPECT_EQ(zipped[2], (PointValues{{"model.dimensionless.eta", "0.25"}, {"model.dimensionless.mu", "2.0"}}));
+
+  StudySettings random = *in.study;
+  random.sampling = "random";
+  random.samples = 50;
+  random.seed = 7;
+  random.parameters[0] = StudyParameter{"model.dimensionless.eta", {}, 0.01, 1.0, 0, true};
+  const std::vector<PointValues> a = study_points(random), b = study_points(random);
+  ASSERT_EQ(a.size(), 50u);
+  EXPECT_EQ(a, b);  // the same seed, the same points
+  double smallest = 1, largest = 0;
+  for (const PointValues& p : a) {
+    const double eta = std::stod(p[0].second), mu = std::stod(p[1].second);
+    EXPECT_GE(eta, 0.01);
+    EXPECT_LE(eta, 1.0);
+    EXPECT_GE(mu, 0.5);
+    EXPECT_LE(mu, 2.0);
+    smallest = std::min(smallest, eta);
+    largest = std::max(largest, eta);
+  }
+  EXPECT_LT(smallest, 0.05);  // log-uniform: small values are as likely as large decades
+  random.seed = 8;
+  EXPECT_NE(study_points(random), a);
+}
+
+TEST(StudyRun, ResumesWithoutLosingOrRepeatingPoints) {
+  const RunInput in = read(kStudy);
+  const fs::path whole = fresh("whole"), parts = fresh("parts");
+  const nlohmann::json all = run_study(in, whole);
+  EXPECT_TRUE(all["complete"].get<bool>());
+  EXPECT_EQ(all["finished"], 9);
+
+  StudyRunOptions some;
+  some.max_points = 4;
+  const nlohmann::json first = run_study(in, parts, some);
+  EXPECT_FALSE(first["complete"].get<bool>());
+  EXPECT_EQ(first["finished"], 4);
+  const nlohmann::json rest = run_study(in, parts);
+  EXPECT_TRUE(rest["complete"].get<bool>());
+  EXPECT_EQ(rest["skipped_as_finished"], 4);
+  EXPECT_EQ(rest["run_this_time"], 5);
+
+  const StudyDatabase a(whole / "study.sqlite"), b(parts / "study.sqlite");
+  const auto ra = a.rows(), rb = b.rows();
+  ASSERT_EQ(ra.size(), 9u);
+  ASSERT_EQ(rb.size(), 9u);
+  for (std::size_t i = 0; i < ra.size(); ++i) {
+    EXPECT_EQ(ra[i].id, rb[i].id);
+    EXPECT_EQ(ra[i].parameters, rb[i].parameters);
+    EXPECT_EQ(ra[i].metrics, rb[i].metrics);  // bit for bit: the same numbers, printed alike
+  }
+  // Gap elements beat bare pounding at some point of this grid, and every ratio is computed.
+  double best = 10;
+  for (const auto& r : ra) best = std::min(best, r.metrics["max_ratio_to_bare"].get<double>());
+  EXPECT_LT(best, 0.9);
+  fs::remove_all(whole);
+  fs::remove_all(parts);
+}
+
+TEST(StudyRun, SameResultsWhateverTheThreadCount) {
+  const fs::path one = fresh("one"), two = fresh("two");
+  run_study(read(kStudy, {"study.threads=1"}), one);
+  run_study(read(kStudy, {"study.threads=3"}), two);
+  const auto a = StudyDatabase(one / "study.sqlite").rows(), b = StudyDatabase(two / "study.sqlite").rows();
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a[i].metrics, b[i].metrics);
+  fs::remove_all(one);
+  fs::remove_all(two);
+}
+
+TEST(StudyRun, RefusesTheDatabaseOfAnotherStudy) {
+  const fs::path dir = fresh("other");
+  StudyRunOptions one;
+  one.max_points = 1;
+  run_study(read(kStudy), dir, one);
+  try {
+    run_study(read(kStudy, {"frf.amplitude_g=0.3"}), dir);
+    FAIL() << "a different study reused the database";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("different study"), std::string::npos) << e.what();
+  }
+  fs::remove_all(dir);
+}
+
+TEST(StudyRun, ABadParameterStopsTheStudyBeforeAnyPointRuns) {
+  const fs::path dir = fresh("bad");
+  std::string text = kStudy;
+  text.replace(text.find("dimensionless.mu\""), 17, "dimensionless.muu\"");
+  try {
+    run_study(read(text), dir);
+    FAIL() << "unknown key accepted";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("study point 1"), std::string::npos) << what;
+    EXPECT_NE(what.find("model.dimensionless.muu: unknown key"), std::string::npos) << what;
+  }
+  EXPECT_TRUE(StudyDatabase(dir / "study.sqlite").rows().empty());
+  fs::remove_all(dir);
+}
+
+TEST(StudyRun, ExportWritesEveryPoint) {
+  const fs::path dir = fresh("export");
+  run_study(read(kStudy), dir);
+  export_study(dir / "study.sqlite", dir / "again.csv");
+  const std::string csv = slurp(dir / "again.csv");
+  EXPECT_EQ(csv, slurp(dir / "study.csv"));
+  std::istringstream lines(csv);
+  std::string header;
+  std::getline(lines, header);
+  EXPECT_EQ(header.rfind("id,status,model.dimensionless.eta,model.dimensionless.mu,", 0), 0u) << header;
+  EXPECT_NE(header.find(",max_ratio_to_bare,"), std::string::npos);
+  int rows = 0;
+  for (std::string line; std::getline(lines, line);) ++rows;
+  EXPECT_EQ(rows, 9);
+  EXPECT_THROW(export_study(dir / "missing.sqlite", dir / "x.csv"), InputError);
+  fs::remove_all(dir);
+}
+
+TEST(StudyRun, AKilledStudyResumesWhereItStopped) {
+  // A real SIGKILL in the middle of a study run by the command-line program.
+  const fs::path dir = fresh("killed");
+  fs::create_directories(dir);
+  { std::ofstream(dir / "study.toml") << kStudy; }
+  const std::string args = "run " + (dir / "study.toml").string() + " --quiet --out " + (dir / "out").string() +
+                           " --set frf.points=41 --set frf.steps_per_period=256 --set study.threads=1";
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    execl("/bin/sh", "sh", "-c", (std::string(POUNDSIM_CLI) + " " + args).c_str(), nullptr);
+    _exit(127);
+  }
+  // Wait until some, not all, points are in the database, then kill.
+  long seen = 0;
+  for (int i = 0; i < 2000 && seen < 2; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    if (fs::exists(dir / "out" / "study.sqlite")) {
+      try {
+        seen = static_cast<long>(StudyDatabase(dir / "out" / "study.sqlite").rows().size());
+      } catch (const std::exception&) {
+      }
+    }
+  }
+  kill(child, SIGKILL);
+  kill(-child, SIGKILL);
+  int status = 0;
+  waitpid(child, &status, 0);
+  system(("pkill -9 -f '" + (dir / "study.toml").string() + "' 2>/dev/null").c_str());
+  const long before = static_cast<long>(StudyDatabase(dir / "out" / "study.sqlite").rows().size());
+  EXPECT_GE(before, 2);
+  EXPECT_LT(before, 9) << "the study finished before the kill; make it slower";
+  // Run again: the rest is computed, nothing is lost or repeated, and the results equal an
+  // uninterrupted run's.
+  ASSERT_EQ(system((std::string(POUNDSIM_CLI) + " " + args).c_str()), 0);
+  const auto rows = StudyDatabase(dir / "out" / "study.sqlite").rows();
+  ASSERT_EQ(rows.size(), 9u);
+  for (std::size_t i = 0; i < rows.size(); ++i) EXPECT_EQ(rows[i].id, static_cast<long>(i));
+  ASSERT_EQ(system((std::string(POUNDSIM_CLI) + " " + args.substr(0, args.find("--out")) + "--out " +
+                    (dir / "clean").string() + args.substr(args.find(" --set"))).c_str()),
+            0);
+  const auto clean = StudyDatabase(dir / "clean" / "study.sqlite").rows();
+  for (std::size_t i = 0; i < rows.size(); ++i) EXPECT_EQ(rows[i].metrics, clean[i].metrics);
+  fs::remove_all(dir);
+}
+
+TEST(Optimize, FindsGapElementsBetterThanBarePounding) {
+  std::string text = kStudy.substr(0, kStudy.find("[analysis]"));
+  text += R"([analysis]
+kind = "optimize"
+[frf]
+amplitude_g = 0.2
+ratio_min = 0.4
+ratio_max = 1.2
+points = 9
+[optimize]
+each = "frf"
+global = "GN_DIRECT_L"
+local = "LN_BOBYQA"
+global_evaluations = 12
+local_evaluations = 10
+threads = 2
+[[optimize.variable]]
+key = "model.dimensionless.mu"
+min = 0.0
+max = 3.0
+start = 0.1
+)";
+  const fs::path dir = fresh("optimize");
+  const RunInput in = read(text);
+  const nlohmann::json s = run_optimization(in, dir);
+  const double best = s["objective"].get<double>();
+  const double bare = s["comparison"]["bare_pounding"]["max_peak_V_W"].get<double>();
+  EXPECT_LT(best, 0.8 * bare);
+  EXPECT_LE(s["evaluations"].get<int>(), 1 + 12 + 10);
+  // The evaluations start at the given point, and the optimum is the best of them.
+  std::istringstream evaluations(slurp(dir / "evaluations.csv"));
+  std::string line;
+  std::getline(evaluations, line);
+  EXPECT_EQ(line, "evaluation,stage,model.dimensionless.mu,objective,status,error");
+  double lowest = 1e9;
+  int count = 0;
+  while (std::getline(evaluations, line)) {
+    std::vector<std::string> fields;
+    std::istringstream row(line);
+    for (std::string field; std::getline(row, field, ',');) fields.push_back(field);
+    ASSERT_GE(fields.size(), 5u) << line;
+    if (count++ == 0) {
+      EXPECT_EQ(fields[1] + " " + fields[2], "start 0.1");
+    }
+    EXPECT_EQ(fields[4], "done");
+    lowest = std::min(lowest, std::stod(fields[3]));
+  }
+  EXPECT_EQ(count, s["evaluations"].get<int>());
+  EXPECT_DOUBLE_EQ(lowest, best);
+  EXPECT_TRUE(fs::exists(dir / "optimum_frf.csv"));
+  EXPECT_TRUE(fs::exists(dir / "bare_frf.csv"));
+  // Deterministic: the same optimum again.
+  const nlohmann::json again = run_optimization(in, fresh("optimize_again"));
+  EXPECT_EQ(again["optimum"], s["optimum"]);
+  EXPECT_EQ(again["objective"], s["objective"]);
+  fs::remove_all(dir);
+  fs::remove_all(fresh("optimize_again"));
+}
+
+TEST(Optimize, RejectsUnknownAlgorithmsAndGradientMethods) {
+  std::string text = kStudy.substr(0, kStudy.find("[analysis]"));
+  text += "[analysis]\nkind = \"optimize\"\n[frf]\namplitude_g = 0.2\nratios = [1.0]\n[optimize]\neach = \"frf\"\n"
+          "[[optimize.variable]]\nkey = \"model.dimensionless.mu\"\nmin = 0.0\nmax = 3.0\n";
+  const fs::path dir = fresh("optimize_bad");
+  try {
+    run_optimization(read(text, {"optimize.global=GN_NONSENSE"}), dir);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("not an NLopt algorithm"), std::string::npos) << e.what();
+  }
+  try {
+    run_optimization(read(text, {"optimize.local=LD_MMA"}), dir);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("needs gradients"), std::string::npos) << e.what();
+  }
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace poundsim::io
