@@ -252,6 +252,41 @@ TEST(StudyRun, AKilledStudyResumesWhereItStopped) {
   fs::remove_all(dir);
 }
 
+TEST(StudyRun, TimeHistoryPointsCompareWithFreeAndBareFrames) {
+  // Each point a 5 s time history at ω̄/ω₁ = 0.8; the gap's width varies. Without contact
+  // (a wide gap) the frames are the free ones: every ratio is exactly 1.
+  std::string text = kStudy.substr(0, kStudy.find("[analysis]"));
+  text += R"([analysis]
+kind = "study"
+duration = 5.0
+dt = 0.002
+[excitation]
+kind = "harmonic"
+amplitude_g = 0.2
+ratio = 0.8
+[study]
+each = "time_history"
+[[study.parameter]]
+key = "model.dimensionless.delta"
+values = [0.25, 100.0]
+)";
+  const fs::path dir = fresh("time_history");
+  const nlohmann::json s = run_study(read(text), dir);
+  EXPECT_EQ(s["finished"], 2);
+  const auto rows = StudyDatabase(dir / "study.sqlite").rows();
+  ASSERT_EQ(rows.size(), 2u);
+  const nlohmann::json& close = rows[0].metrics;
+  const nlohmann::json& apart = rows[1].metrics;
+  EXPECT_GT(close["max_gap_force_N"].get<double>(), 0.0);
+  EXPECT_NE(close["ratio_to_free_1"].get<double>(), 1.0);
+  EXPECT_EQ(apart["ratio_to_free_1"].get<double>(), 1.0);
+  EXPECT_EQ(apart["ratio_to_free_2"].get<double>(), 1.0);
+  EXPECT_EQ(apart["max_gap_force_N"].get<double>(), 0.0);
+  EXPECT_LT(close["energy_residual"].get<double>(), 1e-11);
+  EXPECT_TRUE(close.contains("ratio_to_bare_1"));
+  fs::remove_all(dir);
+}
+
 TEST(Optimize, FindsGapElementsBetterThanBarePounding) {
   std::string text = kStudy.substr(0, kStudy.find("[analysis]"));
   text += R"([analysis]
