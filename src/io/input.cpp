@@ -11,7 +11,7 @@
 #include <toml++/toml.h>
 
 #include "poundsim/error.hpp"
-#include "poundsim/io/record_file.hpp"
+#include "poundsim/io/ground_motion.hpp"
 #include "poundsim/units.hpp"
 
 namespace poundsim::io {
@@ -509,7 +509,7 @@ void read_initial(TableReader& t, const Model& model, InitialConditions& ic) {
 }
 
 void read_excitation(TableReader& t, const Model& model, const std::filesystem::path& base_dir,
-                     RunInput& run) {
+                     const Origin& origin, RunInput& run) {
   ExcitationInfo& info = run.excitation_info;
   info.kind = t.choice("kind", {"harmonic", "record", "none"});
   info.omega1 = fundamental_frequency(model.frames.front());
@@ -527,17 +527,56 @@ void read_excitation(TableReader& t, const Model& model, const std::filesystem::
     }
     run.excitation = HarmonicExcitation{info.amplitude_g * standard_gravity, info.omega};
   } else if (info.kind == "record") {
+    RecordOptions o;
+    o.gravity = standard_gravity;
+    const std::string format = t.choice("format", {"auto", "at2", "cosmos", "columns", "single"}, std::string("auto"));
+    o.format = format == "at2"       ? RecordFormat::at2
+               : format == "cosmos"  ? RecordFormat::cosmos
+               : format == "columns" ? RecordFormat::columns
+               : format == "single"  ? RecordFormat::single
+                                     : RecordFormat::automatic;
+    o.units = t.has("units") ? t.choice("units", {"g", "m/s2", "cm/s2"}) : (t.find("units"), std::string());
+    if (t.has("scale") && t.has("target_pga_g")) t.fail("target_pga_g", "give either scale or target_pga_g, not both");
+    if (auto scale = t.optional_number("scale")) o.scale = *scale;
+    if (auto target = t.optional_number("target_pga_g")) o.target_pga_g = t.positive("target_pga_g", *target);
+    if (t.has("dt")) {
+      if (format != "single") t.fail("dt", "only for format = \"single\" (the other formats carry their times)");
+      o.dt = t.positive("dt", t.number("dt"));
+    } else {
+      t.find("dt");
+      if (format == "single") t.fail_table("missing key: dt (format = \"single\" has no times)");
+    }
+    if (auto column = t.optional_integer("column")) {
+      if (format != "columns" && format != "auto") t.fail("column", "only for column files");
+      if (*column < 2) t.fail("column", "the acceleration column is 2 or more (column 1 is time)");
+      o.column = *column;
+    }
+    // An ensemble names its records in [ensemble]: a file here only comes from one of its points.
+    const bool from_ensemble = run.analysis.kind == "ensemble" || (run.study && run.study->each == "ensemble") ||
+                               (run.optimize && run.optimize->each == "ensemble");
+    if (from_ensemble && !(t.has("file") && origin.overrides.contains("excitation.file"))) {
+      if (t.has("file")) t.fail("file", "an ensemble takes its records from [ensemble]");
+      t.find("file");
+      info.record_units = o.units;
+      t.finish(context);
+      return;
+    }
     const std::string file = t.string("file");
-    info.record_scale = t.number_or("scale", 1.0);
-    info.record_units = t.choice("units", {"g", "m/s2", "cm/s2"}, std::string("g"));
-    const double unit = info.record_units == "g" ? standard_gravity
-                        : info.record_units == "cm/s2" ? 0.01
-                                                        : 1.0;
     std::filesystem::path path(file);
     if (path.is_relative()) path = base_dir / path;
     info.record_file = path;
     try {
-      run.excitation = read_two_column_record(path, info.record_scale * unit);
+      const GroundMotionRecord r = read_ground_motion(path, o);
+      run.excitation = r.excitation;
+      info.record_scale = r.scale;
+      info.record_units = r.file_units;
+      info.record_format = r.format;
+      info.record_description = r.description;
+      info.record_points = r.points;
+      info.record_dt = r.dt;
+      info.record_pga_file_g = r.pga_file_g;
+      info.record_pga_g = r.pga_g;
+      info.record_duration = r.duration;
     } catch (const InputError& e) {
       t.fail("file", e.what());
     }
@@ -566,10 +605,13 @@ void read_integration(TableReader& t, AnalysisSettings& a) {
 }
 
 void read_time_history(TableReader& t, AnalysisSettings& a) {
-  a.duration = t.positive("duration", t.number("duration"));
+  // Without a duration a record runs to its last sample (checked once the record is read).
+  a.duration = t.has("duration") ? t.positive("duration", t.number("duration")) : (t.find("duration"), 0.0);
   TimeHistoryOptions& o = a.options;
   o.dt = t.positive("dt", t.number("dt"));
-  if (o.dt > a.duration) t.fail("dt", fmt::format("{} s is longer than the duration {} s", o.dt, a.duration));
+  if (a.duration > 0 && o.dt > a.duration) {
+    t.fail("dt", fmt::format("{} s is longer than the duration {} s", o.dt, a.duration));
+  }
   a.output_dt = t.number_or("output_dt", o.dt);
   const double ratio = a.output_dt / o.dt;
   if (!(a.output_dt > 0) || std::abs(ratio - std::round(ratio)) > 1e-9 * ratio || ratio < 0.5) {
@@ -655,7 +697,7 @@ std::string value_text(TableReader& t, std::string_view key, const toml::node& n
 
 StudySettings read_study(TableReader& t) {
   StudySettings s;
-  s.each = t.choice("each", {"frf", "time_history"});
+  s.each = t.choice("each", {"frf", "time_history", "ensemble"});
   s.sampling = t.choice("sampling", {"grid", "list", "random"}, std::string("grid"));
   if (s.sampling == "random") {
     s.samples = t.integer("samples");
@@ -733,7 +775,7 @@ StudySettings read_study(TableReader& t) {
 
 OptimizeSettings read_optimize(TableReader& t) {
   OptimizeSettings o;
-  o.each = t.choice("each", {"frf", "time_history"});
+  o.each = t.choice("each", {"frf", "time_history", "ensemble"});
   o.objective = t.choice("objective", {"max_peak", "max_ratio_to_free"}, std::string("max_peak"));
   if (t.has("band")) {
     if (o.each != "frf") t.fail("band", "only for each = \"frf\"");
@@ -784,6 +826,73 @@ OptimizeSettings read_optimize(TableReader& t) {
   return o;
 }
 
+/// `*` and `?` wildcards against a whole file name.
+bool matches(const std::string& pattern, const std::string& name) {
+  std::size_t p = 0, n = 0, star = std::string::npos, mark = 0;
+  while (n < name.size()) {
+    if (p < pattern.size() && (pattern[p] == '?' || pattern[p] == name[n])) {
+      ++p;
+      ++n;
+    } else if (p < pattern.size() && pattern[p] == '*') {
+      star = p++;
+      mark = n;
+    } else if (star != std::string::npos) {
+      p = star + 1;
+      n = ++mark;
+    } else {
+      return false;
+    }
+  }
+  while (p < pattern.size() && pattern[p] == '*') ++p;
+  return p == pattern.size();
+}
+
+EnsembleSettings read_ensemble(TableReader& t, const std::filesystem::path& base_dir) {
+  EnsembleSettings e;
+  const auto resolve = [&](const std::string& file) {
+    std::filesystem::path p(file);
+    return p.is_relative() ? base_dir / p : p;
+  };
+  const bool listed = t.has("records"), folder = t.has("folder");
+  if (listed == folder) t.fail_table("give either records = [...] or folder (and pattern)");
+  if (listed) {
+    const toml::node& node = t.require("records");
+    const toml::array* records = node.as_array();
+    if (records == nullptr || records->empty()) t.fail("records", "expected a non-empty array of file names");
+    for (std::size_t i = 0; i < records->size(); ++i) {
+      const toml::node& item = (*records)[i];
+      if (!item.is_string()) t.fail("records", fmt::format("item {} must be a file name (string)", i + 1));
+      e.records.push_back(resolve(*item.value<std::string>()));
+    }
+    t.find("pattern");
+    if (t.has("pattern")) t.fail("pattern", "only with folder");
+  } else {
+    const std::filesystem::path dir = resolve(t.string("folder"));
+    const std::string pattern = t.string_or("pattern", "*");
+    std::error_code ec;
+    if (!std::filesystem::is_directory(dir, ec)) t.fail("folder", fmt::format("{} is not a folder", dir.string()));
+    for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+      if (entry.is_regular_file() && matches(pattern, entry.path().filename().string())) e.records.push_back(entry.path());
+    }
+    std::sort(e.records.begin(), e.records.end());
+    if (e.records.empty()) t.fail("pattern", fmt::format("no file in {} matches \"{}\"", dir.string(), pattern));
+  }
+  for (const std::filesystem::path& r : e.records) {
+    if (!std::filesystem::is_regular_file(r)) t.fail(listed ? "records" : "folder", fmt::format("{}: no such file", r.string()));
+  }
+  if (auto n = t.optional_integer("threads")) e.threads = *n;
+  if (e.threads < 0) t.fail("threads", "must be ≥ 0 (0: all cores)");
+  if (t.has("baseline")) {
+    const toml::node& node = t.require("baseline");
+    if (!node.is_boolean()) t.fail("baseline", "expected true or false");
+    e.baseline = *node.value<bool>();
+  } else {
+    t.find("baseline");
+  }
+  t.finish();
+  return e;
+}
+
 RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::path& base_dir,
                    std::span<const std::string> overrides) {
   for (const std::string& text : overrides) {
@@ -808,7 +917,7 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
   }
   if (auto initial = top.optional_table("initial")) read_initial(*initial, run.model, run.initial);
   TableReader analysis = top.table("analysis");
-  run.analysis.kind = analysis.choice("kind", {"time_history", "frf", "study", "optimize"});
+  run.analysis.kind = analysis.choice("kind", {"time_history", "frf", "study", "optimize", "ensemble"});
   const std::string context = fmt::format("for kind = \"{}\"", run.analysis.kind);
   std::string each = run.analysis.kind;
   if (run.analysis.kind == "study") {
@@ -824,10 +933,32 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
       if (top.has(table)) top.fail(table, fmt::format("only for analysis.kind = \"{}\"", table));
     }
   }
+  if (run.analysis.kind == "ensemble") each = "ensemble";
+  if (each == "ensemble") {
+    TableReader ensemble = top.table("ensemble");
+    run.ensemble = read_ensemble(ensemble, base_dir);
+    each = "time_history";
+  } else if (top.has("ensemble")) {
+    top.fail("ensemble", "only for analysis.kind = \"ensemble\" or each = \"ensemble\"");
+  }
   if (each == "time_history") {
     read_time_history(analysis, run.analysis);
     TableReader excitation = top.table("excitation");
-    read_excitation(excitation, run.model, base_dir, run);
+    read_excitation(excitation, run.model, base_dir, origin, run);
+    if (run.ensemble && run.excitation_info.kind != "record") {
+      excitation.fail("kind", "an ensemble runs records: kind = \"record\"");
+    }
+    if (run.analysis.duration == 0) {
+      if (run.excitation_info.kind == "record" && run.excitation_info.record_duration > 0) {
+        run.analysis.duration = run.excitation_info.record_duration;
+      } else if (!run.ensemble) {
+        analysis.fail("duration", "missing key (only a record's length can stand in for it)");
+      }
+    }
+    if (run.analysis.duration > 0 && run.analysis.options.dt > run.analysis.duration) {
+      analysis.fail("dt", fmt::format("{} s is longer than the duration {} s", run.analysis.options.dt,
+                                      run.analysis.duration));
+    }
     if (top.has("frf")) top.fail("frf", "only for analysis.kind = \"frf\"");
   } else {
     read_integration(analysis, run.analysis);

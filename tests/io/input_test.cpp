@@ -309,7 +309,7 @@ TEST(InputRecord, ReadsAndScalesARecordBesideTheModel) {
     f << "# time [s], acceleration [g]\n0.0 0.0\n0.01, 0.1\n0.02 -0.2\n";
   }
   const std::string text = replace(kDimensionless, "kind = \"harmonic\"\namplitude_g = 0.2\nratio = 0.8",
-                                   "kind = \"record\"\nfile = \"quake.txt\"\nscale = 2.0");
+                                   "kind = \"record\"\nfile = \"quake.txt\"\nscale = 2.0\nunits = \"g\"");
   const RunInput in = read_input_string(text, "model.toml", dir);
   const auto& r = std::get<RecordExcitation>(in.excitation);
   ASSERT_EQ(r.time.size(), 3u);

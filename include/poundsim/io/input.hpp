@@ -28,13 +28,27 @@ struct ExcitationInfo {
   double omega = 0.0;                 ///< Harmonic: ω̄ [rad/s].
   double omega1 = 0.0;                ///< ω₁ of frame 1 alone [rad/s].
   std::filesystem::path record_file;  ///< Record: the file read.
-  double record_scale = 1.0;          ///< Record: scale factor applied.
+  double record_scale = 1.0;          ///< Record: scale factor applied (given, or from the target PGA).
   std::string record_units;           ///< Record: units of the file's accelerations.
+  std::string record_format;          ///< Record: "at2", "cosmos", "columns" or "single".
+  std::string record_description;     ///< Record: event, station, component from the header.
+  int record_points = 0;              ///< Record: samples.
+  double record_dt = 0.0;             ///< Record: sampling interval [s] (0: not uniform).
+  double record_pga_file_g = 0.0;     ///< Record: PGA of the file, in g.
+  double record_pga_g = 0.0;          ///< Record: PGA applied, in g.
+  double record_duration = 0.0;       ///< Record: last sample time [s].
+};
+
+/// [ensemble]: the records one model is run against.
+struct EnsembleSettings {
+  std::vector<std::filesystem::path> records;  ///< Resolved, in the order given (or sorted).
+  int threads = 0;                             ///< 0: all cores.
+  bool baseline = false;                       ///< Also run bare pounding for each record.
 };
 
 /// [analysis]: what to run. Time-history keys apply to kind = "time_history".
 struct AnalysisSettings {
-  std::string kind = "time_history";  ///< "time_history", "frf", "study" or "optimize"
+  std::string kind = "time_history";  ///< "time_history", "frf", "study", "optimize" or "ensemble"
   double duration = 0.0;        ///< [s]
   double output_dt = 0.0;       ///< Spacing of history rows [s], a multiple of dt.
   std::string integrator = "newmark";
@@ -61,7 +75,7 @@ struct StudyParameter {
 
 /// [study] (analysis.kind = "study").
 struct StudySettings {
-  std::string each = "frf";          ///< What each point runs: "frf" or "time_history".
+  std::string each = "frf";          ///< What each point runs: "frf", "time_history" or "ensemble".
   std::string sampling = "grid";     ///< "grid" (all combinations), "list" (zipped) or "random".
   std::vector<StudyParameter> parameters;
   int samples = 0;                   ///< Random sampling: number of points.
@@ -80,7 +94,7 @@ struct OptimizeVariable {
 
 /// [optimize] (analysis.kind = "optimize").
 struct OptimizeSettings {
-  std::string each = "frf";                 ///< Each evaluation: "frf" or "time_history".
+  std::string each = "frf";                 ///< Each evaluation: "frf", "time_history" or "ensemble".
   std::string objective = "max_peak";       ///< "max_peak" or "max_ratio_to_free".
   double band_min = 0.0, band_max = 0.0;    ///< Band of the frequency-response objective.
   std::vector<OptimizeVariable> variables;
@@ -106,9 +120,12 @@ struct RunInput {
   AnalysisSettings analysis;
   std::optional<FrfSettings> frf;  ///< For kind = "frf" (which has no [excitation]).
   std::optional<StudySettings> study;        ///< For kind = "study".
+  std::optional<EnsembleSettings> ensemble;  ///< For kind = "ensemble", or each = "ensemble".
   std::optional<OptimizeSettings> optimize;  ///< For kind = "optimize".
-  /// What one point of the analysis runs: kind itself, or study.each / optimize.each.
-  [[nodiscard]] const std::string& each() const {
+  /// What one point of the analysis runs: kind itself, or study.each / optimize.each; an
+  /// ensemble's points are time histories.
+  [[nodiscard]] std::string each() const {
+    if (analysis.kind == "ensemble") return "time_history";
     return study ? study->each : optimize ? optimize->each : analysis.kind;
   }
   InitialConditions initial;

@@ -1,0 +1,60 @@
+#pragma once
+/// @file
+/// Ground-motion records in the formats engineers download (details and real examples in
+/// ../shared/data/ground_motions/FORMATS.md):
+///
+/// - PEER `.AT2` — four header lines, then NPTS values; every NPTS/DT spelling (`NPTS= 5372,
+///   DT= .0100 SEC`, `4096 0.0100 NPTS, DT`, reversed, unlabelled); units from line 3.
+/// - COSMOS V2 (`.V2c`, format v01.20) — text, integer, real and comment headers with their own
+///   counts; dt from real header #62 (ms); units from the data-section header. First channel.
+/// - Column text — time and acceleration (and possibly more columns: choose one); header lines
+///   and `#`/`%` comments skipped; blanks, tabs, `,` or `;` between values.
+/// - One column — one acceleration per line, dt given.
+///
+/// Every problem is an InputError naming the file and the line: a header that says nothing of
+/// NPTS or DT, fewer or more values than NPTS, text where a number should be, NaN or infinity,
+/// times that do not increase, unknown units. Nothing is guessed: column files must declare
+/// their units.
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "poundsim/excitation.hpp"
+
+namespace poundsim::io {
+
+enum class RecordFormat { automatic, at2, cosmos, columns, single };
+
+struct RecordOptions {
+  RecordFormat format = RecordFormat::automatic;  ///< From the extension and the first line.
+  std::string units;           ///< "g", "m/s2" or "cm/s2"; required for column formats; when
+                               ///< given for AT2/COSMOS it must agree with the file.
+  double scale = 1.0;          ///< Factor on the accelerations.
+  std::optional<double> target_pga_g;  ///< Scale instead so that max|a_g| = this × g.
+  double dt = 0.0;             ///< Single column: the sampling interval [s].
+  int column = 2;              ///< Columns: the acceleration column (1-based; column 1 is time).
+  double gravity = 9.81;       ///< g [m/s²] for records in g (the paper's value).
+};
+
+/// A record read and converted to m/s².
+struct GroundMotionRecord {
+  RecordExcitation excitation;  ///< time [s], acceleration [m/s²] (scaled)
+  std::string format;           ///< "at2", "cosmos", "columns" or "single"
+  std::string description;      ///< Event, station, component as the header says.
+  std::string file_units;       ///< Units of the file's numbers.
+  int points = 0;
+  double dt = 0.0;              ///< Sampling interval [s] (0 for non-uniform column files).
+  double pga_file_g = 0.0;      ///< Peak |a| of the file before scaling, in g.
+  double scale = 1.0;           ///< Factor applied (scale or from target_pga_g).
+  double pga_g = 0.0;           ///< Peak |a_g| after scaling, in g.
+  double duration = 0.0;        ///< Last sample time [s].
+};
+
+/// Reads `file`. Throws InputError naming the file and line on any problem.
+GroundMotionRecord read_ground_motion(const std::filesystem::path& file, const RecordOptions& options);
+
+/// "g" → gravity, "m/s2" → 1, "cm/s2" → 0.01; throws InputError for anything else.
+double units_to_si(const std::string& units, double gravity);
+
+}  // namespace poundsim::io
