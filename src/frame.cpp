@@ -15,7 +15,7 @@ Frame make_uniform_frame(int storeys, double mass, double stiffness, double damp
   }
   const auto n = static_cast<std::size_t>(storeys);
   return Frame{std::move(name), std::vector<double>(n, mass), std::vector<double>(n, stiffness),
-               std::vector<double>(n, damping)};
+               std::vector<double>(n, damping), {}};
 }
 
 void validate(const Frame& frame) {
@@ -36,6 +36,16 @@ void validate(const Frame& frame) {
     check("mass", frame.mass[i], false);
     check("stiffness", frame.stiffness[i], false);
     check("damping", frame.damping[i], true);
+  }
+  if (!frame.storey_height.empty()) {
+    if (frame.storey_height.size() != frame.mass.size()) {
+      throw std::invalid_argument(fmt::format("{}: storey_height needs one value per storey", label));
+    }
+    for (std::size_t i = 0; i < frame.storey_height.size(); ++i) {
+      if (!(frame.storey_height[i] > 0) || !std::isfinite(frame.storey_height[i])) {
+        throw std::invalid_argument(fmt::format("{}: storey_height[{}] must be > 0", label, i + 1));
+      }
+    }
   }
 }
 
@@ -70,6 +80,22 @@ Eigen::VectorXd natural_frequencies(const Frame& frame) {
 }
 
 double fundamental_frequency(const Frame& frame) { return natural_frequencies(frame)(0); }
+
+FundamentalMode fundamental_mode(const Frame& frame) {
+  validate(frame);
+  const Eigen::VectorXd m = Eigen::Map<const Eigen::VectorXd>(frame.mass.data(), frame.storeys());
+  const Eigen::VectorXd inv_sqrt_m = m.cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd a = inv_sqrt_m.asDiagonal() * stiffness_matrix(frame) * inv_sqrt_m.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(a);
+  FundamentalMode mode;
+  mode.omega = std::sqrt(std::max(0.0, eig.eigenvalues()(0)));
+  mode.shape = inv_sqrt_m.asDiagonal() * eig.eigenvectors().col(0);
+  mode.shape /= mode.shape(frame.storeys() - 1);
+  const double generalised_mass = mode.shape.dot(m.asDiagonal() * mode.shape);
+  mode.damping_ratio =
+      mode.shape.dot(damping_matrix(frame) * mode.shape) / (2.0 * mode.omega * generalised_mass);
+  return mode;
+}
 
 std::vector<double> stiffness_proportional_damping(const Frame& frame, double damping_ratio) {
   const double w1 = fundamental_frequency(frame);

@@ -146,6 +146,14 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
   impacts_.reserve(ng);
 
   stats_.floors.resize(static_cast<std::size_t>(n));
+  for (int f = 0; f + 1 < model_.frame_count(); ++f) {
+    const int shared = std::min(model_.frames[f].storeys(), model_.frames[f + 1].storeys());
+    for (int i = 0; i < shared; ++i) {
+      stats_.neighbours.push_back(NeighbourResponse{f, i});
+      neighbour_left_.push_back(layout_.dof(f, i));
+      neighbour_right_.push_back(layout_.dof(f + 1, i));
+    }
+  }
   stats_.base_shear.resize(static_cast<std::size_t>(model_.frame_count()));
   stats_.storey_shear.resize(static_cast<std::size_t>(model_.frame_count()));
   stats_.gaps.resize(ng);
@@ -194,6 +202,7 @@ void Simulator::reset_statistics() {
   for (Peak& p : stats_.base_shear) p = Peak{};
   for (Peak& p : stats_.storey_shear) p = Peak{};
   for (GapResponse& g : stats_.gaps) g = GapResponse{};
+  for (NeighbourResponse& nb : stats_.neighbours) nb = NeighbourResponse{nb.left_frame, nb.floor};
   record_statistics();
 }
 
@@ -455,6 +464,16 @@ void Simulator::refine_step_peaks(const KinematicState& next) {
              next.v(i) - next.v(b));
     }
   }
+  for (std::size_t k = 0; k < stats_.neighbours.size(); ++k) {
+    // A signed maximum: where u_L − u_R stops growing inside the step.
+    const int l = neighbour_left_[k], r = neighbour_right_[k];
+    const double r0 = state_.v(l) - state_.v(r), r1 = next.v(l) - next.v(r);
+    if (!(r0 > 0 && r1 < 0)) continue;
+    const detail::HermiteCubic cubic(state_.u(l) - state_.u(r), r0, next.u(l) - next.u(r), r1, h);
+    for (const double theta : cubic.critical_points()) {
+      if (theta > 0 && theta < 1) stats_.neighbours[k].update(cubic(theta), t0 + theta * h);
+    }
+  }
   for (int f = 0; f < model_.frame_count(); ++f) {
     const int d = layout_.dof(f, 0);
     const double k = model_.frames[f].stiffness[0], c = model_.frames[f].damping[0];
@@ -479,6 +498,9 @@ void Simulator::record_statistics() {
   for (int f = 0; f < model_.frame_count(); ++f) {
     stats_.base_shear[static_cast<std::size_t>(f)].update(base_shear(f), t);
     stats_.storey_shear[static_cast<std::size_t>(f)].update(storey_shear(f), t);
+  }
+  for (std::size_t k = 0; k < stats_.neighbours.size(); ++k) {
+    stats_.neighbours[k].update(state_.u(neighbour_left_[k]) - state_.u(neighbour_right_[k]), t);
   }
   for (std::size_t p = 0; p < config_.size(); ++p) {
     if (config_[p] == GapMode::open) continue;

@@ -195,6 +195,13 @@ void Simulator::refine_exact_peaks(const KinematicState& next) {
     exact_state(0.5 * (a + b), node_);
   };
   const double a = state_.t - t0, b = next.t - t0;
+  for (std::size_t k = 0; k < stats_.neighbours.size(); ++k) {
+    const int l = neighbour_left_[k], r = neighbour_right_[k];
+    const double ra = state_.v(l) - state_.v(r), rb = next.v(l) - next.v(r);
+    if (!(ra > 0 && rb < 0)) continue;
+    extremum([l, r](const KinematicState& x) { return x.v(l) - x.v(r); }, a, b, ra);
+    stats_.neighbours[k].update(node_.u(l) - node_.u(r), node_.t);
+  }
   for (int i = 0; i < layout_.size(); ++i) {
     FloorResponse& fr = stats_.floors[static_cast<std::size_t>(i)];
     const double va = state_.v(i), vb = next.v(i);

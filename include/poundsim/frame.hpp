@@ -25,6 +25,8 @@ struct Frame {
   std::vector<double> mass;       ///< M_i [kg] of each floor, bottom up; M_i > 0.
   std::vector<double> stiffness;  ///< K_i [N/m] of the storey below floor i; K_i > 0.
   std::vector<double> damping;    ///< C_i [N·s/m] of the storey below floor i; C_i ≥ 0.
+  /// h_i [m] of each storey, for interstorey drift ratios; empty when not given.
+  std::vector<double> storey_height;
 
   [[nodiscard]] int storeys() const { return static_cast<int>(mass.size()); }
 };
@@ -47,6 +49,16 @@ Eigen::VectorXd natural_frequencies(const Frame& frame);
 
 /// ω₁: the smallest natural circular frequency [rad/s].
 double fundamental_frequency(const Frame& frame);
+
+/// The fundamental mode of the frame alone: ω₁ [rad/s], its shape (unit top value) and its
+/// damping ratio ζ₁ = φᵀCφ / (2 ω₁ φᵀMφ) (exact for proportional damping, the usual modal
+/// estimate otherwise).
+struct FundamentalMode {
+  double omega = 0.0;
+  Eigen::VectorXd shape;
+  double damping_ratio = 0.0;
+};
+FundamentalMode fundamental_mode(const Frame& frame);
 
 /// Storey dashpots that give the damping ratio ζ in the fundamental mode with damping proportional
 /// to the storey stiffness, C_i = (2ζ/ω₁) K_i (a common engineering choice for shear frames).

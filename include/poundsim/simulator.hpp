@@ -39,6 +39,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <vector>
@@ -125,8 +126,25 @@ struct GapResponse {
   double locked_time = 0.0;  ///< Total time spent locked [s].
 };
 
+/// Corresponding floors of neighbouring frames (whether or not a gap element joins them).
+struct NeighbourResponse {
+  int left_frame = 0;  ///< Frame f; its neighbour is f+1.
+  int floor = 0;
+  /// The largest u_L − u_R [m] (signed: how far the left floor came towards the right one); its
+  /// positive part is the smallest gap that avoids contact.
+  double max_approach = -std::numeric_limits<double>::infinity();
+  double max_approach_time = 0.0;
+  void update(double approach, double t) {
+    if (approach > max_approach) {
+      max_approach = approach;
+      max_approach_time = t;
+    }
+  }
+};
+
 struct ResponseStatistics {
   std::vector<FloorResponse> floors;  ///< By DOF (DofLayout numbering).
+  std::vector<NeighbourResponse> neighbours;  ///< Every pair of corresponding floors.
   std::vector<Peak> base_shear;       ///< |V| = |K_1 u_1| per frame [N].
   std::vector<Peak> storey_shear;     ///< |K_1 u_1 + C_1 u̇_1| per frame: spring and dashpot [N].
   std::vector<GapResponse> gaps;
@@ -229,6 +247,7 @@ class Simulator {
   TimeHistoryOptions options_;
 
   std::vector<int> gap_left_, gap_right_;
+  std::vector<int> neighbour_left_, neighbour_right_;  ///< DOFs of every NeighbourResponse
   ContactConfiguration config_;
   std::vector<GapMemory> memory_;
   std::vector<double> bias_;          ///< Hysteresis of each element's contact/impact guard [m].

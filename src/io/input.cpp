@@ -352,9 +352,15 @@ Model read_dimensionless(TableReader& model_table, RunInput& run) {
            "dashpot never act; give epsilon > 0 or eta = mu = 0");
   }
   d.finish();
+  double height = 0.0;
+  if (auto h = model_table.optional_number("storey_height")) height = model_table.positive("storey_height", *h);
   model_table.finish();
   run.dimensionless = p;
-  return make_model(p, storeys);
+  Model model = make_model(p, storeys);
+  if (height > 0) {
+    for (Frame& f : model.frames) f.storey_height.assign(f.mass.size(), height);
+  }
+  return model;
 }
 
 GapProperties read_gap_properties(TableReader& t, const GapProperties* defaults) {
@@ -423,6 +429,16 @@ Model read_physical(TableReader& top) {
     }
     frame.mass = mass;
     frame.stiffness = stiffness;
+    if (f.has("storey_height")) {
+      std::vector<double> heights = f.numbers("storey_height");
+      broadcast("storey_height", heights);
+      for (std::size_t i = 0; i < heights.size(); ++i) {
+        if (!(heights[i] > 0)) f.fail("storey_height", fmt::format("storey {}: must be > 0 (got {})", i + 1, heights[i]));
+      }
+      frame.storey_height = heights;
+    } else {
+      f.find("storey_height");
+    }
     if (has_damping) {
       broadcast("damping", damping);
       for (std::size_t i = 0; i < damping.size(); ++i) {

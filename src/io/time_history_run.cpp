@@ -2,12 +2,14 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <numbers>
 
 #include <fmt/format.h>
 
 #include "poundsim/error.hpp"
 #include "poundsim/io/output_files.hpp"
+#include "poundsim/response_metrics.hpp"
 #include "poundsim/units.hpp"
 
 namespace poundsim::io {
@@ -16,6 +18,9 @@ namespace {
 using nlohmann::json;
 
 json peak(const Peak& p) { return json{{"value", p.value}, {"time", p.time}}; }
+
+/// a / b, or null when b is 0 (nothing to compare with).
+json ratio(double a, double b) { return b > 0 ? json(a / b) : json(); }
 
 double frame_weight(const Frame& f) {
   double m = 0;
@@ -66,18 +71,34 @@ json describe_excitation(const ExcitationInfo& info) {
     e["ratio"] = info.omega / info.omega1;
   } else if (info.kind == "record") {
     e["file"] = info.record_file.string();
-    e["scale"] = info.record_scale;
+    e["format"] = info.record_format;
+    e["description"] = info.record_description;
     e["units"] = info.record_units;
+    e["points"] = info.record_points;
+    e["dt_s"] = info.record_dt;
+    e["duration_s"] = info.record_duration;
+    e["pga_file_g"] = info.record_pga_file_g;
+    e["scale"] = info.record_scale;
+    e["pga_g"] = info.record_pga_g;
   }
   return e;
 }
 }  // namespace
 
+double modal_correlation(double omega_a, double zeta_a, double omega_b, double zeta_b) {
+  const double r = omega_b / omega_a;
+  const double numerator = 8 * std::sqrt(zeta_a * zeta_b) * (zeta_a + r * zeta_b) * std::pow(r, 1.5);
+  const double denominator = (1 - r * r) * (1 - r * r) + 4 * zeta_a * zeta_b * r * (1 + r * r) +
+                             4 * (zeta_a * zeta_a + zeta_b * zeta_b) * r * r;
+  return denominator > 0 ? numerator / denominator : 1.0;
+}
+
 std::string dof_label(const DofLayout& layout, int dof) {
   return fmt::format("{}_{}", layout.frame_of(dof) + 1, layout.floor_of(dof) + 1);
 }
 
-json summarize(const RunInput& input, const Simulator& sim, double run_time) {
+json summarize(const RunInput& input, const Simulator& sim, const ResponseStatistics* free,
+               double run_time) {
   const DofLayout& layout = sim.layout();
   const ResponseStatistics& st = sim.statistics();
   const Model& model = sim.model();
@@ -87,23 +108,82 @@ json summarize(const RunInput& input, const Simulator& sim, double run_time) {
   for (int f = 0; f < model.frame_count(); ++f) {
     for (int i = 0; i < model.frames[f].storeys(); ++i) {
       const FloorResponse& r = st.floors[static_cast<std::size_t>(layout.dof(f, i))];
-      floors.push_back({{"frame", f + 1},
-                        {"floor", i + 1},
-                        {"displacement_m", peak(r.displacement)},
-                        {"velocity_m_s", peak(r.velocity)},
-                        {"acceleration_m_s2", peak(r.acceleration)},
-                        {"absolute_acceleration_m_s2", peak(r.absolute_acceleration)},
-                        {"interstorey_drift_m", peak(r.drift)}});
+      json entry{{"frame", f + 1},
+                 {"floor", i + 1},
+                 {"displacement_m", peak(r.displacement)},
+                 {"velocity_m_s", peak(r.velocity)},
+                 {"acceleration_m_s2", peak(r.acceleration)},
+                 {"absolute_acceleration_m_s2", peak(r.absolute_acceleration)},
+                 {"interstorey_drift_m", peak(r.drift)}};
+      const auto& heights = model.frames[f].storey_height;
+      entry["interstorey_drift_ratio"] = heights.empty() ? json() : json(r.drift.value / heights[static_cast<std::size_t>(i)]);
+      if (free != nullptr) {
+        // The free model numbers its DOFs like the interacting one (same frames).
+        const FloorResponse& q = free->floors[static_cast<std::size_t>(layout.dof(f, i))];
+        entry["free"] = {{"displacement_m", q.displacement.value},
+                         {"absolute_acceleration_m_s2", q.absolute_acceleration.value},
+                         {"interstorey_drift_m", q.drift.value},
+                         {"interstorey_drift_ratio", heights.empty() ? json() : json(q.drift.value / heights[static_cast<std::size_t>(i)])}};
+        entry["amplification"] = {{"displacement", ratio(r.displacement.value, q.displacement.value)},
+                                  {"absolute_acceleration", ratio(r.absolute_acceleration.value, q.absolute_acceleration.value)},
+                                  {"interstorey_drift", ratio(r.drift.value, q.drift.value)}};
+      }
+      floors.push_back(std::move(entry));
     }
   }
   json shears = json::array();
   for (int f = 0; f < model.frame_count(); ++f) {
     const Peak& p = st.base_shear[static_cast<std::size_t>(f)];
-    shears.push_back({{"frame", f + 1},
-                      {"value_N", p.value},
-                      {"time", p.time},
-                      {"over_frame1_weight", p.value / weight1},
-                      {"over_own_weight", p.value / frame_weight(model.frames[f])}});
+    json entry{{"frame", f + 1},
+               {"value_N", p.value},
+               {"time", p.time},
+               {"over_frame1_weight", p.value / weight1},
+               {"over_own_weight", p.value / frame_weight(model.frames[f])}};
+    if (free != nullptr) {
+      const double v = free->base_shear[static_cast<std::size_t>(f)].value;
+      entry["free_value_N"] = v;
+      entry["amplification"] = ratio(p.value, v);
+    }
+    shears.push_back(std::move(entry));
+  }
+  // Separation distances: the smallest gap that avoids contact (from the free frames, exact for
+  // linear frames up to the integrator) next to the code rules built from the free peaks.
+  json separation = json::array();
+  std::vector<double> min_gap(st.neighbours.size(), 0.0);
+  if (free != nullptr) {
+    std::vector<FundamentalMode> modes;
+    for (const Frame& fr : model.frames) modes.push_back(fundamental_mode(fr));
+    for (std::size_t k = 0; k < free->neighbours.size(); ++k) {
+      const NeighbourResponse& nb = free->neighbours[k];
+      const int f = nb.left_frame, i = nb.floor;
+      min_gap[k] = std::max(0.0, nb.max_approach);
+      const double u1 = free->floors[static_cast<std::size_t>(layout.dof(f, i))].displacement.value;
+      const double u2 = free->floors[static_cast<std::size_t>(layout.dof(f + 1, i))].displacement.value;
+      const FundamentalMode& a = modes[static_cast<std::size_t>(f)];
+      const FundamentalMode& b = modes[static_cast<std::size_t>(f + 1)];
+      const double rho = modal_correlation(a.omega, a.damping_ratio, b.omega, b.damping_ratio);
+      const double abs_sum = u1 + u2, srss = std::hypot(u1, u2);
+      const double ddc = std::sqrt(std::max(0.0, u1 * u1 + u2 * u2 - 2 * rho * u1 * u2));
+      json rules{{"absolute_sum_m", abs_sum}, {"srss_m", srss}, {"srss_same_floor_levels_m", 0.7 * srss}, {"ddc_m", ddc}};
+      json over{{"absolute_sum", ratio(abs_sum, min_gap[k])}, {"srss", ratio(srss, min_gap[k])},
+                {"srss_same_floor_levels", ratio(0.7 * srss, min_gap[k])}, {"ddc", ratio(ddc, min_gap[k])}};
+      json entry{{"frames", {f + 1, f + 2}}, {"floor", i + 1},
+                 {"min_gap_m", min_gap[k]}, {"min_gap_time_s", nb.max_approach_time},
+                 {"free_peak_displacement_m", {u1, u2}},
+                 {"ddc_correlation", rho},
+                 {"rules", rules},
+                 {"rule_over_min_gap", over}};
+      for (int p = 0; p < model.gap_count(); ++p) {
+        const GapElement& g = model.gaps[static_cast<std::size_t>(p)];
+        if (g.left_frame == f && g.floor == i) {
+          const GapResponse& gr = st.gaps[static_cast<std::size_t>(p)];
+          entry["gap_m"] = g.properties.gap;
+          entry["gap_over_min_gap"] = ratio(g.properties.gap, min_gap[k]);
+          entry["contact"] = gr.contacts + gr.impacts + gr.locks > 0;
+        }
+      }
+      separation.push_back(std::move(entry));
+    }
   }
   json gaps = json::array();
   int impacts = 0;
@@ -127,6 +207,13 @@ json summarize(const RunInput& input, const Simulator& sim, double run_time) {
                     {"max_impulse_Ns", peak(g.impulse)},
                     {"max_shortening_m", peak(g.shortening)},
                     {"locked_time_s", g.locked_time}});
+    if (free != nullptr) {
+      for (std::size_t k = 0; k < st.neighbours.size(); ++k) {
+        if (st.neighbours[k].left_frame == e.left_frame && st.neighbours[k].floor == e.floor) {
+          gaps.back()["min_gap_m"] = min_gap[k];
+        }
+      }
+    }
   }
   const EnergyBalance& e = sim.energy();
   json energy{{"initial_J", e.initial},
@@ -157,6 +244,7 @@ json summarize(const RunInput& input, const Simulator& sim, double run_time) {
               {"excitation", describe_excitation(input.excitation_info)},
               {"end_time_s", sim.time()},
               {"peaks", {{"floors", floors}, {"base_shear", shears}}},
+              {"separation", separation},
               {"gap_elements", gaps},
               {"impacts", impacts},
               {"max_gap_force_N", max_force},
@@ -199,7 +287,7 @@ json run_time_history(const RunInput& input, const std::filesystem::path& out_di
   }
   for (int f = 0; f < model.frame_count(); ++f) history.print(",V_{}", f + 1);
   for (const GapElement& g : model.gaps) history.print(",F_{}_{}", g.left_frame + 1, g.floor + 1);
-  history.character('\n');
+  history.text(",E_input,E_kinetic,E_storey_strain,E_gap_strain,E_storey_damping,E_gap_damping,E_impact,E_residual\n");
 
   events.text("t,frame_left,frame_right,floor,kind,relative_velocity_before,relative_velocity_after,impulse\n");
   sim->set_event_handler([&](const Event& e) {
@@ -225,6 +313,12 @@ json run_time_history(const RunInput& input, const std::filesystem::path& out_di
       history.character(',');
       history.number(sim->gap_force(p));
     }
+    const EnergyBalance& e = sim->energy();
+    for (const double term : {e.input, e.kinetic, e.storey_strain, e.gap_strain, e.storey_damping,
+                              e.gap_damping, e.impact_loss, e.residual()}) {
+      history.character(',');
+      history.number(term);
+    }
     history.character('\n');
   };
 
@@ -239,9 +333,16 @@ json run_time_history(const RunInput& input, const std::filesystem::path& out_di
     sim->advance_to(duration);
     write_row();
   }
+  // The same frames without gap elements, for amplifications and separation distances.
+  std::optional<ResponseStatistics> free;
+  if (model.gap_count() > 0) {
+    Simulator alone(free_frames(model), input.excitation, input.analysis.options, input.initial);
+    alone.advance_to(sim->time());
+    free = alone.statistics();
+  }
   const double run_time =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const json summary = summarize(input, *sim, run_time);
+  const json summary = summarize(input, *sim, free ? &*free : nullptr, run_time);
   OutputFile& summary_file = out.open("summary.json");
   summary_file.text(summary.dump(2));
   summary_file.character('\n');

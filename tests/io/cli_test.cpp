@@ -80,7 +80,8 @@ TEST_F(Cli, RunsTheFig2cExampleAndWritesTheThreeFiles) {
   std::istringstream history(slurp(out / "history.csv"));
   std::string header;
   std::getline(history, header);
-  EXPECT_EQ(header, "t,u_1_1,u_2_1,v_1_1,v_2_1,a_1_1,a_2_1,V_1,V_2,F_1_1");
+  EXPECT_EQ(header, "t,u_1_1,u_2_1,v_1_1,v_2_1,a_1_1,a_2_1,V_1,V_2,F_1_1,E_input,E_kinetic,E_storey_strain,"
+                    "E_gap_strain,E_storey_damping,E_gap_damping,E_impact,E_residual");
   int rows = 0;
   for (std::string line; std::getline(history, line);) ++rows;
   EXPECT_EQ(rows, 2001);  // t = 0, 0.01, ..., 20

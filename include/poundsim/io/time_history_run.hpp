@@ -17,8 +17,16 @@ namespace poundsim::io {
 /// std::runtime_error when a file cannot be written; in every case no output file is left.
 nlohmann::json run_time_history(const RunInput& input, const std::filesystem::path& out_dir);
 
-/// The summary of a finished (or advanced) simulation; `run_time` [s] is reported as is.
-nlohmann::json summarize(const RunInput& input, const Simulator& sim, double run_time);
+/// The summary of a finished (or advanced) simulation; `free`: the statistics of the same frames
+/// without gap elements (for amplifications and separation distances), or null; `run_time` [s]
+/// is reported as is.
+nlohmann::json summarize(const RunInput& input, const Simulator& sim, const ResponseStatistics* free,
+                         double run_time);
+
+/// The correlation coefficient of two modes (ω [rad/s], ζ) under broad-band excitation
+/// (Der Kiureghian's CQC coefficient), used by the double-difference combination (DDC) of
+/// separation distances: Δ = √(u_A² + u_B² − 2ρ u_A u_B).
+double modal_correlation(double omega_a, double zeta_a, double omega_b, double zeta_b);
 
 /// Frame and floor (1-based) of every DOF, for column names and reports.
 std::string dof_label(const DofLayout& layout, int dof);

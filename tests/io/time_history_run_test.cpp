@@ -1,0 +1,88 @@
+// The time-history summary: the free frames, amplifications, and separation distances next to
+// the code rules.
+
+#include "poundsim/io/time_history_run.hpp"
+
+#include <cmath>
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+namespace poundsim::io {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(ModalCorrelation, IsTheCqcCoefficient) {
+  EXPECT_DOUBLE_EQ(modal_correlation(10.0, 0.05, 10.0, 0.05), 1.0);
+  // Periods 2 : 1, 5 % each: 8ζ²(1 + r) r^{3/2} / ((1 − r²)² + 4ζ² r (1 + r²) + 8ζ² r²) at r = 0.5.
+  EXPECT_NEAR(modal_correlation(10.0, 0.05, 5.0, 0.05), 0.010606601717798213 / 0.57375, 1e-15);
+  EXPECT_NEAR(modal_correlation(5.0, 0.05, 10.0, 0.05), modal_correlation(10.0, 0.05, 5.0, 0.05), 1e-15);
+  EXPECT_LT(modal_correlation(10.0, 0.02, 10.5, 0.02), 0.9);  // close modes, light damping
+  EXPECT_GT(modal_correlation(10.0, 0.2, 10.5, 0.2), 0.9);
+}
+
+TEST(TimeHistorySummary, SeparationAndAmplification) {
+  const std::string text = R"([[frames]]
+storeys = 2
+mass = 1.0e5
+stiffness = 5.0e7
+damping_ratio = 0.05
+storey_height = 3.0
+[[frames]]
+storeys = 1
+mass = 1.0e5
+stiffness = 1.2e8
+damping_ratio = 0.05
+storey_height = 3.0
+[gap_elements]
+gap = 0.001
+restitution = 0.65
+[excitation]
+kind = "record"
+file = "RSN6_IMPVALL.I_I-ELC180.AT2"
+target_pga_g = 0.4
+[analysis]
+kind = "time_history"
+duration = 15.0
+dt = 0.002
+output_dt = 0.1
+)";
+  const fs::path shared = fs::path(POUNDSIM_SOURCE_DIR) / ".." / "shared" / "data" / "ground_motions";
+  const RunInput input = read_input_string(text, "two.toml", shared);
+  const fs::path out = fs::temp_directory_path() / "poundsim_th_summary";
+  const nlohmann::json s = run_time_history(input, out);
+  ASSERT_EQ(s["separation"].size(), 1u);
+  const auto& sep = s["separation"][0];
+  const double min_gap = sep["min_gap_m"].get<double>();
+  const auto& rules = sep["rules"];
+  const double abs_sum = rules["absolute_sum_m"], srss = rules["srss_m"], ddc = rules["ddc_m"];
+  const double u1 = sep["free_peak_displacement_m"][0], u2 = sep["free_peak_displacement_m"][1];
+  EXPECT_NEAR(abs_sum, u1 + u2, 1e-15);
+  EXPECT_NEAR(srss, std::hypot(u1, u2), 1e-15);
+  EXPECT_NEAR(rules["srss_same_floor_levels_m"].get<double>(), 0.7 * srss, 1e-15);
+  EXPECT_LE(ddc, srss);
+  EXPECT_LE(srss, abs_sum);
+  // No combination of the peaks can ask for less than the peaks' difference.
+  EXPECT_GE(min_gap, 0.0);
+  EXPECT_LE(min_gap, abs_sum);
+  EXPECT_TRUE(sep["contact"].get<bool>());  // a 1 mm gap is far too small
+  EXPECT_NEAR(sep["gap_over_min_gap"].get<double>(), 0.001 / min_gap, 1e-12);
+  EXPECT_NEAR(s["gap_elements"][0]["min_gap_m"].get<double>(), min_gap, 0.0);
+  // Amplifications are pounding ÷ free, and drift ratios use the storey heights.
+  const auto& floor = s["peaks"]["floors"][0];
+  EXPECT_NEAR(floor["amplification"]["displacement"].get<double>(),
+              floor["displacement_m"]["value"].get<double>() / floor["free"]["displacement_m"].get<double>(), 1e-15);
+  EXPECT_NEAR(floor["interstorey_drift_ratio"].get<double>(), floor["interstorey_drift_m"]["value"].get<double>() / 3.0, 1e-15);
+  // Pounding changes the base shears: amplification is the ratio of the two peaks, not 1.
+  for (const auto& v : s["peaks"]["base_shear"]) {
+    EXPECT_NEAR(v["amplification"].get<double>(), v["value_N"].get<double>() / v["free_value_N"].get<double>(), 1e-15);
+    EXPECT_GT(std::abs(v["amplification"].get<double>() - 1.0), 1e-3);
+  }
+  EXPECT_NEAR(s["excitation"]["pga_g"].get<double>(), 0.4, 1e-12);
+  EXPECT_EQ(s["excitation"]["format"], "at2");
+  fs::remove_all(out);
+}
+
+}  // namespace
+}  // namespace poundsim::io
