@@ -60,11 +60,22 @@ void print_frf_report(const nlohmann::json& s, const std::string& out_dir) {
   fmt::print("  wrote {}/frf.csv, summary.json\n", out_dir);
 }
 
-void print_study_report(const nlohmann::json& s, const std::string& out_dir) {
-  fmt::print("poundsim {}: {} (study, {} points: {} finished, {} of them now, {} failed; {:.3f} s)\n",
-             POUNDSIM_VERSION, s["input"].get<std::string>(), s["points"].get<long>(),
-             s["finished"].get<long>(), s["run_this_time"].get<long>(), s["failed"].get<long>(),
-             s["run_time_s"].get<double>());
+void print_study_report(const nlohmann::json& s, const std::string& out_dir, const std::string& kind) {
+  fmt::print("poundsim {}: {} ({}, {} {}: {} finished, {} of them now, {} failed; {:.3f} s)\n",
+             POUNDSIM_VERSION, s["input"].get<std::string>(), kind, s["points"].get<long>(),
+             kind == "ensemble" ? "records" : "points", s["finished"].get<long>(),
+             s["run_this_time"].get<long>(), s["failed"].get<long>(), s["run_time_s"].get<double>());
+  if (kind == "ensemble" && s.contains("mean")) {
+    for (std::size_t f = 1; s["mean"].contains(fmt::format("peak_V{}_W", f)); ++f) {
+      const std::string key = fmt::format("peak_V{}_W", f), ratio = fmt::format("ratio_to_free_{}", f);
+      fmt::print("  frame {}: peak V/W mean {:.4f}, max {:.4f}; pounding ÷ free mean {:.3f}, max {:.3f}\n", f,
+                 s["mean"][key].get<double>(), s["max"][key].get<double>(), s["mean"][ratio].get<double>(),
+                 s["max"][ratio].get<double>());
+    }
+    fmt::print("  wrote {0}/ensemble.sqlite, ensemble.csv, summary.json{1}\n", out_dir,
+               s["complete"].get<bool>() ? "" : " (incomplete: run again to go on)");
+    return;
+  }
   if (!s["lowest_max_peak"].is_null()) {
     const auto& b = s["lowest_max_peak"];
     fmt::print("  lowest larger peak V/W {:.4f} at point {}: {}\n", b["metrics"]["max_peak_V_W"].get<double>(),
@@ -169,14 +180,16 @@ int main(int argc, char** argv) {
       return 0;
     }
     const poundsim::io::RunInput input = poundsim::io::read_input(model_file, overrides);
-    if (input.analysis.kind == "study") {
+    if (input.analysis.kind == "study" || input.analysis.kind == "ensemble") {
       ProgressBar bar(!quiet && ::isatty(STDERR_FILENO) != 0);
       poundsim::io::StudyRunOptions options;
       if (max_points > 0) options.max_points = max_points;
       options.progress = [&bar](int done, int total) { bar.update(done, total); };
-      const nlohmann::json summary = poundsim::io::run_study(input, out_dir, options);
+      const bool ensemble = input.analysis.kind == "ensemble";
+      const nlohmann::json summary = ensemble ? poundsim::io::run_ensemble(input, out_dir, options)
+                                              : poundsim::io::run_study(input, out_dir, options);
       bar.finish();
-      if (!quiet) print_study_report(summary, out_dir);
+      if (!quiet) print_study_report(summary, out_dir, ensemble ? "ensemble" : "study");
       return 0;
     }
     if (input.analysis.kind == "optimize") {

@@ -867,7 +867,8 @@ EnsembleSettings read_ensemble(TableReader& t, const std::filesystem::path& base
   EnsembleSettings e;
   const auto resolve = [&](const std::string& file) {
     std::filesystem::path p(file);
-    return p.is_relative() ? base_dir / p : p;
+    // Absolute, so that a point's excitation.file is not resolved a second time.
+    return std::filesystem::absolute(p.is_relative() ? base_dir / p : p).lexically_normal();
   };
   const bool listed = t.has("records"), folder = t.has("folder");
   if (listed == folder) t.fail_table("give either records = [...] or folder (and pattern)");
@@ -1035,6 +1036,7 @@ RunInput read_input_string(std::string_view text, const std::string& name,
   RunInput run = read_root(root, origin, base_dir, overrides);
   run.source = name;
   run.text = std::string(text);
+  run.overrides.assign(overrides.begin(), overrides.end());
   run.base_dir = base_dir;
   return run;
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <limits>
 #include <chrono>
 #include <cmath>
 #include <map>
@@ -65,6 +66,10 @@ json describe_analysis(const RunInput& in) {
   } else {
     a["duration"] = in.analysis.duration;
     a["dt"] = o.dt;
+    if (in.ensemble) {
+      a["records"] = json::array();
+      for (const auto& r : in.ensemble->records) a["records"].push_back(r.string());
+    }
     const ExcitationInfo& e = in.excitation_info;
     a["excitation"] = {{"kind", e.kind}, {"amplitude_g", e.amplitude_g}, {"omega", e.omega},
                        {"file", e.record_file.string()}, {"scale", e.record_scale}, {"units", e.record_units}};
@@ -154,13 +159,15 @@ std::vector<PointValues> study_points(const StudySettings& study) {
 }
 
 RunInput read_point(const RunInput& base, const PointValues& values) {
-  std::vector<std::string> overrides;
+  // The base's own overrides first (e.g. --set on the command line), then the point's.
+  std::vector<std::string> overrides = base.overrides;
   for (const auto& [key, value] : values) overrides.push_back(key + "=" + value);
   return read_input_string(base.text, base.source.string(), base.base_dir, overrides);
 }
 
 std::string fingerprint(const RunInput& input) {
-  json d{{"model", describe_model(input.model)}, {"analysis", describe_analysis(input)}, {"text", input.text}};
+  json d{{"model", describe_model(input.model)}, {"analysis", describe_analysis(input)}, {"text", input.text},
+         {"overrides", input.overrides}};
   return fnv1a(d.dump());
 }
 
@@ -194,14 +201,16 @@ json frf_metrics(const RunInput& point, int threads, double band_min, double ban
 
 json time_history_metrics(const RunInput& point) {
   const double w = reference_weight(point.model);
-  const auto run = [&](const Model& model) {
-    Simulator sim(model, point.excitation, point.analysis.options, point.initial);
+  const Model& model = point.model;
+  const auto run = [&](const Model& m) {
+    Simulator sim(m, point.excitation, point.analysis.options, point.initial);
     sim.advance_to(point.analysis.duration);
     return std::make_pair(sim.statistics(), sim.energy_meter().max_relative_residual());
   };
-  const auto [stats, residual] = run(point.model);
-  const auto [free, free_residual] = run(free_frames(point.model));
-  json m{{"energy_residual", residual}};
+  const auto [stats, residual] = run(model);
+  const auto [free, free_residual] = run(free_frames(model));
+  const DofLayout layout(model);
+  json m{{"energy_residual", residual}, {"pga_g", point.excitation_info.record_pga_g}};
   double max_peak = 0, max_ratio = 0, impulse = 0, force = 0;
   int impacts = 0;
   for (std::size_t f = 0; f < stats.base_shear.size(); ++f) {
@@ -211,6 +220,23 @@ json time_history_metrics(const RunInput& point) {
     m[fmt::format("ratio_to_free_{}", f + 1)] = vf > 0 ? v / vf : 0.0;
     max_peak = std::max(max_peak, v);
     max_ratio = std::max(max_ratio, vf > 0 ? v / vf : 0.0);
+  }
+  // Per floor: peaks with and without interaction, and their ratio (amplification).
+  for (int f = 0; f < model.frame_count(); ++f) {
+    for (int i = 0; i < model.frames[static_cast<std::size_t>(f)].storeys(); ++i) {
+      const auto d = static_cast<std::size_t>(layout.dof(f, i));
+      const FloorResponse& a = stats.floors[d];
+      const FloorResponse& b = free.floors[d];
+      const std::string at = fmt::format("{}_{}", f + 1, i + 1);
+      m["peak_u_" + at + "_m"] = a.displacement.value;
+      m["free_peak_u_" + at + "_m"] = b.displacement.value;
+      m["amp_u_" + at] = b.displacement.value > 0 ? a.displacement.value / b.displacement.value : 0.0;
+      m["amp_drift_" + at] = b.drift.value > 0 ? a.drift.value / b.drift.value : 0.0;
+      m["amp_acc_" + at] = b.absolute_acceleration.value > 0 ? a.absolute_acceleration.value / b.absolute_acceleration.value : 0.0;
+    }
+  }
+  for (const NeighbourResponse& nb : free.neighbours) {
+    m[fmt::format("min_gap_{}_{}_m", nb.left_frame + 1, nb.floor + 1)] = std::max(0.0, nb.max_approach);
   }
   for (const GapResponse& g : stats.gaps) {
     impacts += g.impacts;
@@ -225,6 +251,37 @@ json time_history_metrics(const RunInput& point) {
   return m;
 }
 
+/// Mean and maximum of every numeric metric over the records: `k` holds the mean, `max_k` the
+/// largest value (so a design's peak is its mean over the ensemble, its worst case next to it).
+json aggregate(const std::vector<json>& per_record) {
+  std::map<std::string, std::pair<double, double>> sums;  // key → (sum, max)
+  for (const json& r : per_record) {
+    for (const auto& [k, v] : r.items()) {
+      if (!v.is_number()) continue;
+      auto [it, fresh] = sums.try_emplace(k, 0.0, -std::numeric_limits<double>::infinity());
+      it->second.first += v.get<double>();
+      it->second.second = std::max(it->second.second, v.get<double>());
+    }
+  }
+  json m{{"records", per_record.size()}};
+  for (const auto& [k, sm] : sums) {
+    m[k] = sm.first / static_cast<double>(per_record.size());
+    m["max_" + k] = sm.second;
+  }
+  return m;
+}
+
+json ensemble_metrics(const RunInput& point, int threads) {
+  const std::vector<std::filesystem::path>& records = point.ensemble->records;
+  std::vector<json> per_record(records.size());
+  parallel_for(static_cast<int>(records.size()), threads, [&](int k) {
+    const auto r = static_cast<std::size_t>(k);
+    const RunInput one = read_point(point, {{"excitation.file", json(records[r].string()).dump()}});
+    per_record[r] = time_history_metrics(one);
+  });
+  return aggregate(per_record);
+}
+
 std::pair<double, double> band_of(const RunInput& point) {
   if (point.study) return {point.study->band_min, point.study->band_max};
   if (point.optimize) return {point.optimize->band_min, point.optimize->band_max};
@@ -235,7 +292,10 @@ std::pair<double, double> band_of(const RunInput& point) {
 
 json point_metrics(const RunInput& point, int threads, const json* baseline) {
   const auto [lo, hi] = band_of(point);
-  json m = point.each() == "frf" ? frf_metrics(point, threads, lo, hi) : time_history_metrics(point);
+  const std::string each = point.each();
+  json m = each == "frf"        ? frf_metrics(point, threads, lo, hi)
+           : each == "ensemble" ? ensemble_metrics(point, threads)
+                                : time_history_metrics(point);
   if (baseline != nullptr) {
     double max_ratio = 0;
     for (int f = 1; f <= point.model.frame_count(); ++f) {
@@ -257,23 +317,79 @@ json baseline_metrics(const RunInput& point, int threads) {
   return point_metrics(bare, threads, nullptr);
 }
 
+namespace {
+json run_points(const RunInput& input, const std::filesystem::path& out_dir,
+                const StudyRunOptions& options, const std::string& stem);
+}
+
 json run_study(const RunInput& input, const std::filesystem::path& out_dir,
                const StudyRunOptions& options) {
   if (!input.study) throw InputError(fmt::format("{}: no [study] table", input.source.string()));
+  return run_points(input, out_dir, options, "study");
+}
+
+json run_ensemble(const RunInput& input, const std::filesystem::path& out_dir,
+                  const StudyRunOptions& options) {
+  if (!input.ensemble) throw InputError(fmt::format("{}: no [ensemble] table", input.source.string()));
+  // An ensemble is a study over the record file, one time history per record.
+  RunInput as_study = input;
+  StudySettings study;
+  study.each = "time_history";
+  study.sampling = "list";
+  study.baseline = input.ensemble->baseline;
+  study.threads = input.ensemble->threads;
+  StudyParameter records{"excitation.file", {}, 0.0, 0.0, 0, false};
+  for (const auto& r : input.ensemble->records) records.values.push_back(json(r.string()).dump());
+  study.parameters.push_back(std::move(records));
+  as_study.study = study;
+  json summary = run_points(as_study, out_dir, options, "ensemble");
+
+  std::vector<json> done;
+  json per_record = json::array();
+  for (const StudyDatabase::Row& r : StudyDatabase(out_dir / "ensemble.sqlite").rows()) {
+    json entry{{"record", r.parameters.value("excitation.file", json())}, {"status", r.status}};
+    if (r.status == "done") {
+      done.push_back(r.metrics);
+      for (const char* k : {"pga_g", "max_peak_V_W", "max_ratio_to_free", "impacts", "max_impact_impulse_Ns"}) {
+        entry[k] = r.metrics.value(k, json());
+      }
+    } else {
+      entry["error"] = r.error;
+    }
+    per_record.push_back(std::move(entry));
+  }
+  summary["analysis"]["kind"] = "ensemble";
+  summary["records"] = per_record;
+  if (!done.empty()) {
+    const json all = aggregate(done);
+    json mean = json::object(), max = json::object();
+    for (const auto& [k, v] : all.items()) {
+      if (k.rfind("max_", 0) == 0 && all.contains(k.substr(4))) {
+        max[k.substr(4)] = v;
+      } else if (k != "records") {
+        mean[k] = v;
+      }
+    }
+    summary["mean"] = mean;
+    summary["max"] = max;
+  }
+  OutputTransaction out(out_dir);
+  OutputFile& s = out.open("summary.json");
+  s.text(summary.dump(2));
+  s.character('\n');
+  out.commit();
+  return summary;
+}
+
+namespace {
+
+json run_points(const RunInput& input, const std::filesystem::path& out_dir,
+                const StudyRunOptions& options, const std::string& stem) {
   const StudySettings& study = *input.study;
   const auto start = std::chrono::steady_clock::now();
   const std::vector<PointValues> all = study_points(study);
 
-  std::error_code ec;
-  std::filesystem::create_directories(out_dir, ec);
-  if (ec) throw std::runtime_error(fmt::format("{}: cannot create the output folder: {}", out_dir.string(), ec.message()));
-  json definition{{"input", input.source.string()}, {"each", study.each}, {"sampling", study.sampling},
-                  {"points", all.size()}, {"parameters", json::array()}};
-  for (const StudyParameter& p : study.parameters) definition["parameters"].push_back(p.key);
-  StudyDatabase db(out_dir / "study.sqlite", fingerprint(input), definition);
-  const std::set<long> finished = db.finished();
-
-  // The points still to run, read (and so validated) before anything runs.
+  // Every point is read (and so validated) before the database is touched or anything runs.
   struct Todo {
     long id;
     RunInput input;
@@ -282,8 +398,6 @@ json run_study(const RunInput& input, const std::filesystem::path& out_dir,
   std::vector<Todo> todo;
   for (std::size_t i = 0; i < all.size(); ++i) {
     const long id = static_cast<long>(i);
-    if (finished.contains(id)) continue;
-    if (options.max_points && static_cast<long>(todo.size()) >= *options.max_points) break;
     try {
       RunInput point = read_point(input, all[i]);
       std::string key = study.baseline ? baseline_key(point) : std::string();
@@ -291,8 +405,22 @@ json run_study(const RunInput& input, const std::filesystem::path& out_dir,
     } catch (const InputError& e) {
       std::string values;
       for (const auto& [k, v] : all[i]) values += fmt::format("{}{} = {}", values.empty() ? "" : ", ", k, v);
-      throw InputError(fmt::format("study point {} ({}): {}", id + 1, values, e.what()));
+      throw InputError(fmt::format("{} {} ({}): {}", stem == "ensemble" ? "ensemble record" : "study point", id + 1,
+                                   values, e.what()));
     }
+  }
+  std::error_code ec;
+  std::filesystem::create_directories(out_dir, ec);
+  if (ec) throw std::runtime_error(fmt::format("{}: cannot create the output folder: {}", out_dir.string(), ec.message()));
+  json definition{{"input", input.source.string()}, {"each", study.each}, {"sampling", study.sampling},
+                  {"points", all.size()}, {"parameters", json::array()}};
+  for (const StudyParameter& p : study.parameters) definition["parameters"].push_back(p.key);
+  StudyDatabase db(out_dir / (stem + ".sqlite"), fingerprint(input), definition);
+  const std::set<long> finished = db.finished();
+
+  std::erase_if(todo, [&](const Todo& t) { return finished.contains(t.id); });
+  if (options.max_points && static_cast<long>(todo.size()) > *options.max_points) {
+    todo.resize(static_cast<std::size_t>(*options.max_points));
   }
 
   // Bare-pounding references, each computed once and stored.
@@ -368,16 +496,18 @@ json run_study(const RunInput& input, const std::filesystem::path& out_dir,
                {"run_this_time", total},
                {"complete", complete + failures == static_cast<int>(all.size())},
                {"lowest_max_peak", best},
-               {"database", (out_dir / "study.sqlite").string()},
+               {"database", (out_dir / (stem + ".sqlite")).string()},
                {"run_time_s", run_time}};
   OutputTransaction out(out_dir);
   OutputFile& s = out.open("summary.json");
   s.text(summary.dump(2));
   s.character('\n');
   out.commit();
-  export_study(out_dir / "study.sqlite", out_dir / "study.csv");
+  export_study(out_dir / (stem + ".sqlite"), out_dir / (stem + ".csv"));
   return summary;
 }
+
+}  // namespace
 
 void export_study(const std::filesystem::path& database, const std::filesystem::path& csv) {
   const StudyDatabase db(database);

@@ -111,6 +111,7 @@ struct OptimizeSettings {
 struct RunInput {
   std::filesystem::path source;  ///< The model file.
   std::string text;              ///< Its text (studies re-read it with each point's overrides).
+  std::vector<std::string> overrides;  ///< The --set key=value applied to it, in order.
   std::filesystem::path base_dir;  ///< Folder that relative paths in it start from.
   std::string title;
   Model model;

@@ -52,6 +52,12 @@ struct StudyRunOptions {
 nlohmann::json run_study(const RunInput& input, const std::filesystem::path& out_dir,
                          const StudyRunOptions& options = {});
 
+/// Runs an ensemble (analysis.kind = "ensemble"): one time history per record, in parallel,
+/// into `out_dir`: ensemble.sqlite (resumable), ensemble.csv, and summary.json with the
+/// per-record results and the mean and maximum of every metric over the records.
+nlohmann::json run_ensemble(const RunInput& input, const std::filesystem::path& out_dir,
+                            const StudyRunOptions& options = {});
+
 /// Writes the points of a study database as CSV: id, status, parameters, metrics, error, run time.
 void export_study(const std::filesystem::path& database, const std::filesystem::path& csv);
 
