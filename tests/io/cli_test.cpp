@@ -158,6 +158,7 @@ TEST_F(Cli, EveryExampleRunsWithBothIntegrators) {
     const bool frf = text.find("kind = \"frf\"") != std::string::npos;
     const bool study = text.find("kind = \"study\"") != std::string::npos;
     const bool optimize = text.find("kind = \"optimize\"") != std::string::npos;
+    const bool ensemble = text.find("kind = \"ensemble\"") != std::string::npos;
     for (const char* integrator : {"newmark", "exact"}) {
       if ((study || optimize) && std::string(integrator) == "exact") continue;
       const fs::path out = dir_ / (example.stem().string() + "_" + integrator);
@@ -169,6 +170,11 @@ TEST_F(Cli, EveryExampleRunsWithBothIntegrators) {
       EXPECT_EQ(r.output, "") << example;
       if (study) {
         EXPECT_TRUE(fs::exists(out / "study.csv")) << example;
+      } else if (ensemble) {
+        const auto summary = nlohmann::json::parse(slurp(out / "summary.json"));
+        EXPECT_TRUE(summary["complete"].get<bool>()) << example;
+        EXPECT_EQ(summary["failed"], 0) << example;
+        EXPECT_TRUE(fs::exists(out / "ensemble.csv")) << example;
       } else if (optimize) {
         EXPECT_TRUE(fs::exists(out / "optimize.json")) << example;
       } else if (frf) {
