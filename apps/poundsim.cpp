@@ -95,7 +95,7 @@ void print_optimization_report(const nlohmann::json& s, const std::string& out_d
                s["comparison"]["bare_pounding"]["max_peak_V_W"].get<double>());
   }
   fmt::print("  wrote {}/optimize.json, evaluations.csv{}\n", out_dir,
-             s["comparison"].contains("optimum") ? ", optimum_frf.csv, bare_frf.csv" : "");
+             s["analysis"]["each"] == "frf" ? ", optimum_frf.csv, bare_frf.csv" : "");
 }
 
 /// A one-line progress bar on a terminal; silent otherwise. Updates come from worker threads.

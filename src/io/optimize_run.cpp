@@ -188,19 +188,17 @@ json run_optimization(const RunInput& input, const std::filesystem::path& out_di
   for (unsigned i = 0; i < n; ++i) optimum[s.variables[i].key] = best->x[i];
   OutputTransaction out(out_dir);
   // The optimum's response against bare pounding and the free frames.
-  json comparison;
+  PointValues best_values;
+  for (unsigned i = 0; i < n; ++i) best_values.emplace_back(s.variables[i].key, format_value(best->x[i]));
+  const RunInput best_point = read_point(input, best_values);
+  json comparison{{"optimum", best->metrics}, {"bare_pounding", baseline_metrics(best_point, s.threads)}};
   if (s.each == "frf") {
-    PointValues values;
-    for (unsigned i = 0; i < n; ++i) values.emplace_back(s.variables[i].key, format_value(best->x[i]));
-    const RunInput point = read_point(input, values);
+    const RunInput& point = best_point;
     FrequencyResponseOptions o = frequency_response_options(point);
     o.threads = s.threads;
     write_frf_table(out.open("optimum_frf.csv"), point.model, frequency_response(point.model, o));
-    const json bare = baseline_metrics(point, s.threads);
-    RunInput bare_point = point;
-    bare_point.model = bare_pounding(point.model);
-    write_frf_table(out.open("bare_frf.csv"), bare_point.model, frequency_response(bare_point.model, o));
-    comparison = {{"optimum", best->metrics}, {"bare_pounding", bare}};
+    const Model bare = bare_pounding(point.model);
+    write_frf_table(out.open("bare_frf.csv"), bare, frequency_response(bare, o));
   }
   OutputFile& csv = out.open("evaluations.csv");
   csv.text("evaluation,stage");

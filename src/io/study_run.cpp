@@ -276,7 +276,8 @@ json ensemble_metrics(const RunInput& point, int threads) {
   std::vector<json> per_record(records.size());
   parallel_for(static_cast<int>(records.size()), threads, [&](int k) {
     const auto r = static_cast<std::size_t>(k);
-    const RunInput one = read_point(point, {{"excitation.file", json(records[r].string()).dump()}});
+    RunInput one = read_point(point, {{"excitation.file", json(records[r].string()).dump()}});
+    one.model = point.model;  // the point's model as given (e.g. made bare), the record from the file
     per_record[r] = time_history_metrics(one);
   });
   return aggregate(per_record);
