@@ -6,6 +6,8 @@
 #include <Eigen/Eigenvalues>
 #include <fmt/format.h>
 
+#include "poundsim/units.hpp"
+
 namespace poundsim {
 
 Frame make_uniform_frame(int storeys, double mass, double stiffness, double damping,
@@ -65,6 +67,12 @@ Eigen::MatrixXd chain_matrix(const std::vector<double>& storey) {
   return k;
 }
 }  // namespace
+
+double weight(const Frame& frame) {
+  double m = 0;
+  for (const double x : frame.mass) m += x;
+  return m * standard_gravity;
+}
 
 Eigen::MatrixXd stiffness_matrix(const Frame& frame) { return chain_matrix(frame.stiffness); }
 Eigen::MatrixXd damping_matrix(const Frame& frame) { return chain_matrix(frame.damping); }

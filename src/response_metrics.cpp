@@ -1,6 +1,5 @@
 #include "poundsim/response_metrics.hpp"
 
-#include "poundsim/units.hpp"
 
 namespace poundsim {
 
@@ -20,11 +19,7 @@ Model free_frames(const Model& model) {
   return free;
 }
 
-double reference_weight(const Model& model) {
-  double m = 0;
-  for (const double x : model.frames.front().mass) m += x;
-  return m * standard_gravity;
-}
+double reference_weight(const Model& model) { return weight(model.frames.front()); }
 
 BandPeaks band_peaks(const Model& model, const std::vector<FrfPoint>& points, double lo, double hi) {
   const auto frames = static_cast<std::size_t>(model.frame_count());

@@ -25,6 +25,12 @@ TEST(Frame, UniformChainFrequenciesMatchClosedForm) {
   }
 }
 
+TEST(Frame, WeightIsGravityTimesTheTotalMass) {
+  Frame f = make_uniform_frame(3, 2.0e5, 1.0e7, 0.0);
+  f.mass[2] = 1.0e5;
+  EXPECT_DOUBLE_EQ(weight(f), 5.0e5 * 9.81);  // g = 9.81 m/s², as in the paper
+}
+
 TEST(Frame, StiffnessProportionalDampingGivesTheRatioInModeOne) {
   const Frame f = make_uniform_frame(3, 1.0, 400.0, 0.0);
   const std::vector<double> c = stiffness_proportional_damping(f, 0.05);

@@ -39,6 +39,9 @@ Frame make_uniform_frame(int storeys, double mass, double stiffness, double damp
 /// vectors of different lengths, M_i ≤ 0, K_i ≤ 0, C_i < 0 or any non-finite value.
 void validate(const Frame& frame);
 
+/// Total weight of the frame, g·ΣM_i [N] with g the standard gravity; the paper's W.
+[[nodiscard]] double weight(const Frame& frame);
+
 /// Tridiagonal stiffness matrix of the frame alone on a fixed base [N/m].
 Eigen::MatrixXd stiffness_matrix(const Frame& frame);
 /// Tridiagonal damping matrix of the frame alone on a fixed base [N·s/m].

@@ -10,14 +10,6 @@
 
 namespace poundsim::io {
 
-namespace {
-double weight(const Frame& f) {
-  double m = 0;
-  for (const double x : f.mass) m += x;
-  return m * standard_gravity;
-}
-}  // namespace
-
 FrequencyResponseOptions frequency_response_options(const RunInput& input) {
   if (!input.frf) throw InputError(fmt::format("{}: no [frf] table", input.source.string()));
   const FrfSettings& f = *input.frf;
@@ -152,9 +144,7 @@ nlohmann::json run_frequency_response(const RunInput& input, const std::filesyst
   const nlohmann::json summary = summarize_frequency_response(input, points, run_time);
   OutputTransaction out(out_dir);
   write_frf_table(out.open("frf.csv"), input.model, points);
-  OutputFile& s = out.open("summary.json");
-  s.text(summary.dump(2));
-  s.character('\n');
+  out.write_json("summary.json", summary);
   out.commit();
   return summary;
 }

@@ -106,6 +106,15 @@ class TableReader {
     if (!node.is_string()) fail(key, fmt::format("expected a string, got a {}", type_name(node)));
     return *node.value<std::string>();
   }
+  bool boolean_or(std::string_view key, bool fallback) {
+    if (!has(key)) {
+      used_.insert(std::string(key));
+      return fallback;
+    }
+    const toml::node& node = require(key);
+    if (!node.is_boolean()) fail(key, fmt::format("expected true or false, got a {}", type_name(node)));
+    return *node.value<bool>();
+  }
   std::string string_or(std::string_view key, const std::string& fallback) {
     if (!has(key)) {
       used_.insert(std::string(key));
@@ -639,6 +648,28 @@ void read_time_history(TableReader& t, AnalysisSettings& a) {
   }
 }
 
+/// `threads`: worker threads, 0 for all cores.
+int read_threads(TableReader& t, int fallback) {
+  const int n = t.optional_integer("threads").value_or(fallback);
+  if (n < 0) t.fail("threads", "must be ≥ 0 (0: all cores)");
+  return n;
+}
+
+/// `band = [ratio_min, ratio_max]`: the ω̄/ω₁ range that an FRF objective looks at.
+void read_band(TableReader& t, const std::string& each, double& lo, double& hi) {
+  if (!t.has("band")) {
+    t.find("band");
+    return;
+  }
+  if (each != "frf") t.fail("band", "only for each = \"frf\"");
+  const std::vector<double> band = t.numbers("band");
+  if (band.size() != 2 || !(band[0] > 0) || !(band[1] > band[0])) {
+    t.fail("band", "expected [ratio_min, ratio_max] with 0 < ratio_min < ratio_max");
+  }
+  lo = band[0];
+  hi = band[1];
+}
+
 FrfSettings read_frf(TableReader& t, const Model& model, const AnalysisSettings& a) {
   FrfSettings f;
   f.amplitude_g = t.number("amplitude_g");
@@ -679,8 +710,7 @@ FrfSettings read_frf(TableReader& t, const Model& model, const AnalysisSettings&
   }
   if (auto n = t.optional_integer("window_periods")) s.window_periods = *n;
   if (s.window_periods < 1) t.fail("window_periods", "must be ≥ 1");
-  if (auto n = t.optional_integer("threads")) f.threads = *n;
-  if (f.threads < 0) t.fail("threads", "must be ≥ 0 (0: all cores)");
+  f.threads = read_threads(t, f.threads);
   // The shortest step: the highest frequency's period over steps_per_period.
   const double shortest = 2 * std::numbers::pi / (f.ratios.back() * fundamental_frequency(model.frames.front())) /
                           s.steps_per_period;
@@ -698,9 +728,7 @@ std::string value_text(TableReader& t, std::string_view key, const toml::node& n
   if (node.is_floating_point()) {
     const double v = *node.value<double>();
     if (!std::isfinite(v)) t.fail(key, "values must be finite");
-    std::string text = fmt::format("{}", v);
-    if (text.find_first_of(".eEn") == std::string::npos) text += ".0";  // stays a float in TOML
-    return text;
+    return toml_float(v);
   }
   if (node.is_boolean()) return *node.value<bool>() ? "true" : "false";
   if (node.is_string()) {
@@ -723,26 +751,9 @@ StudySettings read_study(TableReader& t) {
       s.seed = static_cast<unsigned>(*seed);
     }
   }
-  if (t.has("band")) {
-    if (s.each != "frf") t.fail("band", "only for each = \"frf\"");
-    const std::vector<double> band = t.numbers("band");
-    if (band.size() != 2 || !(band[0] > 0) || !(band[1] > band[0])) {
-      t.fail("band", "expected [ratio_min, ratio_max] with 0 < ratio_min < ratio_max");
-    }
-    s.band_min = band[0];
-    s.band_max = band[1];
-  } else {
-    t.find("band");
-  }
-  if (t.has("baseline")) {
-    const toml::node& node = t.require("baseline");
-    if (!node.is_boolean()) t.fail("baseline", "expected true or false");
-    s.baseline = *node.value<bool>();
-  } else {
-    t.find("baseline");
-  }
-  if (auto n = t.optional_integer("threads")) s.threads = *n;
-  if (s.threads < 0) t.fail("threads", "must be ≥ 0 (0: all cores)");
+  read_band(t, s.each, s.band_min, s.band_max);
+  s.baseline = t.boolean_or("baseline", s.baseline);
+  s.threads = read_threads(t, s.threads);
   std::size_t list_length = 0;
   for (TableReader& p : t.tables("parameter")) {
     StudyParameter param;
@@ -793,17 +804,7 @@ OptimizeSettings read_optimize(TableReader& t) {
   OptimizeSettings o;
   o.each = t.choice("each", {"frf", "time_history", "ensemble"});
   o.objective = t.choice("objective", {"max_peak", "max_ratio_to_free"}, std::string("max_peak"));
-  if (t.has("band")) {
-    if (o.each != "frf") t.fail("band", "only for each = \"frf\"");
-    const std::vector<double> band = t.numbers("band");
-    if (band.size() != 2 || !(band[0] > 0) || !(band[1] > band[0])) {
-      t.fail("band", "expected [ratio_min, ratio_max] with 0 < ratio_min < ratio_max");
-    }
-    o.band_min = band[0];
-    o.band_max = band[1];
-  } else {
-    t.find("band");
-  }
+  read_band(t, o.each, o.band_min, o.band_max);
   o.global_algorithm = t.string_or("global", o.global_algorithm);
   o.local_algorithm = t.string_or("local", o.local_algorithm);
   if (o.global_algorithm != "none" && o.global_algorithm.rfind("G", 0) != 0) {
@@ -822,8 +823,7 @@ OptimizeSettings read_optimize(TableReader& t) {
     if (*seed < 0) t.fail("seed", "must be ≥ 0");
     o.seed = static_cast<unsigned>(*seed);
   }
-  if (auto n = t.optional_integer("threads")) o.threads = *n;
-  if (o.threads < 0) t.fail("threads", "must be ≥ 0 (0: all cores)");
+  o.threads = read_threads(t, o.threads);
   for (TableReader& v : t.tables("variable")) {
     OptimizeVariable var;
     var.key = v.string("key");
@@ -897,15 +897,8 @@ EnsembleSettings read_ensemble(TableReader& t, const std::filesystem::path& base
   for (const std::filesystem::path& r : e.records) {
     if (!std::filesystem::is_regular_file(r)) t.fail(listed ? "records" : "folder", fmt::format("{}: no such file", r.string()));
   }
-  if (auto n = t.optional_integer("threads")) e.threads = *n;
-  if (e.threads < 0) t.fail("threads", "must be ≥ 0 (0: all cores)");
-  if (t.has("baseline")) {
-    const toml::node& node = t.require("baseline");
-    if (!node.is_boolean()) t.fail("baseline", "expected true or false");
-    e.baseline = *node.value<bool>();
-  } else {
-    t.find("baseline");
-  }
+  e.threads = read_threads(t, e.threads);
+  e.baseline = t.boolean_or("baseline", e.baseline);
   t.finish();
   return e;
 }
@@ -1021,6 +1014,12 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
 }
 
 }  // namespace
+
+std::string toml_float(double x) {
+  std::string text = fmt::format("{}", x);
+  if (text.find_first_of(".eEn") == std::string::npos) text += ".0";
+  return text;
+}
 
 RunInput read_input_string(std::string_view text, const std::string& name,
                            const std::filesystem::path& base_dir,

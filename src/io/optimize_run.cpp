@@ -39,12 +39,6 @@ nlopt::algorithm algorithm(const std::string& name, const RunInput& input, const
   return static_cast<nlopt::algorithm>(a);
 }
 
-std::string format_value(double x) {
-  std::string text = fmt::format("{}", x);
-  if (text.find_first_of(".eEn") == std::string::npos) text += ".0";
-  return text;
-}
-
 struct Evaluation {
   std::vector<double> x;
   double objective = kRejected;
@@ -62,7 +56,7 @@ class Problem {
     Evaluation e{x, kRejected, stage, "done", "", json()};
     PointValues values;
     for (std::size_t i = 0; i < x.size(); ++i) {
-      values.emplace_back(settings_.variables[i].key, format_value(x[i]));
+      values.emplace_back(settings_.variables[i].key, toml_float(x[i]));
     }
     try {
       const RunInput point = read_point(input_, values);
@@ -189,7 +183,7 @@ json run_optimization(const RunInput& input, const std::filesystem::path& out_di
   OutputTransaction out(out_dir);
   // The optimum's response against bare pounding and the free frames.
   PointValues best_values;
-  for (unsigned i = 0; i < n; ++i) best_values.emplace_back(s.variables[i].key, format_value(best->x[i]));
+  for (unsigned i = 0; i < n; ++i) best_values.emplace_back(s.variables[i].key, toml_float(best->x[i]));
   const RunInput best_point = read_point(input, best_values);
   json comparison{{"optimum", best->metrics}, {"bare_pounding", baseline_metrics(best_point, s.threads)}};
   if (s.each == "frf") {
@@ -225,9 +219,7 @@ json run_optimization(const RunInput& input, const std::filesystem::path& out_di
                {"evaluations", problem.evaluations().size()},
                {"run_time_s", run_time}};
   for (const OptimizeVariable& v : s.variables) summary["variables"].push_back({{"key", v.key}, {"min", v.min}, {"max", v.max}});
-  OutputFile& js = out.open("optimize.json");
-  js.text(summary.dump(2));
-  js.character('\n');
+  out.write_json("optimize.json", summary);
   out.commit();
   return summary;
 }

@@ -7,6 +7,8 @@
 
 #include <unistd.h>
 
+#include <nlohmann/json.hpp>
+
 namespace poundsim::io {
 
 OutputFile::~OutputFile() {
@@ -63,6 +65,12 @@ OutputFile& OutputTransaction::open(const std::string& name) {
   e.file = std::make_unique<OutputFile>(f, e.final_path);
   entries_.push_back(std::move(e));
   return *entries_.back().file;
+}
+
+void OutputTransaction::write_json(const std::string& name, const nlohmann::json& value) {
+  OutputFile& f = open(name);
+  f.text(value.dump(2));
+  f.character('\n');
 }
 
 void OutputTransaction::commit() {

@@ -77,12 +77,6 @@ json describe_analysis(const RunInput& in) {
   return a;
 }
 
-std::string format_number(double x) {
-  std::string text = fmt::format("{}", x);
-  if (text.find_first_of(".eEn") == std::string::npos) text += ".0";
-  return text;
-}
-
 /// One CSV field, quoted when it holds a comma, a quote or a line break.
 std::string csv_field(const std::string& s) {
   if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
@@ -112,7 +106,7 @@ std::vector<PointValues> study_points(const StudySettings& study) {
     for (int i = 0; i < p.points; ++i) {
       const double f = static_cast<double>(i) / (p.points - 1);
       const double x = p.log ? p.min * std::pow(p.max / p.min, f) : p.min + (p.max - p.min) * f;
-      v.push_back(format_number(x));
+      v.push_back(toml_float(x));
     }
     return v;
   };
@@ -151,7 +145,7 @@ std::vector<PointValues> study_points(const StudySettings& study) {
     for (const StudyParameter& p : params) {
       const double f = unit(rng);
       const double x = p.log ? p.min * std::pow(p.max / p.min, f) : p.min + (p.max - p.min) * f;
-      point.emplace_back(p.key, format_number(x));
+      point.emplace_back(p.key, toml_float(x));
     }
     points.push_back(std::move(point));
   }
@@ -375,9 +369,7 @@ json run_ensemble(const RunInput& input, const std::filesystem::path& out_dir,
     summary["max"] = max;
   }
   OutputTransaction out(out_dir);
-  OutputFile& s = out.open("summary.json");
-  s.text(summary.dump(2));
-  s.character('\n');
+  out.write_json("summary.json", summary);
   out.commit();
   return summary;
 }
@@ -500,9 +492,7 @@ json run_points(const RunInput& input, const std::filesystem::path& out_dir,
                {"database", (out_dir / (stem + ".sqlite")).string()},
                {"run_time_s", run_time}};
   OutputTransaction out(out_dir);
-  OutputFile& s = out.open("summary.json");
-  s.text(summary.dump(2));
-  s.character('\n');
+  out.write_json("summary.json", summary);
   out.commit();
   export_study(out_dir / (stem + ".sqlite"), out_dir / (stem + ".csv"));
   return summary;

@@ -22,12 +22,6 @@ json peak(const Peak& p) { return json{{"value", p.value}, {"time", p.time}}; }
 /// a / b, or null when b is 0 (nothing to compare with).
 json ratio(double a, double b) { return b > 0 ? json(a / b) : json(); }
 
-double frame_weight(const Frame& f) {
-  double m = 0;
-  for (const double x : f.mass) m += x;
-  return m * standard_gravity;
-}
-
 json describe_model(const RunInput& input) {
   json frames = json::array();
   for (const Frame& f : input.model.frames) {
@@ -37,7 +31,7 @@ json describe_model(const RunInput& input) {
                       {"mass_kg", f.mass},
                       {"stiffness_N_m", f.stiffness},
                       {"damping_Ns_m", f.damping},
-                      {"weight_N", frame_weight(f)},
+                      {"weight_N", weight(f)},
                       {"natural_frequencies_rad_s", std::vector<double>(w.begin(), w.end())}});
   }
   json gaps = json::array();
@@ -102,7 +96,7 @@ json summarize(const RunInput& input, const Simulator& sim, const ResponseStatis
   const DofLayout& layout = sim.layout();
   const ResponseStatistics& st = sim.statistics();
   const Model& model = sim.model();
-  const double weight1 = frame_weight(model.frames.front());
+  const double weight1 = weight(model.frames.front());
 
   json floors = json::array();
   for (int f = 0; f < model.frame_count(); ++f) {
@@ -138,7 +132,7 @@ json summarize(const RunInput& input, const Simulator& sim, const ResponseStatis
                {"value_N", p.value},
                {"time", p.time},
                {"over_frame1_weight", p.value / weight1},
-               {"over_own_weight", p.value / frame_weight(model.frames[f])}};
+               {"over_own_weight", p.value / weight(model.frames[f])}};
     if (free != nullptr) {
       const double v = free->base_shear[static_cast<std::size_t>(f)].value;
       entry["free_value_N"] = v;
@@ -343,9 +337,7 @@ json run_time_history(const RunInput& input, const std::filesystem::path& out_di
   const double run_time =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const json summary = summarize(input, *sim, free ? &*free : nullptr, run_time);
-  OutputFile& summary_file = out.open("summary.json");
-  summary_file.text(summary.dump(2));
-  summary_file.character('\n');
+  out.write_json("summary.json", summary);
   out.commit();
   return summary;
 }

@@ -164,6 +164,17 @@ TEST(InputOverrides, SetReplacesAndCreatesKeys) {
   EXPECT_DOUBLE_EQ(phys.model.frames[1].mass[0], 3.0e5);
 }
 
+TEST(InputOverrides, FloatValuesReadBackExactlyAndStayFloats) {
+  EXPECT_EQ(toml_float(1.0), "1.0");
+  EXPECT_EQ(toml_float(-3.0), "-3.0");
+  EXPECT_EQ(toml_float(0.1), "0.1");
+  EXPECT_EQ(toml_float(1e300), "1e+300");
+  for (const double x : {0.1, 1.0 / 3.0, 6.02214076e23, 2.5e-300, 1.0}) {
+    const RunInput in = read(kDimensionless, {"excitation.amplitude_g=" + toml_float(x)});
+    EXPECT_EQ(in.excitation_info.amplitude_g, x);
+  }
+}
+
 TEST(InputOverrides, BadOverridesNameTheSetOption) {
   EXPECT_NE(error_of(kDimensionless, {"analysis.bogus=1"}).find("--set analysis.bogus=1"),
             std::string::npos);

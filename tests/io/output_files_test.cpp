@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 namespace poundsim::io {
 namespace {
@@ -50,6 +51,23 @@ TEST(OutputTransaction, AbandonedRunLeavesNothing) {
   s << in.rdbuf();
   EXPECT_EQ(s.str(), "previous\n");
   EXPECT_EQ(entries(dir), 1u);  // no temporary left
+  fs::remove_all(dir);
+}
+
+TEST(OutputTransaction, WritesJsonIndentedWithAFinalNewline) {
+  const fs::path dir = fs::temp_directory_path() / "poundsim_output_json";
+  fs::remove_all(dir);
+  {
+    OutputTransaction out(dir);
+    out.write_json("s.json", nlohmann::json{{"peak", 0.1}, {"frames", {1, 2}}});
+    EXPECT_FALSE(fs::exists(dir / "s.json"));
+    out.commit();
+  }
+  std::ifstream in(dir / "s.json");
+  std::stringstream s;
+  s << in.rdbuf();
+  EXPECT_EQ(s.str(), "{\n  \"frames\": [\n    1,\n    2\n  ],\n  \"peak\": 0.1\n}\n");
+  EXPECT_EQ(nlohmann::json::parse(s.str())["peak"].get<double>(), 0.1);
   fs::remove_all(dir);
 }
 

@@ -361,6 +361,34 @@ start = 0.1
   fs::remove_all(fresh("optimize_again"));
 }
 
+std::string study_error(const std::vector<std::string>& overrides) {
+  try {
+    read(kStudy, overrides);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(StudyInput, BandBaselineAndThreadsAreChecked) {
+  EXPECT_EQ(read(kStudy, {"study.band=[0.6, 1.0]"}).study->band_min, 0.6);
+  EXPECT_EQ(read(kStudy, {"study.band=[0.6, 1.0]"}).study->band_max, 1.0);
+  EXPECT_FALSE(read(kStudy, {"study.baseline=false"}).study->baseline);
+  EXPECT_EQ(read(kStudy, {"study.threads=0"}).study->threads, 0);
+  const std::pair<std::string, std::string> cases[] = {
+      {"study.band=[1.0, 0.6]", "study.band: expected [ratio_min, ratio_max] with 0 < ratio_min < ratio_max"},
+      {"study.band=[0.6]", "study.band: expected [ratio_min, ratio_max]"},
+      {"study.baseline=1", "study.baseline: expected true or false, got a integer"},
+      {"study.threads=-1", "study.threads: must be ≥ 0 (0: all cores)"},
+  };
+  for (const auto& [set, message] : cases) {
+    const std::string error = study_error({set});
+    EXPECT_NE(error.find(message), std::string::npos) << set << " → " << error;
+  }
+  const std::string error = study_error({"study.each=time_history", "study.band=[0.6, 1.0]"});
+  EXPECT_NE(error.find("study.band: only for each = \"frf\""), std::string::npos) << error;
+}
+
 TEST(Optimize, RejectsUnknownAlgorithmsAndGradientMethods) {
   std::string text = kStudy.substr(0, kStudy.find("[analysis]"));
   text += "[analysis]\nkind = \"optimize\"\n[frf]\namplitude_g = 0.2\nratios = [1.0]\n[optimize]\neach = \"frf\"\n"

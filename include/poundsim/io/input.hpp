@@ -137,6 +137,10 @@ struct RunInput {
 /// Relative record paths are resolved against the model file's folder.
 RunInput read_input(const std::filesystem::path& file, std::span<const std::string> overrides = {});
 
+/// The TOML text of `x` for a `--set` value: the shortest form that reads back to the same double,
+/// with ".0" added when needed so that it stays a float (1 → "1.0").
+[[nodiscard]] std::string toml_float(double x);
+
 /// Like read_input, from TOML text; `name` is used in messages and `base_dir` resolves paths.
 RunInput read_input_string(std::string_view text, const std::string& name,
                            const std::filesystem::path& base_dir,

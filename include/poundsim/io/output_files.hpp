@@ -13,6 +13,7 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <nlohmann/json_fwd.hpp>
 
 namespace poundsim::io {
 
@@ -53,6 +54,8 @@ class OutputTransaction {
 
   /// Starts the file `name` (a plain file name) in the folder.
   OutputFile& open(const std::string& name);
+  /// Writes `value` as the whole file `name`: indented by two, with a final newline.
+  void write_json(const std::string& name, const nlohmann::json& value);
   /// Closes every file and renames it into place.
   void commit();
 
