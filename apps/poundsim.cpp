@@ -180,11 +180,12 @@ int main(int argc, char** argv) {
       return 0;
     }
     const poundsim::io::RunInput input = poundsim::io::read_input(model_file, overrides);
+    ProgressBar bar(!quiet && ::isatty(STDERR_FILENO) != 0);
+    const auto progress = [&bar](int done, int total) { bar.update(done, total); };
     if (input.analysis.kind == "study" || input.analysis.kind == "ensemble") {
-      ProgressBar bar(!quiet && ::isatty(STDERR_FILENO) != 0);
       poundsim::io::StudyRunOptions options;
       if (max_points > 0) options.max_points = max_points;
-      options.progress = [&bar](int done, int total) { bar.update(done, total); };
+      options.progress = progress;
       const bool ensemble = input.analysis.kind == "ensemble";
       const nlohmann::json summary = ensemble ? poundsim::io::run_ensemble(input, out_dir, options)
                                               : poundsim::io::run_study(input, out_dir, options);
@@ -193,9 +194,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (input.analysis.kind == "optimize") {
-      ProgressBar bar(!quiet && ::isatty(STDERR_FILENO) != 0);
-      const nlohmann::json summary = poundsim::io::run_optimization(
-          input, out_dir, [&bar](int done, int total) { bar.update(done, total); });
+      const nlohmann::json summary = poundsim::io::run_optimization(input, out_dir, progress);
       bar.finish();
       if (!quiet) print_optimization_report(summary, out_dir);
       return 0;
@@ -204,9 +203,7 @@ int main(int argc, char** argv) {
       throw poundsim::InputError("--max-points applies to studies (analysis.kind = \"study\") only");
     }
     if (input.analysis.kind == "frf") {
-      ProgressBar bar(!quiet && ::isatty(STDERR_FILENO) != 0);
-      const nlohmann::json summary = poundsim::io::run_frequency_response(
-          input, out_dir, [&bar](int done, int total) { bar.update(done, total); });
+      const nlohmann::json summary = poundsim::io::run_frequency_response(input, out_dir, progress);
       bar.finish();
       if (!quiet) print_frf_report(summary, out_dir);
       return 0;

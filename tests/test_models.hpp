@@ -3,9 +3,13 @@
 
 #include <cmath>
 #include <numbers>
+#include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "poundsim/dimensionless.hpp"
+#include "poundsim/io/input.hpp"
 #include "poundsim/model.hpp"
 #include "poundsim/simulator.hpp"
 
@@ -43,6 +47,18 @@ inline DimensionlessParameters fig4(char panel) {
     p.epsilon = 0.5;
   }
   return p;
+}
+
+/// The `[model]` table of an input file for the two frames of `storeys` floors (TOML array text,
+/// e.g. "[1, 3]") with the dimensionless parameters `p`, one key per line as the docs write it.
+inline std::string model_toml(const std::string& storeys, const DimensionlessParameters& p) {
+  using io::toml_float;
+  return fmt::format(
+      "[model]\nstoreys = {}\n[model.dimensionless]\nlambda2 = {}\nalpha = {}\nbeta = {}\ngamma = {}\n"
+      "xi = {}\ndelta = {}\neta = {}\nmu = {}\nepsilon = {}\nrestitution = {}\n",
+      storeys, toml_float(p.lambda2), toml_float(p.alpha), toml_float(p.beta), toml_float(p.gamma),
+      toml_float(p.xi), toml_float(p.delta), toml_float(p.eta), toml_float(p.mu), toml_float(p.epsilon),
+      toml_float(p.restitution));
 }
 
 inline HarmonicExcitation harmonic(const Model& m, double amplitude_g, double ratio) {

@@ -8,6 +8,7 @@
 
 #include "poundsim/io/study_database.hpp"
 #include "poundsim/io/study_run.hpp"
+#include "../test_models.hpp"
 
 namespace poundsim::io {
 namespace {
@@ -17,20 +18,7 @@ namespace fs = std::filesystem;
 const fs::path kShared = fs::path(POUNDSIM_SOURCE_DIR) / ".." / "shared" / "data" / "ground_motions";
 
 std::string ensemble_input(const std::string& kind) {
-  return R"([model]
-storeys = [1, 1]
-[model.dimensionless]
-lambda2 = 200.0
-alpha = 0.25
-beta = 1.0
-gamma = 0.5
-xi = 0.05
-delta = 0.25
-eta = 0.125
-mu = 1.0
-epsilon = 0.5
-restitution = 0.75
-[excitation]
+  return testing::model_toml("[1, 1]", testing::fig2('c')) + R"([excitation]
 kind = "record"
 target_pga_g = 0.3
 [analysis]

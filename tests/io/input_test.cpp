@@ -10,25 +10,12 @@
 #include <gtest/gtest.h>
 
 #include "poundsim/error.hpp"
+#include "../test_models.hpp"
 
 namespace poundsim::io {
 namespace {
 
-const std::string kDimensionless = R"(title = "test"
-[model]
-storeys = [1, 3]
-[model.dimensionless]
-lambda2 = 200.0
-alpha = 0.25
-beta = 1.0
-gamma = 0.5
-xi = 0.05
-delta = 0.25
-eta = 0.125
-mu = 1.0
-epsilon = 0.5
-restitution = 0.75
-[excitation]
+const std::string kDimensionless = "title = \"test\"\n" + testing::model_toml("[1, 3]", testing::fig2('c')) + R"([excitation]
 kind = "harmonic"
 amplitude_g = 0.2
 ratio = 0.8
@@ -258,20 +245,7 @@ INSTANTIATE_TEST_SUITE_P(
                  R"(initial\.velocity: frame 1 has 2 floors, 1 values given)"}),
     [](const ::testing::TestParamInfo<BadInput>& p) { return p.param.name; });
 
-const std::string kFrf = R"([model]
-storeys = [1, 1]
-[model.dimensionless]
-lambda2 = 200.0
-alpha = 0.25
-beta = 1.0
-gamma = 0.5
-xi = 0.05
-delta = 0.25
-eta = 0.0
-mu = 0.0
-epsilon = 0.0
-restitution = 1.0
-[analysis]
+const std::string kFrf = testing::model_toml("[1, 1]", testing::fig2('a')) + R"([analysis]
 kind = "frf"
 integrator = "exact"
 [frf]

@@ -17,26 +17,14 @@
 #include "poundsim/error.hpp"
 #include "poundsim/io/optimize_run.hpp"
 #include "poundsim/io/study_database.hpp"
+#include "../test_models.hpp"
 
 namespace poundsim::io {
 namespace {
 
 namespace fs = std::filesystem;
 
-const std::string kStudy = R"([model]
-storeys = [1, 1]
-[model.dimensionless]
-lambda2 = 200.0
-alpha = 0.25
-beta = 1.0
-gamma = 0.5
-xi = 0.05
-delta = 0.25
-eta = 0.125
-mu = 1.0
-epsilon = 0.5
-restitution = 0.75
-[analysis]
+const std::string kStudy = testing::model_toml("[1, 1]", testing::fig2('c')) + R"([analysis]
 kind = "study"
 [frf]
 amplitude_g = 0.2
