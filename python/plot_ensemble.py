@@ -11,9 +11,10 @@ import argparse
 import json
 import os
 import re
-import sqlite3
 
 import matplotlib
+
+from poundsim_results import finished_points
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -24,8 +25,7 @@ def main():
     parser.add_argument("dir")
     parser.add_argument("--title", default="")
     args = parser.parse_args()
-    db = sqlite3.connect(f"file:{os.path.join(args.dir, 'ensemble.sqlite')}?mode=ro", uri=True)
-    records = [json.loads(m) for m, status in db.execute("SELECT metrics, status FROM points") if status == "done"]
+    records = [json.loads(m) for _, m in finished_points(os.path.join(args.dir, "ensemble.sqlite"))]
     if not records:
         raise SystemExit(f"{args.dir}: no finished record")
     quantities = [("amp_u", "displacement"), ("amp_drift", "interstorey drift"), ("amp_acc", "absolute acceleration")]

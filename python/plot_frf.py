@@ -9,56 +9,42 @@ branches and jumps show; responses that are not periodic (periodicity 0) are mar
 """
 
 import argparse
-import csv
-import sys
 
 import matplotlib
+
+from poundsim_results import colour, read_frf
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-COLOURS = ["tab:blue", "tab:red", "tab:green", "tab:purple", "tab:orange"]
-
-
-def read(path):
-    with open(path, newline="") as f:
-        rows = list(csv.DictReader(f))
-    if not rows:
-        sys.exit(f"{path}: no rows")
-    frames = sorted(int(k[1:-2]) for k in rows[0] if k.startswith("V") and k.endswith("_W") and "free" not in k)
-    return rows, frames
-
 
 def column(rows, key):
-    return [float(r[key]) for r in rows]
+    return [r[key] for r in rows]
 
 
 def draw(frf, png, sweep=None, title="", compare=None):
-    rows, frames = read(frf)
-    rows.sort(key=lambda r: float(r["ratio"]))
+    rows, frames = read_frf(frf)
     ratio = column(rows, "ratio")
     fig, ax = plt.subplots(figsize=(7.0, 4.6), dpi=130)
-    chaotic = [r for r in rows if r["periodicity"] == "0"]
+    chaotic = [r for r in rows if r["periodicity"] == 0]
     for i, f in enumerate(frames):
-        colour = COLOURS[i % len(COLOURS)]
-        ax.plot(ratio, column(rows, f"V{f}_W"), "-", color=colour, lw=1.6, label=f"frame {f}, interacting")
-        ax.plot(ratio, column(rows, f"V{f}_free_W"), "--", color=colour, lw=1.2, label=f"frame {f}, free")
+        ax.plot(ratio, column(rows, f"V{f}_W"), "-", color=colour(i), lw=1.6, label=f"frame {f}, interacting")
+        ax.plot(ratio, column(rows, f"V{f}_free_W"), "--", color=colour(i), lw=1.2, label=f"frame {f}, free")
         if chaotic:
-            ax.plot(column(chaotic, "ratio"), column(chaotic, f"V{f}_W"), "x", color=colour, ms=5,
+            ax.plot(column(chaotic, "ratio"), column(chaotic, f"V{f}_W"), "x", color=colour(i), ms=5,
                     label="not periodic" if i == 0 else None)
     if compare:
-        other, _ = read(compare[0])
-        other.sort(key=lambda r: float(r["ratio"]))
+        other, _ = read_frf(compare[0])
         for i, f in enumerate(frames):
-            ax.plot(column(other, "ratio"), column(other, f"V{f}_W"), ":", color=COLOURS[i % len(COLOURS)], lw=1.4,
+            ax.plot(column(other, "ratio"), column(other, f"V{f}_W"), ":", color=colour(i), lw=1.4,
                     label=f"frame {f}, {compare[1]}")
     if sweep:
-        swept, _ = read(sweep)
+        swept, _ = read_frf(sweep)
         for branch, marker, name in (("up", "^", "sweep up"), ("down", "v", "sweep down")):
             points = [r for r in swept if r["branch"] == branch]
             for i, f in enumerate(frames):
                 ax.plot(column(points, "ratio"), column(points, f"V{f}_W"), marker, ms=3.2, mfc="none",
-                        mew=0.7, color=COLOURS[i % len(COLOURS)], label=name if i == 0 else None)
+                        mew=0.7, color=colour(i), label=name if i == 0 else None)
     ax.set_xlabel("ω̄ / ω₁")
     ax.set_ylabel("V / W")
     ax.set_xlim(min(ratio), max(ratio))

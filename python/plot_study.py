@@ -11,10 +11,11 @@ shows its value; the lowest is outlined.
 
 import argparse
 import json
-import sqlite3
 import sys
 
 import matplotlib
+
+from poundsim_results import finished_points
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -36,12 +37,10 @@ def main():
         key, _, value = item.partition("=")
         fixed[key] = json.loads(value) if value else None
 
-    db = sqlite3.connect(f"file:{args.database}?mode=ro", uri=True)
-    rows = db.execute("SELECT parameters, status, metrics FROM points").fetchall()
     cells = {}
-    for parameters, status, metrics in rows:
+    for parameters, metrics in finished_points(args.database):
         p, m = json.loads(parameters), json.loads(metrics)
-        if status != "done" or args.metric not in m:
+        if args.metric not in m:
             continue
         if any(p.get(k) != v for k, v in fixed.items()):
             continue

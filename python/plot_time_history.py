@@ -18,17 +18,18 @@ import os
 
 import matplotlib
 
+from poundsim_results import colour
+
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-COLOURS = ["tab:blue", "tab:red", "tab:green", "tab:purple", "tab:orange"]
-
 
 def columns(path):
+    """Every column of a CSV of numbers, by name, in the file's order."""
     with open(path, newline="") as f:
         rows = list(csv.reader(f))
     header, data = rows[0], rows[1:]
-    return {name: [float(r[i]) for r in data] for i, name in enumerate(header) if name not in ("kind",)}, header
+    return {name: [float(r[i]) for r in data] for i, name in enumerate(header)}
 
 
 def main():
@@ -37,7 +38,7 @@ def main():
     parser.add_argument("--title", default="")
     args = parser.parse_args()
     summary = json.load(open(os.path.join(args.dir, "summary.json")))
-    history, header = columns(os.path.join(args.dir, "history.csv"))
+    history = columns(os.path.join(args.dir, "history.csv"))
     with open(os.path.join(args.dir, "events.csv"), newline="") as f:
         events = list(csv.DictReader(f))
     t = history["t"]
@@ -47,13 +48,13 @@ def main():
     # Response and gap forces.
     fig, (top, forces) = plt.subplots(2, 1, figsize=(8, 5.6), dpi=130, sharex=True)
     for f, frame in enumerate(frames, start=1):
-        top.plot(t, history[f"u_{f}_{frame['storeys']}"], color=COLOURS[(f - 1) % len(COLOURS)], lw=0.9,
+        top.plot(t, history[f"u_{f}_{frame['storeys']}"], color=colour(f - 1), lw=0.9,
                  label=f"frame {f}, floor {frame['storeys']}")
     top.set_ylabel("top-floor displacement [m]")
     top.legend(fontsize=7)
-    gap_columns = [h for h in header if h.startswith("F_")]
+    gap_columns = [h for h in history if h.startswith("F_")]
     for k, name in enumerate(gap_columns):
-        forces.plot(t, history[name], lw=0.8, color=COLOURS[k % len(COLOURS)], label=f"gap {name[2:].replace('_', ', floor ')}")
+        forces.plot(t, history[name], lw=0.8, color=colour(k), label=f"gap {name[2:].replace('_', ', floor ')}")
     impacts = [float(e["t"]) for e in events if e["kind"] == "impact"]
     locks = [float(e["t"]) for e in events if e["kind"] == "lock"]
     if impacts:
@@ -91,21 +92,22 @@ def main():
     # Peak profiles over height.
     floors = summary["peaks"]["floors"]
     with_ratio = all(fl.get("interstorey_drift_ratio") is not None for fl in floors)
+    if with_ratio:
+        drift_of, free_drift_of = (lambda fl: fl["interstorey_drift_ratio"]), (lambda fl: fl["free"]["interstorey_drift_ratio"])
+    else:
+        drift_of, free_drift_of = (lambda fl: fl["interstorey_drift_m"]["value"]), (lambda fl: fl["free"]["interstorey_drift_m"])
     fig, (disp, drift) = plt.subplots(1, 2, figsize=(8, 4.6), dpi=130, sharey=True)
     for f in range(1, len(frames) + 1):
         rows = sorted((fl for fl in floors if fl["frame"] == f), key=lambda fl: fl["floor"])
         levels = [fl["floor"] for fl in rows]
-        colour = COLOURS[(f - 1) % len(COLOURS)]
-        disp.plot([fl["displacement_m"]["value"] for fl in rows], levels, "-o", color=colour, label=f"frame {f}, pounding")
+        c = colour(f - 1)
+        disp.plot([fl["displacement_m"]["value"] for fl in rows], levels, "-o", color=c, label=f"frame {f}, pounding")
         if "free" in rows[0]:
-            disp.plot([fl["free"]["displacement_m"] for fl in rows], levels, "--s", color=colour, mfc="none",
+            disp.plot([fl["free"]["displacement_m"] for fl in rows], levels, "--s", color=c, mfc="none",
                       label=f"frame {f}, free")
-        key = "interstorey_drift_ratio" if with_ratio else None
-        values = [fl[key] if key else fl["interstorey_drift_m"]["value"] for fl in rows]
-        drift.plot(values, levels, "-o", color=colour)
+        drift.plot([drift_of(fl) for fl in rows], levels, "-o", color=c)
         if "free" in rows[0]:
-            free_values = [fl["free"][key] if key else fl["free"]["interstorey_drift_m"] for fl in rows]
-            drift.plot(free_values, levels, "--s", color=colour, mfc="none")
+            drift.plot([free_drift_of(fl) for fl in rows], levels, "--s", color=c, mfc="none")
     disp.set_xlabel("peak displacement [m]")
     drift.set_xlabel("peak interstorey drift ratio" if with_ratio else "peak interstorey drift [m]")
     disp.set_ylabel("floor")
