@@ -166,8 +166,7 @@ int main(int argc, char** argv) {
       fmt::print("{}", poundsim::to_text(report));
       if (!verification_file.empty()) {
         const std::filesystem::path path(verification_file);
-        poundsim::io::OutputTransaction out(path.has_parent_path() ? path.parent_path()
-                                                                   : std::filesystem::path("."));
+        poundsim::io::OutputTransaction out(poundsim::io::folder_of(path));
         out.open(path.filename().string()).text(poundsim::to_markdown(report));
         out.commit();
         fmt::print("wrote {}\n", verification_file);

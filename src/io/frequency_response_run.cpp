@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "poundsim/error.hpp"
+#include "poundsim/response_metrics.hpp"
 #include "poundsim/units.hpp"
 
 namespace poundsim::io {
@@ -25,7 +26,7 @@ FrequencyResponseOptions frequency_response_options(const RunInput& input) {
 
 void write_frf_table(OutputFile& out, const Model& model, const std::vector<FrfPoint>& points) {
   const int frames = model.frame_count();
-  const double w1 = weight(model.frames.front());
+  const double w1 = reference_weight(model);
   out.text("ratio");
   for (int f = 1; f <= frames; ++f) out.print(",V{}_W", f);
   for (int f = 1; f <= frames; ++f) out.print(",V{}_free_W", f);
@@ -59,7 +60,7 @@ nlohmann::json summarize_frequency_response(const RunInput& input, const std::ve
                                             double run_time) {
   using nlohmann::json;
   const Model& model = input.model;
-  const double w1 = weight(model.frames.front());
+  const double w1 = reference_weight(model);
   // Peaks of every curve, per branch.
   std::map<std::string, json> branches;
   for (const FrfPoint& p : points) {
@@ -113,7 +114,7 @@ nlohmann::json summarize_frequency_response(const RunInput& input, const std::ve
                  {"max_periods", f.steady.max_periods},
                  {"max_periodicity", f.steady.max_periodicity},
                  {"window_periods", f.steady.window_periods}}},
-               {"omega1_rad_s", fundamental_frequency(model.frames.front())},
+               {"omega1_rad_s", reference_frequency(model)},
                {"weight1_N", w1},
                {"frames", frames},
                {"branches", branches},

@@ -59,7 +59,6 @@ class TableReader {
   [[nodiscard]] std::string key_path(std::string_view key) const {
     return path_.empty() ? std::string(key) : path_ + "." + std::string(key);
   }
-  [[nodiscard]] const std::string& path() const { return path_; }
   [[nodiscard]] bool has(std::string_view key) const { return table_->contains(key); }
 
   [[noreturn]] void fail(std::string_view key, const std::string& message) const {
@@ -95,10 +94,7 @@ class TableReader {
     return static_cast<int>(*node.value<std::int64_t>());
   }
   std::optional<int> optional_integer(std::string_view key) {
-    if (!has(key)) {
-      used_.insert(std::string(key));
-      return std::nullopt;
-    }
+    if (!has(key)) return std::nullopt;
     return integer(key);
   }
   std::string string(std::string_view key) {
@@ -107,26 +103,20 @@ class TableReader {
     return *node.value<std::string>();
   }
   bool boolean_or(std::string_view key, bool fallback) {
-    if (!has(key)) {
-      used_.insert(std::string(key));
-      return fallback;
-    }
+    if (!has(key)) return fallback;
     const toml::node& node = require(key);
     if (!node.is_boolean()) fail(key, fmt::format("expected true or false, got a {}", type_name(node)));
     return *node.value<bool>();
   }
   std::string string_or(std::string_view key, const std::string& fallback) {
-    if (!has(key)) {
-      used_.insert(std::string(key));
-      return fallback;
-    }
+    if (!has(key)) return fallback;
     return string(key);
   }
   /// A string that must be one of `allowed`.
   std::string choice(std::string_view key, std::initializer_list<std::string_view> allowed,
                      std::optional<std::string> fallback = std::nullopt) {
     const std::string value =
-        fallback && !has(key) ? (used_.insert(std::string(key)), *fallback) : string(key);
+        fallback && !has(key) ? *fallback : string(key);
     for (const std::string_view a : allowed) {
       if (value == a) return value;
     }
@@ -177,10 +167,7 @@ class TableReader {
     return TableReader(*t, key_path(key), *origin_);
   }
   std::optional<TableReader> optional_table(std::string_view key) {
-    if (!has(key)) {
-      used_.insert(std::string(key));
-      return std::nullopt;
-    }
+    if (!has(key)) return std::nullopt;
     return table(key);
   }
   std::vector<TableReader> tables(std::string_view key) {
@@ -212,7 +199,7 @@ class TableReader {
     return v;
   }
 
-  /// Every key not read is an error. `context` explains why, when the key could be valid elsewhere.
+  /// Every key present and not read is an error. `context` explains why, when the key could be valid elsewhere.
   void finish(const std::string& context = {}) const {
     for (const auto& [key, node] : *table_) {
       if (!used_.contains(std::string(key.str()))) {
@@ -445,8 +432,6 @@ Model read_physical(TableReader& top) {
         if (!(heights[i] > 0)) f.fail("storey_height", fmt::format("storey {}: must be > 0 (got {})", i + 1, heights[i]));
       }
       frame.storey_height = heights;
-    } else {
-      f.find("storey_height");
     }
     if (has_damping) {
       broadcast("damping", damping);
@@ -504,8 +489,6 @@ Model read_physical(TableReader& top) {
       overrides.push_back(go);
       o.finish();
     }
-  } else {
-    gaps.find("override");
   }
   gaps.finish();
   return make_model(std::move(frames), defaults, overrides);
@@ -513,10 +496,7 @@ Model read_physical(TableReader& top) {
 
 void read_initial(TableReader& t, const Model& model, InitialConditions& ic) {
   const auto rows = [&](const char* key, std::vector<std::vector<double>>& out) {
-    if (!t.has(key)) {
-      t.find(key);
-      return;
-    }
+    if (!t.has(key)) return;
     out = t.number_rows(key);
     if (static_cast<int>(out.size()) != model.frame_count()) {
       t.fail(key, fmt::format("has {} rows, the model has {} frames", out.size(), model.frame_count()));
@@ -537,7 +517,7 @@ void read_excitation(TableReader& t, const Model& model, const std::filesystem::
                      const Origin& origin, RunInput& run) {
   ExcitationInfo& info = run.excitation_info;
   info.kind = t.choice("kind", {"harmonic", "record", "none"});
-  info.omega1 = fundamental_frequency(model.frames.front());
+  info.omega1 = reference_frequency(model);
   const std::string context = fmt::format("for kind = \"{}\"", info.kind);
   if (info.kind == "harmonic") {
     info.amplitude_g = t.number("amplitude_g");
@@ -560,16 +540,15 @@ void read_excitation(TableReader& t, const Model& model, const std::filesystem::
                : format == "columns" ? RecordFormat::columns
                : format == "single"  ? RecordFormat::single
                                      : RecordFormat::automatic;
-    o.units = t.has("units") ? t.choice("units", {"g", "m/s2", "cm/s2"}) : (t.find("units"), std::string());
+    o.units = t.has("units") ? t.choice("units", {"g", "m/s2", "cm/s2"}) : std::string();
     if (t.has("scale") && t.has("target_pga_g")) t.fail("target_pga_g", "give either scale or target_pga_g, not both");
     if (auto scale = t.optional_number("scale")) o.scale = *scale;
     if (auto target = t.optional_number("target_pga_g")) o.target_pga_g = t.positive("target_pga_g", *target);
     if (t.has("dt")) {
       if (format != "single") t.fail("dt", "only for format = \"single\" (the other formats carry their times)");
       o.dt = t.positive("dt", t.number("dt"));
-    } else {
-      t.find("dt");
-      if (format == "single") t.fail_table("missing key: dt (format = \"single\" has no times)");
+    } else if (format == "single") {
+      t.fail_table("missing key: dt (format = \"single\" has no times)");
     }
     if (auto column = t.optional_integer("column")) {
       if (format != "columns" && format != "auto") t.fail("column", "only for column files");
@@ -577,11 +556,8 @@ void read_excitation(TableReader& t, const Model& model, const std::filesystem::
       o.column = *column;
     }
     // An ensemble names its records in [ensemble]: a file here only comes from one of its points.
-    const bool from_ensemble = run.analysis.kind == "ensemble" || (run.study && run.study->each == "ensemble") ||
-                               (run.optimize && run.optimize->each == "ensemble");
-    if (from_ensemble && !(t.has("file") && origin.overrides.contains("excitation.file"))) {
+    if (run.ensemble && !(t.has("file") && origin.overrides.contains("excitation.file"))) {
       if (t.has("file")) t.fail("file", "an ensemble takes its records from [ensemble]");
-      t.find("file");
       info.record_units = o.units;
       t.finish(context);
       return;
@@ -631,12 +607,9 @@ void read_integration(TableReader& t, AnalysisSettings& a) {
 
 void read_time_history(TableReader& t, AnalysisSettings& a) {
   // Without a duration a record runs to its last sample (checked once the record is read).
-  a.duration = t.has("duration") ? t.positive("duration", t.number("duration")) : (t.find("duration"), 0.0);
+  a.duration = t.has("duration") ? t.positive("duration", t.number("duration")) : 0.0;
   TimeHistoryOptions& o = a.options;
-  o.dt = t.positive("dt", t.number("dt"));
-  if (a.duration > 0 && o.dt > a.duration) {
-    t.fail("dt", fmt::format("{} s is longer than the duration {} s", o.dt, a.duration));
-  }
+  o.dt = t.positive("dt", t.number("dt"));  // checked against the duration once that is known
   a.output_dt = t.number_or("output_dt", o.dt);
   const double ratio = a.output_dt / o.dt;
   if (!(a.output_dt > 0) || std::abs(ratio - std::round(ratio)) > 1e-9 * ratio || ratio < 0.5) {
@@ -657,10 +630,7 @@ int read_threads(TableReader& t, int fallback) {
 
 /// `band = [ratio_min, ratio_max]`: the ω̄/ω₁ range that an FRF objective looks at.
 void read_band(TableReader& t, const std::string& each, double& lo, double& hi) {
-  if (!t.has("band")) {
-    t.find("band");
-    return;
-  }
+  if (!t.has("band")) return;
   if (each != "frf") t.fail("band", "only for each = \"frf\"");
   const std::vector<double> band = t.numbers("band");
   if (band.size() != 2 || !(band[0] > 0) || !(band[1] > band[0])) {
@@ -712,7 +682,7 @@ FrfSettings read_frf(TableReader& t, const Model& model, const AnalysisSettings&
   if (s.window_periods < 1) t.fail("window_periods", "must be ≥ 1");
   f.threads = read_threads(t, f.threads);
   // The shortest step: the highest frequency's period over steps_per_period.
-  const double shortest = 2 * std::numbers::pi / (f.ratios.back() * fundamental_frequency(model.frames.front())) /
+  const double shortest = 2 * std::numbers::pi / (f.ratios.back() * reference_frequency(model)) /
                           s.steps_per_period;
   if (!(a.options.event_tolerance < shortest)) {
     t.fail("steps_per_period", fmt::format("gives steps of {} s at the highest frequency, not longer "
@@ -881,7 +851,6 @@ EnsembleSettings read_ensemble(TableReader& t, const std::filesystem::path& base
       if (!item.is_string()) t.fail("records", fmt::format("item {} must be a file name (string)", i + 1));
       e.records.push_back(resolve(*item.value<std::string>()));
     }
-    t.find("pattern");
     if (t.has("pattern")) t.fail("pattern", "only with folder");
   } else {
     const std::filesystem::path dir = resolve(t.string("folder"));
@@ -980,14 +949,16 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
     run.frf = read_frf(frf, run.model, run.analysis);
     run.excitation_info.kind = "harmonic";
     run.excitation_info.amplitude_g = run.frf->amplitude_g;
-    run.excitation_info.omega1 = fundamental_frequency(run.model.frames.front());
+    run.excitation_info.omega1 = reference_frequency(run.model);
     // The band of the study and optimiser metrics defaults to the whole response.
-    for (double* lo : {run.study ? &run.study->band_min : nullptr, run.optimize ? &run.optimize->band_min : nullptr}) {
-      if (lo != nullptr && lo[0] == 0.0 && lo[1] == 0.0) {
-        lo[0] = run.frf->ratios.front();
-        lo[1] = run.frf->ratios.back();
+    const auto whole_response_unless_given = [&](double& lo, double& hi) {
+      if (lo == 0.0 && hi == 0.0) {
+        lo = run.frf->ratios.front();
+        hi = run.frf->ratios.back();
       }
-    }
+    };
+    if (run.study) whole_response_unless_given(run.study->band_min, run.study->band_max);
+    if (run.optimize) whole_response_unless_given(run.optimize->band_min, run.optimize->band_max);
   }
   analysis.finish(context);
   top.finish();

@@ -39,6 +39,13 @@ nlopt::algorithm algorithm(const std::string& name, const RunInput& input, const
   return static_cast<nlopt::algorithm>(a);
 }
 
+/// The overrides that set the design variables to `x`.
+PointValues point_values(const OptimizeSettings& settings, const std::vector<double>& x) {
+  PointValues values;
+  for (std::size_t i = 0; i < x.size(); ++i) values.emplace_back(settings.variables[i].key, toml_float(x[i]));
+  return values;
+}
+
 struct Evaluation {
   std::vector<double> x;
   double objective = kRejected;
@@ -54,12 +61,8 @@ class Problem {
   double operator()(const std::vector<double>& x, const std::string& stage) {
     if (auto it = memo_.find(x); it != memo_.end()) return it->second;
     Evaluation e{x, kRejected, stage, "done", "", json()};
-    PointValues values;
-    for (std::size_t i = 0; i < x.size(); ++i) {
-      values.emplace_back(settings_.variables[i].key, toml_float(x[i]));
-    }
     try {
-      const RunInput point = read_point(input_, values);
+      const RunInput point = read_point(input_, point_values(settings_, x));
       e.metrics = point_metrics(point, settings_.threads, nullptr);
       e.objective = e.metrics[settings_.objective == "max_peak" ? "max_peak_V_W" : "max_ratio_to_free"].get<double>();
     } catch (const InputError& err) {
@@ -139,6 +142,9 @@ json run_optimization(const RunInput& input, const std::filesystem::path& out_di
     upper.push_back(v.max);
     x.push_back(v.start.value_or(0.5 * (v.min + v.max)));
   }
+  // Both algorithms are resolved first, so that a bad name is reported before any evaluation.
+  const nlopt::algorithm global_algorithm = global ? algorithm(s.global_algorithm, input, "global") : nlopt::NUM_ALGORITHMS;
+  const nlopt::algorithm local_algorithm = local ? algorithm(s.local_algorithm, input, "local") : nlopt::NUM_ALGORITHMS;
   const int budget = (global ? s.global_evaluations : 0) + (local ? s.local_evaluations : 0);
   Problem problem(input, progress, budget);
   // The starting point is evaluated first, so that a bad key is reported before any search.
@@ -149,7 +155,7 @@ json run_optimization(const RunInput& input, const std::filesystem::path& out_di
   nlopt::srand(s.seed);
   json stages = json::array();
   if (global) {
-    nlopt::opt opt(algorithm(s.global_algorithm, input, "global"), n);
+    nlopt::opt opt(global_algorithm, n);
     opt.set_lower_bounds(lower);
     opt.set_upper_bounds(upper);
     opt.set_maxeval(s.global_evaluations);
@@ -162,7 +168,7 @@ json run_optimization(const RunInput& input, const std::filesystem::path& out_di
   if (local) {
     const Evaluation* best = problem.best();
     std::vector<double> l = best != nullptr ? best->x : x;
-    nlopt::opt opt(algorithm(s.local_algorithm, input, "local"), n);
+    nlopt::opt opt(local_algorithm, n);
     opt.set_lower_bounds(lower);
     opt.set_upper_bounds(upper);
     opt.set_maxeval(s.local_evaluations);
@@ -182,17 +188,19 @@ json run_optimization(const RunInput& input, const std::filesystem::path& out_di
   for (unsigned i = 0; i < n; ++i) optimum[s.variables[i].key] = best->x[i];
   OutputTransaction out(out_dir);
   // The optimum's response against bare pounding and the free frames.
-  PointValues best_values;
-  for (unsigned i = 0; i < n; ++i) best_values.emplace_back(s.variables[i].key, toml_float(best->x[i]));
-  const RunInput best_point = read_point(input, best_values);
-  json comparison{{"optimum", best->metrics}, {"bare_pounding", baseline_metrics(best_point, s.threads)}};
+  const RunInput best_point = read_point(input, point_values(s, best->x));
+  json comparison{{"optimum", best->metrics}};
   if (s.each == "frf") {
-    const RunInput& point = best_point;
-    FrequencyResponseOptions o = frequency_response_options(point);
+    // Both responses are written out, so the bare one's metrics come from the same sweep.
+    FrequencyResponseOptions o = frequency_response_options(best_point);
     o.threads = s.threads;
-    write_frf_table(out.open("optimum_frf.csv"), point.model, frequency_response(point.model, o));
-    const Model bare = bare_pounding(point.model);
-    write_frf_table(out.open("bare_frf.csv"), bare, frequency_response(bare, o));
+    write_frf_table(out.open("optimum_frf.csv"), best_point.model, frequency_response(best_point.model, o));
+    const Model bare = bare_pounding(best_point.model);
+    const std::vector<FrfPoint> bare_response = frequency_response(bare, o);
+    write_frf_table(out.open("bare_frf.csv"), bare, bare_response);
+    comparison["bare_pounding"] = frf_metrics(bare, bare_response, s.band_min, s.band_max);
+  } else {
+    comparison["bare_pounding"] = baseline_metrics(best_point, s.threads);
   }
   OutputFile& csv = out.open("evaluations.csv");
   csv.text("evaluation,stage");

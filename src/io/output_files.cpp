@@ -67,6 +67,10 @@ OutputFile& OutputTransaction::open(const std::string& name) {
   return *entries_.back().file;
 }
 
+std::filesystem::path folder_of(const std::filesystem::path& file) {
+  return file.has_parent_path() ? file.parent_path() : std::filesystem::path(".");
+}
+
 void OutputTransaction::write_json(const std::string& name, const nlohmann::json& value) {
   OutputFile& f = open(name);
   f.text(value.dump(2));

@@ -170,13 +170,8 @@ std::string baseline_key(const RunInput& point) {
   return fnv1a(d.dump());
 }
 
-namespace {
-
-json frf_metrics(const RunInput& point, int threads, double band_min, double band_max) {
-  FrequencyResponseOptions o = frequency_response_options(point);
-  o.threads = threads;
-  const std::vector<FrfPoint> response = frequency_response(point.model, o);
-  const BandPeaks b = band_peaks(point.model, response, band_min, band_max);
+json frf_metrics(const Model& model, const std::vector<FrfPoint>& response, double band_min, double band_max) {
+  const BandPeaks b = band_peaks(model, response, band_min, band_max);
   json m{{"points", b.points}, {"non_periodic", b.non_periodic}};
   double max_peak = 0, max_ratio = 0;
   for (std::size_t f = 0; f < b.interacting.size(); ++f) {
@@ -191,6 +186,14 @@ json frf_metrics(const RunInput& point, int threads, double band_min, double ban
   m["max_peak_V_W"] = max_peak;
   m["max_ratio_to_free"] = max_ratio;
   return m;
+}
+
+namespace {
+
+json frf_metrics_of(const RunInput& point, int threads, double band_min, double band_max) {
+  FrequencyResponseOptions o = frequency_response_options(point);
+  o.threads = threads;
+  return frf_metrics(point.model, frequency_response(point.model, o), band_min, band_max);
 }
 
 json time_history_metrics(const RunInput& point) {
@@ -245,9 +248,12 @@ json time_history_metrics(const RunInput& point) {
   return m;
 }
 
-/// Mean and maximum of every numeric metric over the records: `k` holds the mean, `max_k` the
-/// largest value (so a design's peak is its mean over the ensemble, its worst case next to it).
-json aggregate(const std::vector<json>& per_record) {
+/// Mean and maximum over the records of every numeric metric.
+struct Aggregate {
+  json mean = json::object(), max = json::object();
+};
+
+Aggregate aggregate(const std::vector<json>& per_record) {
   std::map<std::string, std::pair<double, double>> sums;  // key → (sum, max)
   for (const json& r : per_record) {
     for (const auto& [k, v] : r.items()) {
@@ -257,12 +263,12 @@ json aggregate(const std::vector<json>& per_record) {
       it->second.second = std::max(it->second.second, v.get<double>());
     }
   }
-  json m{{"records", per_record.size()}};
+  Aggregate a;
   for (const auto& [k, sm] : sums) {
-    m[k] = sm.first / static_cast<double>(per_record.size());
-    m["max_" + k] = sm.second;
+    a.mean[k] = sm.first / static_cast<double>(per_record.size());
+    a.max[k] = sm.second;
   }
-  return m;
+  return a;
 }
 
 json ensemble_metrics(const RunInput& point, int threads) {
@@ -274,7 +280,12 @@ json ensemble_metrics(const RunInput& point, int threads) {
     one.model = point.model;  // the point's model as given (e.g. made bare), the record from the file
     per_record[r] = time_history_metrics(one);
   });
-  return aggregate(per_record);
+  // A point's metric `k` is its mean over the ensemble, `max_k` its worst case next to it.
+  const Aggregate a = aggregate(per_record);
+  json m{{"records", per_record.size()}};
+  for (const auto& [k, v] : a.mean.items()) m[k] = v;
+  for (const auto& [k, v] : a.max.items()) m["max_" + k] = v;
+  return m;
 }
 
 std::pair<double, double> band_of(const RunInput& point) {
@@ -288,7 +299,7 @@ std::pair<double, double> band_of(const RunInput& point) {
 json point_metrics(const RunInput& point, int threads, const json* baseline) {
   const auto [lo, hi] = band_of(point);
   const std::string each = point.each();
-  json m = each == "frf"        ? frf_metrics(point, threads, lo, hi)
+  json m = each == "frf"        ? frf_metrics_of(point, threads, lo, hi)
            : each == "ensemble" ? ensemble_metrics(point, threads)
                                 : time_history_metrics(point);
   if (baseline != nullptr) {
@@ -313,8 +324,11 @@ json baseline_metrics(const RunInput& point, int threads) {
 }
 
 namespace {
-json run_points(const RunInput& input, const std::filesystem::path& out_dir,
-                const StudyRunOptions& options, const std::string& stem);
+/// Adds to a study's summary from the rows of its whole database before it is written.
+using SummaryExtension = std::function<void(json& summary, const std::vector<StudyDatabase::Row>& rows)>;
+
+json run_points(const RunInput& input, const std::filesystem::path& out_dir, const StudyRunOptions& options,
+                const std::string& stem, const SummaryExtension& extend = {});
 }
 
 json run_study(const RunInput& input, const std::filesystem::path& out_dir,
@@ -337,47 +351,54 @@ json run_ensemble(const RunInput& input, const std::filesystem::path& out_dir,
   for (const auto& r : input.ensemble->records) records.values.push_back(json(r.string()).dump());
   study.parameters.push_back(std::move(records));
   as_study.study = study;
-  json summary = run_points(as_study, out_dir, options, "ensemble");
-
-  std::vector<json> done;
-  json per_record = json::array();
-  for (const StudyDatabase::Row& r : StudyDatabase(out_dir / "ensemble.sqlite").rows()) {
-    json entry{{"record", r.parameters.value("excitation.file", json())}, {"status", r.status}};
-    if (r.status == "done") {
-      done.push_back(r.metrics);
-      for (const char* k : {"pga_g", "max_peak_V_W", "max_ratio_to_free", "impacts", "max_impact_impulse_Ns"}) {
-        entry[k] = r.metrics.value(k, json());
+  return run_points(as_study, out_dir, options, "ensemble", [](json& summary, const std::vector<StudyDatabase::Row>& rows) {
+    std::vector<json> done;
+    json per_record = json::array();
+    for (const StudyDatabase::Row& r : rows) {
+      json entry{{"record", r.parameters.value("excitation.file", json())}, {"status", r.status}};
+      if (r.status == "done") {
+        done.push_back(r.metrics);
+        for (const char* k : {"pga_g", "max_peak_V_W", "max_ratio_to_free", "impacts", "max_impact_impulse_Ns"}) {
+          entry[k] = r.metrics.value(k, json());
+        }
+      } else {
+        entry["error"] = r.error;
       }
-    } else {
-      entry["error"] = r.error;
+      per_record.push_back(std::move(entry));
     }
-    per_record.push_back(std::move(entry));
-  }
-  summary["analysis"]["kind"] = "ensemble";
-  summary["records"] = per_record;
-  if (!done.empty()) {
-    const json all = aggregate(done);
-    json mean = json::object(), max = json::object();
-    for (const auto& [k, v] : all.items()) {
-      if (k.rfind("max_", 0) == 0 && all.contains(k.substr(4))) {
-        max[k.substr(4)] = v;
-      } else if (k != "records") {
-        mean[k] = v;
-      }
+    summary["analysis"]["kind"] = "ensemble";
+    summary["records"] = per_record;
+    if (!done.empty()) {
+      const Aggregate all = aggregate(done);
+      summary["mean"] = all.mean;
+      summary["max"] = all.max;
     }
-    summary["mean"] = mean;
-    summary["max"] = max;
-  }
-  OutputTransaction out(out_dir);
-  out.write_json("summary.json", summary);
-  out.commit();
-  return summary;
+  });
 }
 
 namespace {
 
-json run_points(const RunInput& input, const std::filesystem::path& out_dir,
-                const StudyRunOptions& options, const std::string& stem) {
+/// The points of a study as CSV: id, status, parameters, metrics, run time, error.
+void write_study_csv(OutputFile& f, const std::vector<std::string>& parameters,
+                     const std::vector<StudyDatabase::Row>& rows) {
+  std::set<std::string> metric_keys;
+  for (const auto& r : rows) {
+    for (const auto& [k, v] : r.metrics.items()) metric_keys.insert(k);
+  }
+  f.text("id,status");
+  for (const std::string& p : parameters) f.print(",{}", csv_field(p));
+  for (const std::string& k : metric_keys) f.print(",{}", k);
+  f.text(",run_time_s,error\n");
+  for (const auto& r : rows) {
+    f.print("{},{}", r.id + 1, r.status);
+    for (const std::string& p : parameters) f.print(",{}", csv_value(r.parameters.value(p, json())));
+    for (const std::string& k : metric_keys) f.print(",{}", csv_value(r.metrics.value(k, json())));
+    f.print(",{},{}\n", r.run_time, csv_field(r.error));
+  }
+}
+
+json run_points(const RunInput& input, const std::filesystem::path& out_dir, const StudyRunOptions& options,
+                const std::string& stem, const SummaryExtension& extend) {
   const StudySettings& study = *input.study;
   const auto start = std::chrono::steady_clock::now();
   const std::vector<PointValues> all = study_points(study);
@@ -402,12 +423,11 @@ json run_points(const RunInput& input, const std::filesystem::path& out_dir,
                                    values, e.what()));
     }
   }
-  std::error_code ec;
-  std::filesystem::create_directories(out_dir, ec);
-  if (ec) throw std::runtime_error(fmt::format("{}: cannot create the output folder: {}", out_dir.string(), ec.message()));
-  json definition{{"input", input.source.string()}, {"each", study.each}, {"sampling", study.sampling},
-                  {"points", all.size()}, {"parameters", json::array()}};
-  for (const StudyParameter& p : study.parameters) definition["parameters"].push_back(p.key);
+  OutputTransaction out(out_dir);  // creates the folder for the database too
+  std::vector<std::string> parameter_keys;
+  for (const StudyParameter& p : study.parameters) parameter_keys.push_back(p.key);
+  const json definition{{"input", input.source.string()}, {"each", study.each}, {"sampling", study.sampling},
+                        {"points", all.size()}, {"parameters", parameter_keys}};
   StudyDatabase db(out_dir / (stem + ".sqlite"), fingerprint(input), definition);
   const std::set<long> finished = db.finished();
 
@@ -444,7 +464,10 @@ json run_points(const RunInput& input, const std::filesystem::path& out_dir,
     const Todo& t = todo[static_cast<std::size_t>(k)];
     const auto point_start = std::chrono::steady_clock::now();
     json parameters = json::object();
-    for (const auto& [key, value] : all[static_cast<std::size_t>(t.id)]) parameters[key] = json::parse(value, nullptr, false).is_discarded() ? json(value) : json::parse(value);
+    for (const auto& [key, value] : all[static_cast<std::size_t>(t.id)]) {
+      json parsed = json::parse(value, nullptr, false);
+      parameters[key] = parsed.is_discarded() ? json(value) : std::move(parsed);
+    }
     std::string status = "done", error;
     json metrics = json::object();
     try {
@@ -481,7 +504,7 @@ json run_points(const RunInput& input, const std::filesystem::path& out_dir,
                {"title", input.title},
                {"analysis", {{"kind", "study"}, {"each", study.each}, {"sampling", study.sampling},
                              {"band", {study.band_min, study.band_max}}, {"baseline", study.baseline}}},
-               {"parameters", definition["parameters"]},
+               {"parameters", parameter_keys},
                {"points", all.size()},
                {"finished", complete + failures},
                {"failed", failures},
@@ -491,10 +514,10 @@ json run_points(const RunInput& input, const std::filesystem::path& out_dir,
                {"lowest_max_peak", best},
                {"database", (out_dir / (stem + ".sqlite")).string()},
                {"run_time_s", run_time}};
-  OutputTransaction out(out_dir);
+  if (extend) extend(summary, rows);
   out.write_json("summary.json", summary);
+  write_study_csv(out.open(stem + ".csv"), parameter_keys, rows);
   out.commit();
-  export_study(out_dir / (stem + ".sqlite"), out_dir / (stem + ".csv"));
   return summary;
 }
 
@@ -502,25 +525,10 @@ json run_points(const RunInput& input, const std::filesystem::path& out_dir,
 
 void export_study(const std::filesystem::path& database, const std::filesystem::path& csv) {
   const StudyDatabase db(database);
-  const std::vector<StudyDatabase::Row> rows = db.rows();
   std::vector<std::string> parameters;
   for (const auto& p : db.definition().value("parameters", json::array())) parameters.push_back(p.get<std::string>());
-  std::set<std::string> metric_keys;
-  for (const auto& r : rows) {
-    for (const auto& [k, v] : r.metrics.items()) metric_keys.insert(k);
-  }
-  OutputTransaction out(csv.has_parent_path() ? csv.parent_path() : std::filesystem::path("."));
-  OutputFile& f = out.open(csv.filename().string());
-  f.text("id,status");
-  for (const std::string& p : parameters) f.print(",{}", csv_field(p));
-  for (const std::string& k : metric_keys) f.print(",{}", k);
-  f.text(",run_time_s,error\n");
-  for (const auto& r : rows) {
-    f.print("{},{}", r.id + 1, r.status);
-    for (const std::string& p : parameters) f.print(",{}", csv_value(r.parameters.value(p, json())));
-    for (const std::string& k : metric_keys) f.print(",{}", csv_value(r.metrics.value(k, json())));
-    f.print(",{},{}\n", r.run_time, csv_field(r.error));
-  }
+  OutputTransaction out(folder_of(csv));
+  write_study_csv(out.open(csv.filename().string()), parameters, db.rows());
   out.commit();
 }
 

@@ -96,7 +96,7 @@ json summarize(const RunInput& input, const Simulator& sim, const ResponseStatis
   const DofLayout& layout = sim.layout();
   const ResponseStatistics& st = sim.statistics();
   const Model& model = sim.model();
-  const double weight1 = weight(model.frames.front());
+  const double weight1 = reference_weight(model);
 
   json floors = json::array();
   for (int f = 0; f < model.frame_count(); ++f) {

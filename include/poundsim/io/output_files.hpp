@@ -44,6 +44,9 @@ class OutputFile {
   fmt::memory_buffer buffer_;
 };
 
+/// The folder that `file` is written in: its parent, or the current folder for a bare name.
+[[nodiscard]] std::filesystem::path folder_of(const std::filesystem::path& file);
+
 class OutputTransaction {
  public:
   /// Creates `folder` if needed. Throws std::runtime_error when it cannot.
@@ -58,8 +61,6 @@ class OutputTransaction {
   void write_json(const std::string& name, const nlohmann::json& value);
   /// Closes every file and renames it into place.
   void commit();
-
-  [[nodiscard]] const std::filesystem::path& folder() const { return folder_; }
 
  private:
   struct Entry {

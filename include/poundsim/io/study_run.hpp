@@ -39,6 +39,11 @@ std::string baseline_key(const RunInput& point);
 /// metrics (or null). `threads` for a frequency response's points.
 nlohmann::json point_metrics(const RunInput& point, int threads, const nlohmann::json* baseline);
 
+/// Figures of merit of a frequency response of `model` over the band of ratios [band_min, band_max]
+/// (docs/studies.md): band peaks of each frame with and without interaction, and their ratios.
+nlohmann::json frf_metrics(const Model& model, const std::vector<FrfPoint>& response, double band_min,
+                           double band_max);
+
 /// The bare-pounding version of a point (k = c = ε = 0 in every gap element), its metrics.
 nlohmann::json baseline_metrics(const RunInput& point, int threads);
 
