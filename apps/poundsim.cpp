@@ -137,7 +137,7 @@ int main(int argc, char** argv) {
   run->add_flag("--quiet,-q", quiet, "Print nothing on success");
   long max_points = 0;
   run->add_option("--max-points", max_points,
-                  "Study: run at most this many new points, then stop (run again to go on)")
+                  "Study or ensemble: run at most this many new points, then stop (run again to go on)")
       ->check(CLI::PositiveNumber);
 
   std::string database, export_file;
@@ -179,9 +179,15 @@ int main(int argc, char** argv) {
       return 0;
     }
     const poundsim::io::RunInput input = poundsim::io::read_input(model_file, overrides);
+    const bool study = input.analysis.kind == "study" || input.analysis.kind == "ensemble";
+    if (max_points > 0 && !study) {
+      throw poundsim::InputError(
+          fmt::format("--max-points applies to studies and ensembles only, not to analysis.kind = \"{}\"",
+                      input.analysis.kind));
+    }
     ProgressBar bar(!quiet && ::isatty(STDERR_FILENO) != 0);
     const auto progress = [&bar](int done, int total) { bar.update(done, total); };
-    if (input.analysis.kind == "study" || input.analysis.kind == "ensemble") {
+    if (study) {
       poundsim::io::StudyRunOptions options;
       if (max_points > 0) options.max_points = max_points;
       options.progress = progress;
@@ -197,9 +203,6 @@ int main(int argc, char** argv) {
       bar.finish();
       if (!quiet) print_optimization_report(summary, out_dir);
       return 0;
-    }
-    if (max_points > 0) {
-      throw poundsim::InputError("--max-points applies to studies (analysis.kind = \"study\") only");
     }
     if (input.analysis.kind == "frf") {
       const nlohmann::json summary = poundsim::io::run_frequency_response(input, out_dir, progress);

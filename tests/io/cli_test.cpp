@@ -130,6 +130,13 @@ TEST_F(Cli, BadInputExitsWithCodeTwoAndWritesNothing) {
                                  "model.dimensionless.restitution: must be in [0, 1] (got 2)"),
             std::string::npos)
       << override.output;
+  // --max-points limits the points of a study or an ensemble; anywhere else it is an error, not ignored.
+  for (const char* other : {"fig2c_ratio0.8.toml", "optimize_gap_elements.toml"}) {
+    const Result limited = run("run " + example(other) + " --out " + out.string() + " --max-points 3");
+    EXPECT_EQ(limited.code, 2) << other;
+    EXPECT_NE(limited.output.find("--max-points applies to studies and ensembles only"), std::string::npos)
+        << limited.output;
+  }
   const Result missing = run("run " + (dir_ / "nothing.toml").string() + " --out " + out.string());
   EXPECT_EQ(missing.code, 2);
   EXPECT_NE(missing.output.find("nothing.toml: cannot open the model file"), std::string::npos);
