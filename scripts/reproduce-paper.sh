@@ -53,9 +53,10 @@ t3=$(now)
 if $docs; then
   /usr/bin/python3 "$root/python/paper_report.py" "$out" "$root/docs"
 fi
-awk -v a="$t0" -v b="$t1" -v c="$t2" -v d="$t3" -v n="$(nproc)" -v out="$out" 'BEGIN {
+points=$(($(wc -l < "$out/fig${figures[0]}.csv") - 1))
+awk -v a="$t0" -v b="$t1" -v c="$t2" -v d="$t3" -v n="$(nproc)" -v out="$out" -v k="${#figures[@]}" -v p="$points" 'BEGIN {
   printf "reproduced Figs. 2a–4b in %s/\n", out
-  printf "  7 frequency responses from rest (71 points each, interacting and free): %.2f s on %d cores\n", b - a, n
-  printf "  7 two-way sweeps (2 × 71 points each): %.2f s\n", c - b
-  printf "  7 figures drawn: %.2f s\n", d - c
+  printf "  %d frequency responses from rest (%d points each, interacting and free): %.2f s on %d cores\n", k, p, b - a, n
+  printf "  %d two-way sweeps (2 × %d points each): %.2f s\n", k, p, c - b
+  printf "  %d figures drawn: %.2f s\n", k, d - c
 }'
