@@ -35,20 +35,25 @@ ExactPhase::ExactPhase(const LinearPhase& phase) : n_(phase.reduced_size()) {
     modal_ = v_lu_.rcond() > kMinModeConditioning;
     spectral_radius_ = lambda_.cwiseAbs().maxCoeff();
   }
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(a_);
-  norm_ = svd.singularValues()(0);
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> sym(0.5 * (a_ + a_.transpose()),
-                                                           Eigen::EigenvaluesOnly);
-  log_norm_ = sym.eigenvalues().maxCoeff();
-  if (!modal_) spectral_radius_ = norm_;
+  if (!modal_) {
+    // Only the matrix-exponential path bounds e^{As} by norms (the modal path bounds each mode
+    // by its eigenvalue), and without eigenvalues ‖A‖₂ ≥ max |λ| stands for the fastest rate.
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(a_);
+    norm_ = svd.singularValues()(0);
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> sym(0.5 * (a_ + a_.transpose()),
+                                                             Eigen::EigenvaluesOnly);
+    log_norm_ = sym.eigenvalues().maxCoeff();
+    spectral_radius_ = norm_;
+  }
 }
 
 Eigen::VectorXcd ExactPhase::modal_coordinates(const Eigen::VectorXd& r) const {
   return v_lu_.solve(r.cast<std::complex<double>>());
 }
 
-Eigen::VectorXcd ExactPhase::harmonic_response(double omega) const {
+const Eigen::VectorXcd& ExactPhase::harmonic_response(double omega) const {
   using Complex = std::complex<double>;
+  if (omega == harmonic_omega_) return harmonic_response_;
   Eigen::MatrixXcd m = -a_.cast<Complex>();
   m.diagonal().array() += Complex(0.0, omega);
   const Eigen::PartialPivLU<Eigen::MatrixXcd> lu(m);
@@ -60,7 +65,9 @@ Eigen::VectorXcd ExactPhase::harmonic_response(double omega) const {
   }
   Eigen::VectorXcd e = Eigen::VectorXcd::Zero(2 * n_);
   e.tail(n_).setConstant(-1.0);
-  return lu.solve(e);
+  harmonic_response_ = lu.solve(e);
+  harmonic_omega_ = omega;
+  return harmonic_response_;
 }
 
 void ExactTrajectory::start(const ExactPhase& phase, const Eigen::VectorXd& mass,

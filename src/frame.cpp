@@ -1,9 +1,11 @@
 #include "poundsim/frame.hpp"
 
 #include <cmath>
+#include <complex>
 #include <stdexcept>
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <fmt/format.h>
 
 #include "poundsim/units.hpp"
@@ -76,6 +78,15 @@ double weight(const Frame& frame) {
 
 Eigen::MatrixXd stiffness_matrix(const Frame& frame) { return chain_matrix(frame.stiffness); }
 Eigen::MatrixXd damping_matrix(const Frame& frame) { return chain_matrix(frame.damping); }
+
+Eigen::VectorXcd harmonic_amplitudes(const Frame& frame, double amplitude, double omega) {
+  using Complex = std::complex<double>;
+  const Eigen::VectorXd m = Eigen::Map<const Eigen::VectorXd>(frame.mass.data(), frame.storeys());
+  const Eigen::MatrixXcd dynamic = stiffness_matrix(frame).cast<Complex>() -
+                                   Eigen::MatrixXcd((omega * omega * m).asDiagonal()) +
+                                   Complex(0, omega) * damping_matrix(frame).cast<Complex>();
+  return dynamic.partialPivLu().solve((-amplitude * m).cast<Complex>());
+}
 
 Eigen::VectorXd natural_frequencies(const Frame& frame) {
   validate(frame);

@@ -45,15 +45,10 @@ FrameAmplitudes free_response(const Model& model, double amplitude, double omega
   using Complex = std::complex<double>;
   FrameAmplitudes out;
   for (const Frame& f : model.frames) {
-    const Eigen::Index n = f.storeys();
-    const Eigen::VectorXd m = Eigen::Map<const Eigen::VectorXd>(f.mass.data(), n);
-    const Eigen::MatrixXcd dynamic = stiffness_matrix(f).cast<Complex>() -
-                                     Eigen::MatrixXcd((omega * omega * m).asDiagonal()) +
-                                     Complex(0, omega) * damping_matrix(f).cast<Complex>();
-    const Eigen::VectorXcd u = dynamic.partialPivLu().solve((-amplitude * m).cast<Complex>());
+    const Eigen::VectorXcd u = harmonic_amplitudes(f, amplitude, omega);
     out.base_shear.push_back(f.stiffness[0] * std::abs(u(0)));
     out.storey_shear.push_back(std::abs(Complex(f.stiffness[0], omega * f.damping[0]) * u(0)));
-    out.top_displacement.push_back(std::abs(u(n - 1)));
+    out.top_displacement.push_back(std::abs(u(f.storeys() - 1)));
   }
   return out;
 }
@@ -111,9 +106,6 @@ class PoincareSection {
     return worst;
   }
 
- public:
-
- private:
   struct Sample {
     Eigen::VectorXd y;
     ContactConfiguration config;
@@ -124,12 +116,11 @@ class PoincareSection {
   std::deque<Sample> samples_;
 };
 
-}  // namespace
-
-FrfPoint steady_state_point(const Model& model, double amplitude, double ratio,
-                            const SteadyStateOptions& steady, const TimeHistoryOptions& options,
-                            std::unique_ptr<Simulator>& sim) {
-  const double omega = ratio * reference_frequency(model);
+/// steady_state_point() with ω₁ = reference_frequency(model) given, so that a sweep finds it once.
+FrfPoint steady_state_point_at(const Model& model, double omega1, double amplitude, double ratio,
+                               const SteadyStateOptions& steady, const TimeHistoryOptions& options,
+                               std::unique_ptr<Simulator>& sim) {
+  const double omega = ratio * omega1;
   const double period = 2 * std::numbers::pi / omega;
   const double dt = period / steady.steps_per_period;
   const HarmonicExcitation forcing{amplitude, omega};
@@ -172,6 +163,15 @@ FrfPoint steady_state_point(const Model& model, double amplitude, double ratio,
   return point;
 }
 
+}  // namespace
+
+FrfPoint steady_state_point(const Model& model, double amplitude, double ratio,
+                            const SteadyStateOptions& steady, const TimeHistoryOptions& options,
+                            std::unique_ptr<Simulator>& sim) {
+  return steady_state_point_at(model, reference_frequency(model), amplitude, ratio, steady, options,
+                               sim);
+}
+
 std::vector<FrfPoint> frequency_response(const Model& model, const FrequencyResponseOptions& options) {
   options.steady.validate();
   if (options.ratios.empty()) throw std::invalid_argument("no frequency ratios");
@@ -179,12 +179,12 @@ std::vector<FrfPoint> frequency_response(const Model& model, const FrequencyResp
     if (!(r > 0) || !std::isfinite(r)) throw std::invalid_argument(fmt::format("frequency ratio {} must be > 0", r));
   }
   validate(model);
+  const double omega1 = reference_frequency(model);
 
   std::vector<double> ascending = options.ratios;
   std::sort(ascending.begin(), ascending.end());
-  const int n = static_cast<int>(ascending.size());
 
-  // Tasks: one per point from rest, or one per sweep direction.
+  // Tasks: one per point from rest (each with a simulator of its own), or one per sweep direction.
   struct Task {
     SweepMode branch;
     std::vector<double> ratios;
@@ -200,16 +200,17 @@ std::vector<FrfPoint> frequency_response(const Model& model, const FrequencyResp
       tasks.push_back({SweepMode::down, std::vector<double>(ascending.rbegin(), ascending.rend())});
     }
   }
-  const int total = options.sweep == SweepMode::from_rest ? n : n * static_cast<int>(tasks.size());
+  int total = 0;
+  for (const Task& task : tasks) total += static_cast<int>(task.ratios.size());
   std::vector<std::vector<FrfPoint>> results(tasks.size());
   std::atomic<int> done{0};
   parallel_for(static_cast<int>(tasks.size()), options.threads, [&](int t) {
+    const Task& task = tasks[static_cast<std::size_t>(t)];
     std::unique_ptr<Simulator> sim;
-    for (const double r : tasks[static_cast<std::size_t>(t)].ratios) {
-      if (tasks[static_cast<std::size_t>(t)].branch == SweepMode::from_rest) sim.reset();
-      FrfPoint p = steady_state_point(model, options.amplitude, r, options.steady,
-                                      options.time_history, sim);
-      p.branch = tasks[static_cast<std::size_t>(t)].branch;
+    for (const double r : task.ratios) {
+      FrfPoint p = steady_state_point_at(model, omega1, options.amplitude, r, options.steady,
+                                         options.time_history, sim);
+      p.branch = task.branch;
       results[static_cast<std::size_t>(t)].push_back(std::move(p));
       const int count = ++done;
       if (options.progress) options.progress(count, total);

@@ -28,7 +28,6 @@ void GuardExpansion::build(const ExactTrajectory& trajectory, const Eigen::Matri
   const ExactPhase& phase = trajectory.phase();
   const Eigen::Index g = rows.rows();
   remembered_.assign(static_cast<std::size_t>(g), {});
-  start_.resize(0);
   active_.assign(static_cast<std::size_t>(g), false);
   Eigen::VectorXd x0, x0_rate;
   trajectory.evaluate(0.0, x0, x0_rate);
@@ -49,14 +48,10 @@ void GuardExpansion::build(const ExactTrajectory& trajectory, const Eigen::Matri
     rows_ = rows;
     row_norm_ = rows.rowwise().norm();
   }
-  // Make each expansion reproduce its start value as closely as round-off allows; at s = 0 it
-  // returns the start value itself, so a guard that starts a segment exactly at zero (just
-  // biased after an impact) cannot fire again at once through the last bit of a sum.
+  // At s = 0 each expansion returns the start value itself rather than its sum (which differs
+  // from it by round-off), so a guard that starts a segment exactly at zero (just biased after an
+  // impact) cannot fire again at once through the last bit of a sum.
   start_ = Eigen::Map<const Eigen::VectorXd>(at_start.data(), g);
-  for (Eigen::Index j = 0; j < g; ++j) {
-    if (!active_[static_cast<std::size_t>(j)]) continue;
-    constant_(j) += start_(j) - compute(static_cast<int>(j), 0.0).first;
-  }
   // Each value is a sum of terms much larger than itself near a root; its round-off is a few ulps
   // of their sizes. Shift every guard down by that much, so that only a crossing the sum can
   // resolve counts (a pair just bounced off the stop must not "cross" again in the noise of its
@@ -89,7 +84,6 @@ std::pair<double, double> GuardExpansion::value_and_rate(int j, double s) const 
 
 std::pair<double, double> GuardExpansion::compute(int j, double s) const {
   const ExactTrajectory& tr = *trajectory_;
-  const bool at_start = s == 0.0 && start_.size() > 0;
   const double decay = std::exp(-memory_rate_(j) * s);
   double g = constant_(j) + slope_(j) * s - memory_(j) * decay;
   double d = slope_(j) + memory_(j) * memory_rate_(j) * decay;
@@ -115,7 +109,7 @@ std::pair<double, double> GuardExpansion::compute(int j, double s) const {
     g += rows_.row(j).dot(h);
     d += rows_.row(j).dot(h_rate);
   }
-  return {at_start ? start_(j) : g, d};
+  return {s == 0.0 ? start_(j) : g, d};
 }
 
 double GuardExpansion::derivative_bound(int j, int order, double a, double b) const {

@@ -48,6 +48,10 @@ TEST(ExactPhase, CriticallyDampedModeUsesTheMatrixExponential) {
   const LinearPhase phase(model, layout, {}, 1e-3);
   const ExactPhase exact(phase);
   EXPECT_FALSE(exact.modal());
+  // The norms that bound e^{As} on this path are computed for it.
+  EXPECT_GE(exact.norm(), w);
+  EXPECT_LE(exact.log_norm(), exact.norm());
+  EXPECT_EQ(exact.spectral_radius(), exact.norm());
   InitialConditions ic;
   ic.displacement = {{u0}};
   ic.velocity = {{v0}};
@@ -100,6 +104,27 @@ TEST(ExactPhase, PiecewiseLinearRecordRestartsAtEverySample) {
 
 // The steady state under harmonic forcing with complex modes is checked against the closed form
 // by Verification.ExactSteadyStateMatchesTheClosedForm (the same check `poundsim verify` prints).
+
+TEST(ExactPhase, HarmonicResponseSolvesItsSystemForEachFrequency) {
+  // (iωI − A) h = e, with the last h remembered: asking again after another ω gives it back.
+  const Model model = make_model({make_uniform_frame(2, 1.0, 100.0, 0.5)}, GapProperties{});
+  const DofLayout layout(model);
+  const ExactPhase exact{LinearPhase(model, layout, {}, 1e-3)};
+  const Eigen::Index n = exact.groups();
+  Eigen::VectorXcd e = Eigen::VectorXcd::Zero(2 * n);
+  e.tail(n).setConstant(-1.0);
+  const auto residual = [&](double omega, const Eigen::VectorXcd& h) {
+    Eigen::MatrixXcd m = -exact.matrix().cast<std::complex<double>>();
+    m.diagonal().array() += std::complex<double>(0.0, omega);
+    return (m * h - e).norm();
+  };
+  const Eigen::VectorXcd first = exact.harmonic_response(3.0);
+  const Eigen::VectorXcd second = exact.harmonic_response(7.0);
+  EXPECT_LT(residual(3.0, first), 1e-12);
+  EXPECT_LT(residual(7.0, second), 1e-12);
+  EXPECT_GT((first - second).norm(), 1e-3);
+  EXPECT_EQ(exact.harmonic_response(3.0), first);
+}
 
 TEST(ExactPhase, UndampedForcingAtResonanceIsRejected) {
   const Model model = make_model({make_uniform_frame(1, 1.0, 100.0, 0.0)}, GapProperties{});

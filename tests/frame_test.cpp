@@ -1,6 +1,7 @@
 #include "poundsim/frame.hpp"
 
 #include <cmath>
+#include <complex>
 #include <numbers>
 
 #include <gtest/gtest.h>
@@ -23,6 +24,15 @@ TEST(Frame, UniformChainFrequenciesMatchClosedForm) {
     const double exact = 2 * lambda * std::sin((2 * r - 1) * std::numbers::pi / (2 * (2 * n + 1)));
     EXPECT_NEAR(w(r - 1), exact, 1e-10 * exact) << "mode " << r;
   }
+}
+
+TEST(Frame, HarmonicAmplitudesOfASingleStoreyAreTheClosedForm) {
+  // m ü + c u̇ + k u = −m A sin ω̄t: u = Im(U e^{iω̄t}), U = −m A / (k − ω̄² m + iω̄c).
+  const double m = 2.0, k = 800.0, c = 4.0, a = 1.5, w = 17.0;
+  const Eigen::VectorXcd u = harmonic_amplitudes(make_uniform_frame(1, m, k, c), a, w);
+  ASSERT_EQ(u.size(), 1);
+  const std::complex<double> exact = -m * a / std::complex<double>(k - w * w * m, w * c);
+  EXPECT_NEAR(std::abs(u(0) - exact), 0.0, 1e-14 * std::abs(exact));
 }
 
 TEST(Frame, WeightIsGravityTimesTheTotalMass) {

@@ -25,6 +25,7 @@
 /// particular solution and is rejected.
 
 #include <complex>
+#include <limits>
 #include <memory>
 
 #include <Eigen/Core>
@@ -37,11 +38,11 @@ namespace poundsim {
 
 class ExactPhase {
  public:
-  /// Builds A and its decomposition. Throws SimulationError when A cannot be decomposed.
+  /// Builds A and its eigen-decomposition; when that fails or its modes are ill-conditioned, the
+  /// phase uses the matrix exponential instead (modal() is false).
   explicit ExactPhase(const LinearPhase& phase);
 
   [[nodiscard]] Eigen::Index groups() const { return n_; }
-  [[nodiscard]] Eigen::Index states() const { return 2 * n_; }
   [[nodiscard]] const Eigen::MatrixXd& matrix() const { return a_; }
   /// True when the eigen-decomposition is used (well-conditioned modes).
   [[nodiscard]] bool modal() const { return modal_; }
@@ -54,10 +55,15 @@ class ExactPhase {
   /// A⁻¹ e.
   [[nodiscard]] const Eigen::VectorXd& ground_response() const { return a_inv_e_; }
   /// h with (iωI − A) h = e. Throws SimulationError at an undamped natural frequency.
-  [[nodiscard]] Eigen::VectorXcd harmonic_response(double omega) const;
-  /// max |λ| [1/s]: the fastest rate of the phase.
+  ///
+  /// Every segment of a harmonic excitation starts with the same ω, so the last h is kept and
+  /// returned again for the same ω (valid until the next call with another ω). Because of that
+  /// cache, one ExactPhase must not be used by several threads at once.
+  [[nodiscard]] const Eigen::VectorXcd& harmonic_response(double omega) const;
+  /// max |λ| [1/s]: the fastest rate of the phase (‖A‖₂, an upper bound, when not modal()).
   [[nodiscard]] double spectral_radius() const { return spectral_radius_; }
-  /// ‖A‖₂ and the logarithmic norm μ₂(A) (bounds for the matrix-exponential path).
+  /// ‖A‖₂ and the logarithmic norm μ₂(A): bounds for the matrix-exponential path, computed only
+  /// for it (NaN when modal()).
   [[nodiscard]] double norm() const { return norm_; }
   [[nodiscard]] double log_norm() const { return log_norm_; }
 
@@ -70,7 +76,11 @@ class ExactPhase {
   Eigen::VectorXcd lambda_;
   Eigen::MatrixXcd v_;
   Eigen::PartialPivLU<Eigen::MatrixXcd> v_lu_;
-  double spectral_radius_ = 0.0, norm_ = 0.0, log_norm_ = 0.0;
+  double spectral_radius_ = 0.0;
+  double norm_ = std::numeric_limits<double>::quiet_NaN();
+  double log_norm_ = std::numeric_limits<double>::quiet_NaN();
+  mutable double harmonic_omega_ = std::numeric_limits<double>::quiet_NaN();
+  mutable Eigen::VectorXcd harmonic_response_;
 };
 
 /// The exact trajectory of a phase from (t₀, x₀) while one forcing piece holds.

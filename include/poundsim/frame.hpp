@@ -47,6 +47,10 @@ Eigen::MatrixXd stiffness_matrix(const Frame& frame);
 /// Tridiagonal damping matrix of the frame alone on a fixed base [N·s/m].
 Eigen::MatrixXd damping_matrix(const Frame& frame);
 
+/// Complex amplitudes U of the floors of the frame alone in steady state under the base
+/// acceleration a_g = A sin(ω̄t): u(t) = Im(U e^{iω̄t}) with (K − ω̄²M + iω̄C) U = −M 1 A.
+Eigen::VectorXcd harmonic_amplitudes(const Frame& frame, double amplitude, double omega);
+
 /// Undamped natural circular frequencies [rad/s] of the frame alone on a fixed base, ascending.
 Eigen::VectorXd natural_frequencies(const Frame& frame);
 

@@ -83,8 +83,9 @@ struct FrfPoint {
 /// Closed-form steady-state amplitudes of every frame alone (no gap elements).
 [[nodiscard]] FrameAmplitudes free_response(const Model& model, double amplitude, double omega);
 
-/// One point: the steady state reached from `start` (or from rest when null), which is then left
-/// at that steady state (at a Poincaré section) for the next point of a sweep.
+/// One point: the steady state reached from the state of `sim` (or from rest when null, in which
+/// case `sim` is created), which is then left at that steady state (at a Poincaré section) for the
+/// next point of a sweep.
 FrfPoint steady_state_point(const Model& model, double amplitude, double ratio,
                             const SteadyStateOptions& steady, const TimeHistoryOptions& options,
                             std::unique_ptr<Simulator>& sim);

@@ -39,11 +39,9 @@ class GuardExpansion {
 
   [[nodiscard]] int size() const { return static_cast<int>(constant_.size()); }
   [[nodiscard]] bool active(int j) const { return active_[static_cast<std::size_t>(j)]; }
-  /// g_j(s) and dg_j/ds.
-  [[nodiscard]] double value(int j, double s) const { return value_and_rate(j, s).first; }
-  [[nodiscard]] double rate(int j, double s) const { return value_and_rate(j, s).second; }
-  /// Both at once; the last two points asked of each guard are remembered, since the search of
-  /// consecutive intervals starts where the previous one ended.
+  /// g_j(s) and dg_j/ds. At s = 0 the value is the start value (less the round-off margin every
+  /// guard is shifted down by), not the sum. The last two points asked of each guard are
+  /// remembered, since the search of consecutive intervals starts where the previous one ended.
   [[nodiscard]] std::pair<double, double> value_and_rate(int j, double s) const;
   /// An upper bound of |dᵐg_j/dsᵐ| over [a, b], m ≥ 1.
   [[nodiscard]] double derivative_bound(int j, int order, double a, double b) const;
