@@ -5,7 +5,8 @@
 
 namespace poundsim {
 
-EnergyMeter::EnergyMeter(const Model& model, const DofLayout& layout) : model_(&model) {
+EnergyMeter::EnergyMeter(const Model& model, const DofLayout& layout)
+    : model_(&model), layout_(&layout) {
   const int n = layout.size();
   mass_.resize(n);
   storey_k_.resize(n);
@@ -18,10 +19,6 @@ EnergyMeter::EnergyMeter(const Model& model, const DofLayout& layout) : model_(&
     storey_k_(i) = f.stiffness[floor];
     storey_c_(i) = f.damping[floor];
     below_[i] = layout.below(i);
-  }
-  for (const GapElement& g : model.gaps) {
-    gap_left_.push_back(layout.dof(g.left_frame, g.floor));
-    gap_right_.push_back(layout.dof(g.left_frame + 1, g.floor));
   }
 }
 
@@ -46,7 +43,7 @@ void EnergyMeter::update_stored(const KinematicState& x, const ContactConfigurat
       const double se = memory[p].free_end_shortening(x.t, g.stiffness, g.damping);
       gap += g.stiffness * se * se;
     } else {
-      const double s = shortening(g, x.u(gap_left_[p]), x.u(gap_right_[p]));
+      const double s = shortening(g, x.u(layout_->gap_left(p)), x.u(layout_->gap_right(p)));
       gap += g.stiffness * s * s;
     }
   }
@@ -77,7 +74,7 @@ void EnergyMeter::step(const KinematicState& x0, const KinematicState& x1,
   double gap = 0.0;
   for (std::size_t p = 0; p < config.size(); ++p) {
     if (config[p] == GapMode::open) continue;
-    const int l = gap_left_[p], r = gap_right_[p];
+    const int l = layout_->gap_left(p), r = layout_->gap_right(p);
     const double rate = 0.5 * (x0.v(l) + x1.v(l) - x0.v(r) - x1.v(r));
     gap += model_->gaps[p].properties.damping * rate * rate;
   }
@@ -97,7 +94,7 @@ EnergyMeter::Powers EnergyMeter::powers(const KinematicState& x,
   }
   for (std::size_t e = 0; e < config.size(); ++e) {
     if (config[e] == GapMode::open) continue;
-    const double rate = x.v(gap_left_[e]) - x.v(gap_right_[e]);
+    const double rate = x.v(layout_->gap_left(e)) - x.v(layout_->gap_right(e));
     p.gap_damping += model_->gaps[e].properties.damping * rate * rate;
   }
   return p;

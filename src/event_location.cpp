@@ -11,11 +11,11 @@
 
 namespace poundsim {
 
-namespace {
-bool any_fired(std::span<const double> g) {
-  return std::any_of(g.begin(), g.end(), [](double x) { return x > 0.0; });
+bool any_fired(std::span<const double> guards) {
+  return std::any_of(guards.begin(), guards.end(), [](double g) { return g > 0.0; });
 }
 
+namespace {
 void copy(const GuardSample& from, GuardSample& to) {
   std::copy(from.value.begin(), from.value.end(), to.value.begin());
   std::copy(from.rate.begin(), from.rate.end(), to.rate.begin());

@@ -42,8 +42,7 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
   for (int p = 0; p < model.gap_count(); ++p) {
     if (configuration_[p] == GapMode::open) continue;
     const GapElement& g = model.gaps[p];
-    const int left = layout.dof(g.left_frame, g.floor);
-    const int right = layout.dof(g.left_frame + 1, g.floor);
+    const int left = layout.gap_left(p), right = layout.gap_right(p);
     add_link(k_triplets, left, right, g.properties.stiffness);
     add_link(c_triplets, left, right, g.properties.damping);
     load_full_(left) += g.properties.stiffness * g.properties.gap;
@@ -60,10 +59,7 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
   for (int i = 0; i < n; ++i) leader[i] = i;
   for (int p = 0; p < model.gap_count(); ++p) {
     if (configuration_[p] != GapMode::locked) continue;
-    const GapElement& g = model.gaps[p];
-    const int left = layout.dof(g.left_frame, g.floor);
-    const int right = layout.dof(g.left_frame + 1, g.floor);
-    leader[right] = leader[left];
+    leader[layout.gap_right(p)] = leader[layout.gap_left(p)];
     unreduced_ = false;
   }
   group_of_.assign(static_cast<std::size_t>(n), -1);
@@ -97,7 +93,7 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
     for (int p = 0; p < model.gap_count(); ++p) {
       nominal[p] = model.gaps[p].properties.gap + model.gaps[p].properties.shortening;
     }
-    set_link_lengths(model, layout, nominal);
+    set_link_lengths(layout, nominal);
   }
 
   // Effective-matrix pattern: the union of K_r, C_r and the diagonal, upper triangle.
@@ -136,15 +132,12 @@ const LinearPhase::Solver& LinearPhase::step_solver() const {
   return step_solver_;
 }
 
-void LinearPhase::set_link_lengths(const Model& model, const DofLayout& layout,
-                                   std::span<const double> length) {
+void LinearPhase::set_link_lengths(const DofLayout& layout, std::span<const double> length) {
   if (unreduced_) return;
   offset_.setZero();
-  for (int p = 0; p < model.gap_count(); ++p) {
+  for (std::size_t p = 0; p < configuration_.size(); ++p) {
     if (configuration_[p] != GapMode::locked) continue;
-    const GapElement& g = model.gaps[p];
-    offset_(layout.dof(g.left_frame + 1, g.floor)) =
-        offset_(layout.dof(g.left_frame, g.floor)) - length[p];
+    offset_(layout.gap_right(p)) = offset_(layout.gap_left(p)) - length[p];
   }
   load_work_ = load_full_;
   load_work_.noalias() -= stiffness_full_ * offset_;
@@ -166,7 +159,8 @@ const LinearPhase::Solver& LinearPhase::substep_solver(double tau) const {
   return substep_solver_;
 }
 
-void LinearPhase::gather(const Eigen::VectorXd& full, Eigen::VectorXd& reduced) const {
+void LinearPhase::gather(const Eigen::Ref<const Eigen::VectorXd>& full,
+                         Eigen::Ref<Eigen::VectorXd> reduced) const {
   if (unreduced_) {
     reduced = full;
     return;
@@ -176,8 +170,8 @@ void LinearPhase::gather(const Eigen::VectorXd& full, Eigen::VectorXd& reduced) 
   }
 }
 
-void LinearPhase::scatter(const Eigen::VectorXd& reduced, Eigen::VectorXd& full,
-                          bool add_offset) const {
+void LinearPhase::scatter(const Eigen::Ref<const Eigen::VectorXd>& reduced,
+                          Eigen::Ref<Eigen::VectorXd> full, bool add_offset) const {
   if (unreduced_) {
     full = reduced;
     return;

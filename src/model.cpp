@@ -68,6 +68,10 @@ DofLayout::DofLayout(const Model& model) {
       }
     }
   }
+  for (const GapElement& g : model.gaps) {
+    gap_left_.push_back(dof_.at(g.left_frame).at(g.floor));
+    gap_right_.push_back(dof_.at(g.left_frame + 1).at(g.floor));
+  }
 }
 
 }  // namespace poundsim

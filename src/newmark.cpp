@@ -12,19 +12,9 @@ void NewmarkIntegrator::step(const LinearPhase& phase, const LinearPhase::Solver
   // Work in the reduced coordinates; buffers are sized for the full system and used in part.
   auto q = q_.head(nr), qd = qd_.head(nr), qdd = qdd_.head(nr), w1 = w1_.head(nr),
        w2 = w2_.head(nr), rhs = rhs_.head(nr), qdd_new = qdd_new_.head(nr);
-  if (phase.is_unreduced()) {
-    q = from.u;
-    qd = from.v;
-    qdd = from.a;
-  } else {
-    const auto rep = phase.representative();
-    for (Eigen::Index r = 0; r < nr; ++r) {
-      const int i = rep[static_cast<std::size_t>(r)];
-      q(r) = from.u(i);
-      qd(r) = from.v(i);
-      qdd(r) = from.a(i);
-    }
-  }
+  phase.gather(from.u, q);
+  phase.gather(from.v, qd);
+  phase.gather(from.a, qdd);
 
   const double half = 0.5 * tau, quarter_sq = 0.25 * tau * tau;
   w1 = qd + half * qdd;
@@ -56,8 +46,8 @@ void NewmarkIntegrator::equilibrate(const LinearPhase& phase, double ground,
                                     KinematicState& state) {
   const Eigen::Index nr = phase.reduced_size();
   auto q = q_.head(nr), qd = qd_.head(nr), rhs = rhs_.head(nr);
-  phase.gather(state.u, q_);
-  phase.gather(state.v, qd_);
+  phase.gather(state.u, q);
+  phase.gather(state.v, qd);
   rhs = phase.constant_load() - ground * phase.mass();
   rhs.noalias() -= phase.damping() * qd;
   rhs.noalias() -= phase.stiffness() * q;

@@ -16,10 +16,6 @@ namespace poundsim {
 namespace {
 constexpr double kInactive = -std::numeric_limits<double>::infinity();
 
-bool any_positive(std::span<const double> g) {
-  return std::any_of(g.begin(), g.end(), [](double x) { return x > 0.0; });
-}
-
 Model validated(Model model) {
   validate(model);
   return model;
@@ -87,10 +83,6 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
   const int n = layout_.size();
   const int gaps = model_.gap_count();
   const auto ng = static_cast<std::size_t>(gaps);
-  for (const GapElement& g : model_.gaps) {
-    gap_left_.push_back(layout_.dof(g.left_frame, g.floor));
-    gap_right_.push_back(layout_.dof(g.left_frame + 1, g.floor));
-  }
   state_.resize(n);
   trial_.resize(n);
   upper_.resize(n);
@@ -123,7 +115,8 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
   config_.assign(ng, GapMode::open);
   for (int p = 0; p < gaps; ++p) {
     const GapProperties& gp = model_.gaps[p].properties;
-    const double s = poundsim::shortening(gp, state_.u(gap_left_[p]), state_.u(gap_right_[p]));
+    const double s =
+        poundsim::shortening(gp, state_.u(layout_.gap_left(p)), state_.u(layout_.gap_right(p)));
     if (s <= 0) continue;
     if (s >= gp.shortening) {
       throw std::invalid_argument(fmt::format(
@@ -160,20 +153,16 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
 
   link_length_.assign(ng, 0.0);
   settle_state();
+  record_statistics();
 }
 
 void Simulator::settle_state() {
   activate_phase();
   newmark_.equilibrate(*phase_, ground_acceleration(excitation_, state_.t), state_);
-  energy_.start(state_, config_, memory_);
   evaluate_guards(state_, g_lo_, dg_lo_);
-  while (any_positive(g_lo_)) {
-    g_work_ = g_lo_;
-    apply_events(g_work_);
-  }
+  apply_pending_events();
   energy_.start(state_, config_, memory_);
   events_this_step_ = 0;
-  record_statistics();
 }
 
 void Simulator::restart(Excitation excitation, double dt) {
@@ -195,9 +184,8 @@ void Simulator::restart(Excitation excitation, double dt) {
 }
 
 void Simulator::reset_statistics() {
-  const ResponseStatistics empty{};
-  stats_.steps = stats_.substeps = stats_.guard_evaluations = stats_.events = 0;
-  stats_.phases_factorised = empty.phases_factorised;
+  stats_.steps = stats_.substeps = stats_.guard_evaluations = stats_.events =
+      stats_.phases_factorised = 0;
   for (FloorResponse& f : stats_.floors) f = FloorResponse{};
   for (Peak& p : stats_.base_shear) p = Peak{};
   for (Peak& p : stats_.storey_shear) p = Peak{};
@@ -208,14 +196,6 @@ void Simulator::reset_statistics() {
 
 Simulator::~Simulator() = default;
 
-void Simulator::set_excitation(Excitation excitation) {
-  validate(excitation);
-  excitation_ = std::move(excitation);
-  segment_valid_ = false;
-  newmark_.equilibrate(*phase_, ground_acceleration_now(), state_);
-  evaluate_guards(state_, g_lo_, dg_lo_);
-}
-
 double Simulator::ground_acceleration_now() const {
   return ground_acceleration(excitation_, state_.t);
 }
@@ -223,14 +203,14 @@ double Simulator::ground_acceleration_now() const {
 bool Simulator::is_rigid(int p) const { return model_.gaps[p].properties.is_rigid_stop(); }
 
 double Simulator::shortening(int p) const {
-  return poundsim::shortening(model_.gaps[p].properties, state_.u(gap_left_[p]),
-                              state_.u(gap_right_[p]));
+  return poundsim::shortening(model_.gaps[p].properties, state_.u(layout_.gap_left(p)),
+                              state_.u(layout_.gap_right(p)));
 }
 
 double Simulator::gap_force(int p) const {
   if (config_[p] == GapMode::open) return 0.0;
   const GapProperties& gp = model_.gaps[p].properties;
-  const double rate = state_.v(gap_left_[p]) - state_.v(gap_right_[p]);
+  const double rate = state_.v(layout_.gap_left(p)) - state_.v(layout_.gap_right(p));
   const double force = contact_force(gp, shortening(p), rate);
   return config_[p] == GapMode::locked ? force + stop_reaction_[static_cast<std::size_t>(p)] : force;
 }
@@ -257,7 +237,7 @@ void Simulator::activate_phase() {
     it = phases_.emplace(config_, std::move(phase)).first;
   }
   phase_ = it->second.get();
-  if (!phase_->is_unreduced()) phase_->set_link_lengths(model_, layout_, link_length_);
+  if (!phase_->is_unreduced()) phase_->set_link_lengths(layout_, link_length_);
 }
 
 void Simulator::step() { advance_to(grid_origin_ + static_cast<double>(grid_index_ + 1) * options_.dt); }
@@ -299,22 +279,16 @@ void Simulator::integrate_to(double t_end, bool nominal) {
     trial_step(tau, use_step_solver, upper_);
     upper_.t = t_end;  // exact grid time, whatever the rounding of t + τ
     evaluate_guards(upper_, g_hi_, dg_hi_);
-    if (!any_positive(g_hi_) && !find_grazing(tau)) {
-      accept(upper_, g_hi_);
+    if (!any_fired(g_hi_) && !find_grazing(tau)) {
+      accept(upper_);
       return;
     }
     TrialEvaluator evaluator(*this);
     locate_first_event(0.0, upper_.t - state_.t, {g_lo_, dg_lo_}, {g_hi_, dg_hi_},
                        {g_work_, dg_work_}, options_.event_tolerance, evaluator);
-    accept(upper_, g_hi_);
-    g_work_ = g_lo_;
-    apply_events(g_work_);
-    // An event can trigger others at the same instant (e.g. an impact that makes the dashpot
-    // pull): apply them before moving on.
-    while (any_positive(g_lo_)) {
-      g_work_ = g_lo_;
-      apply_events(g_work_);
-    }
+    compute_stop_reactions(upper_);  // trials below the event came last
+    accept(upper_);
+    apply_pending_events();
   }
 }
 
@@ -323,8 +297,8 @@ bool Simulator::find_grazing(double tau) {
   // maximum of its cubic Hermite model, then the Newmark sub-step there.
   double best_theta = 2.0;
   for (std::size_t j = 0; j < g_hi_.size(); ++j) {
+    // Inactive guards (−∞) have zero rates and are skipped with the others that do not rise.
     if (!(g_lo_[j] <= 0 && g_hi_[j] <= 0 && dg_lo_[j] > 0 && dg_hi_[j] < 0)) continue;
-    if (g_lo_[j] == kInactive) continue;
     const detail::HermiteCubic cubic(g_lo_[j], dg_lo_[j], g_hi_[j], dg_hi_[j], tau);
     for (const double theta : cubic.critical_points()) {
       if (theta > 0 && cubic(theta) > 0 && cubic.slope(theta - 1e-9) > 0) {
@@ -336,7 +310,10 @@ bool Simulator::find_grazing(double tau) {
   trial_step(best_theta * tau, false, trial_);
   evaluate_guards(trial_, g_work_, dg_work_);
   ++stats_.guard_evaluations;
-  if (!any_positive(g_work_)) return false;
+  if (!any_fired(g_work_)) {
+    compute_stop_reactions(upper_);  // the step is accepted at upper_, not at this trial
+    return false;
+  }
   std::swap(trial_, upper_);
   g_hi_ = g_work_;
   dg_hi_ = dg_work_;
@@ -349,11 +326,11 @@ void Simulator::evaluate_guards(const KinematicState& x, std::span<double> g,
   // and zero does not fire. Without this floor, a guard that stays at zero for a while (a pair
   // released with ṡ = 0 at the stop) would flicker in the last bit and stall event location.
   constexpr double kNoise = 8 * std::numeric_limits<double>::epsilon();
-  if (phase_ && !phase_->is_unreduced()) compute_stop_reactions(x);
+  compute_stop_reactions(x);
   const bool force_criterion = options_.separation == SeparationCriterion::force;
   for (std::size_t p = 0; p < config_.size(); ++p) {
     const GapProperties& gp = model_.gaps[p].properties;
-    const int l = gap_left_[p], r = gap_right_[p];
+    const int l = layout_.gap_left(p), r = layout_.gap_right(p);
     const double s = x.u(l) - x.u(r) - gp.gap;
     const double rate = x.v(l) - x.v(r);
     const double s_noise = kNoise * (std::abs(x.u(l)) + std::abs(x.u(r)) + gp.gap + gp.shortening);
@@ -396,13 +373,14 @@ void Simulator::compute_stop_reactions(const KinematicState& x) {
   // The force on a floor that the links must supply: f = f_S − m a_g − C u̇ − K u − m ü. Sweeping
   // each chain of locked elements from the left gives λ_out = f + λ_in.
   constexpr double kNoise = 8 * std::numeric_limits<double>::epsilon();
+  if (phase_->is_unreduced()) return;  // nothing locked
   const double ground = x.ground;
   const Eigen::VectorXd& m = phase_->full_mass();
   const LinearPhase::SparseMatrix& c = phase_->full_damping();
   const LinearPhase::SparseMatrix& k = phase_->full_stiffness();
   for (std::size_t p = 0; p < config_.size(); ++p) {
     if (config_[p] != GapMode::locked) continue;
-    const int l = gap_left_[p];
+    const int l = layout_.gap_left(p);
     const double load = phase_->full_constant_load()(l);
     double f = load - m(l) * (ground + x.a(l));
     double magnitude = std::abs(load) + m(l) * (std::abs(ground) + std::abs(x.a(l)));
@@ -416,18 +394,18 @@ void Simulator::compute_stop_reactions(const KinematicState& x) {
     }
     stop_reaction_[p] = f + link_in_[l];
     stop_noise_[p] = kNoise * (magnitude + std::abs(link_in_[l]));
-    link_in_[gap_right_[p]] = stop_reaction_[p];
+    link_in_[layout_.gap_right(p)] = stop_reaction_[p];
   }
   for (std::size_t p = 0; p < config_.size(); ++p) {
-    if (config_[p] == GapMode::locked) link_in_[gap_right_[p]] = 0.0;
+    if (config_[p] == GapMode::locked) link_in_[layout_.gap_right(p)] = 0.0;
   }
 }
 
-void Simulator::accept(KinematicState& next, std::span<const double> guards) {
+void Simulator::accept(KinematicState& next) {
   energy_.step(state_, next, config_, memory_);
   refine_step_peaks(next);
   after_accept(next);
-  std::copy(guards.begin(), guards.end(), g_lo_.begin());
+  g_lo_ = g_hi_;
   dg_lo_ = dg_hi_;
 }
 
@@ -437,8 +415,6 @@ void Simulator::after_accept(KinematicState& next) {
     if (config_[p] == GapMode::locked) stats_.gaps[p].locked_time += h;
   }
   std::swap(state_, next);
-  // Trial evaluations after this state's (grazing checks) may have overwritten λ.
-  if (!phase_->is_unreduced()) compute_stop_reactions(state_);
   ++stats_.substeps;
   record_statistics();
 }
@@ -505,7 +481,7 @@ void Simulator::record_statistics() {
   for (std::size_t p = 0; p < config_.size(); ++p) {
     if (config_[p] == GapMode::open) continue;
     const GapProperties& gp = model_.gaps[p].properties;
-    const int l = gap_left_[p], r = gap_right_[p];
+    const int l = layout_.gap_left(p), r = layout_.gap_right(p);
     const double s = state_.u(l) - state_.u(r) - gp.gap;
     double force = contact_force(gp, s, state_.v(l) - state_.v(r));
     if (config_[p] == GapMode::locked) force += stop_reaction_[p];
@@ -517,7 +493,8 @@ void Simulator::record_statistics() {
 void Simulator::emit(int gap, EventKind kind, double left_before, double right_before,
                      double impulse) {
   const auto p = static_cast<std::size_t>(gap);
-  const double left_after = state_.v(gap_left_[p]), right_after = state_.v(gap_right_[p]);
+  const double left_after = state_.v(layout_.gap_left(p));
+  const double right_after = state_.v(layout_.gap_right(p));
   const double before = left_before - right_before, after = left_after - right_after;
   ++stats_.events;
   if (++events_this_step_ > options_.max_events_per_step) {
@@ -548,13 +525,22 @@ void Simulator::emit(int gap, EventKind kind, double left_before, double right_b
   }
 }
 
+void Simulator::apply_pending_events() {
+  // An event can trigger others at the same instant (e.g. an impact that makes the dashpot pull):
+  // apply them all before moving on. apply_events re-evaluates g_lo_, hence the copy.
+  while (any_fired(g_lo_)) {
+    g_work_ = g_lo_;
+    apply_events(g_work_);
+  }
+}
+
 void Simulator::apply_events(std::span<const double> fired) {
   impacts_.clear();
   for (std::size_t j = 0; j < fired.size(); ++j) {
     if (!(fired[j] > 0)) continue;
     const std::size_t p = j / 2;
     const int pi = static_cast<int>(p);
-    const double vl = state_.v(gap_left_[p]), vr = state_.v(gap_right_[p]);
+    const double vl = state_.v(layout_.gap_left(p)), vr = state_.v(layout_.gap_right(p));
     if (j % 2 == 1) {  // separation from contact
       config_[p] = GapMode::open;
       bias_[p] = 0.0;
@@ -601,8 +587,8 @@ void Simulator::resolve_impacts(const std::vector<int>& pairs) {
       impulse(pairs.size(), 0.0);
   double largest = 0.0;
   for (std::size_t k = 0; k < pairs.size(); ++k) {
-    left_before[k] = v(gap_left_[pairs[k]]);
-    right_before[k] = v(gap_right_[pairs[k]]);
+    left_before[k] = v(layout_.gap_left(pairs[k]));
+    right_before[k] = v(layout_.gap_right(pairs[k]));
     largest = std::max(largest, left_before[k] - right_before[k]);
   }
   // Sequential pairwise restitution until no pair approaches: exact for independent pairs, the
@@ -612,7 +598,7 @@ void Simulator::resolve_impacts(const std::vector<int>& pairs) {
     std::size_t worst = pairs.size();
     double closing = 1e-12 * largest;
     for (std::size_t k = 0; k < pairs.size(); ++k) {
-      const double w = v(gap_left_[pairs[k]]) - v(gap_right_[pairs[k]]);
+      const double w = v(layout_.gap_left(pairs[k])) - v(layout_.gap_right(pairs[k]));
       if (w > closing) {
         closing = w;
         worst = k;
@@ -620,11 +606,11 @@ void Simulator::resolve_impacts(const std::vector<int>& pairs) {
     }
     if (worst == pairs.size()) break;
     const int p = pairs[worst];
-    const int gl = group[static_cast<std::size_t>(gap_left_[p])];
-    const int gr = group[static_cast<std::size_t>(gap_right_[p])];
-    const ImpactOutcome o =
-        restitution_impact(group_mass(gl), group_mass(gr), v(gap_left_[p]), v(gap_right_[p]),
-                           model_.gaps[p].properties.restitution);
+    const int l = layout_.gap_left(p), r = layout_.gap_right(p);
+    const int gl = group[static_cast<std::size_t>(l)];
+    const int gr = group[static_cast<std::size_t>(r)];
+    const ImpactOutcome o = restitution_impact(group_mass(gl), group_mass(gr), v(l), v(r),
+                                               model_.gaps[p].properties.restitution);
     for (Eigen::Index i = 0; i < v.size(); ++i) {
       const int gi = group[static_cast<std::size_t>(i)];
       if (gi == gl) v(i) = o.v_left;
@@ -644,7 +630,7 @@ void Simulator::resolve_impacts(const std::vector<int>& pairs) {
   std::vector<int> locking;
   std::vector<double> lock_left, lock_right, lock_impulse;
   for (const int p : pairs) {
-    const int l = gap_left_[p], r = gap_right_[p];
+    const int l = layout_.gap_left(p), r = layout_.gap_right(p);
     const double pressing = state_.a(l) - state_.a(r);
     const double opening = -(v(l) - v(r));
     if (pressing > 0 && 2.0 * opening <= pressing * options_.lock_time) {
@@ -661,7 +647,8 @@ void Simulator::resolve_impacts(const std::vector<int>& pairs) {
   for (const int p : locking) {
     config_[static_cast<std::size_t>(p)] = GapMode::locked;
     // The link keeps the floors where they are (on the stop, to the event tolerance).
-    link_length_[static_cast<std::size_t>(p)] = state_.u(gap_left_[p]) - state_.u(gap_right_[p]);
+    link_length_[static_cast<std::size_t>(p)] =
+        state_.u(layout_.gap_left(p)) - state_.u(layout_.gap_right(p));
   }
   activate_phase();
   // Plastic merge: each new group moves with the velocity of its centre of mass.
@@ -682,7 +669,6 @@ void Simulator::resolve_impacts(const std::vector<int>& pairs) {
 }
 
 void Simulator::settle_after_events() {
-  activate_phase();
   newmark_.equilibrate(*phase_, ground_acceleration_now(), state_);
   evaluate_guards(state_, g_lo_, dg_lo_);
   set_impact_biases();
@@ -698,7 +684,7 @@ void Simulator::set_impact_biases() {
         config_[p] == GapMode::contact || (config_[p] == GapMode::open && is_rigid(static_cast<int>(p)));
     const std::size_t j = 2 * p;
     if (!stop_guard || !(g_lo_[j] > 0)) continue;
-    const double rate = state_.v(gap_left_[p]) - state_.v(gap_right_[p]);
+    const double rate = state_.v(layout_.gap_left(p)) - state_.v(layout_.gap_right(p));
     if (rate > 0) continue;  // still closing: a genuine impact, applied by the caller
     bias_[p] += g_lo_[j];
     g_lo_[j] = 0.0;

@@ -68,7 +68,7 @@ Eigen::MatrixXd Simulator::guard_rows(const ExactPhase& exact) const {
   const LinearPhase::SparseMatrix& k = phase_->full_stiffness();
   for (std::size_t p = 0; p < config_.size(); ++p) {
     const GapProperties& gp = model_.gaps[p].properties;
-    const int l = gap_left_[p], r = gap_right_[p];
+    const int l = layout_.gap_left(p), r = layout_.gap_right(p);
     const Eigen::Index j = 2 * static_cast<Eigen::Index>(p);
     switch (config_[p]) {
       case GapMode::open:
@@ -118,11 +118,8 @@ void Simulator::start_exact_segment() {
   const ExactPhase& exact = *it->second.phase;
   const Eigen::Index n = exact.groups();
   x_work_.resize(2 * n);
-  reduced_work_.resize(n);
-  phase_->gather(state_.u, reduced_work_);
-  x_work_.head(n) = reduced_work_;
-  phase_->gather(state_.v, reduced_work_);
-  x_work_.tail(n) = reduced_work_;
+  phase_->gather(state_.u, x_work_.head(n));
+  phase_->gather(state_.v, x_work_.tail(n));
   trajectory_.start(exact, phase_->mass(), phase_->constant_load(), state_.t, x_work_,
                     forcing_piece(excitation_, state_.t));
   for (std::size_t p = 0; p < config_.size(); ++p) {
@@ -140,12 +137,9 @@ void Simulator::start_exact_segment() {
 void Simulator::exact_state(double s, KinematicState& out) {
   trajectory_.evaluate(s, x_work_, x_rate_work_);
   const Eigen::Index n = trajectory_.phase().groups();
-  reduced_work_ = x_work_.head(n);
-  phase_->scatter(reduced_work_, out.u, true);
-  reduced_work_ = x_work_.tail(n);
-  phase_->scatter(reduced_work_, out.v, false);
-  reduced_work_ = x_rate_work_.tail(n);
-  phase_->scatter(reduced_work_, out.a, false);
+  phase_->scatter(x_work_.head(n), out.u, true);
+  phase_->scatter(x_work_.tail(n), out.v, false);
+  phase_->scatter(x_rate_work_.tail(n), out.a, false);
   out.t = trajectory_.start_time() + s;
   out.ground = trajectory_.piece().at(out.t);
 }
@@ -174,8 +168,8 @@ void Simulator::accept_exact(KinematicState& next) {
   }
   energy_.step_with(state_, next, integral, config_, memory_);
   refine_exact_peaks(next);
+  evaluate_guards(next, g_lo_, dg_lo_);
   after_accept(next);
-  evaluate_guards(state_, g_lo_, dg_lo_);
 }
 
 void Simulator::refine_exact_peaks(const KinematicState& next) {
@@ -263,17 +257,10 @@ void Simulator::integrate_exact_to(double t_end) {
       if (g_work_[static_cast<std::size_t>(crossing->guard)] > 0 || hi >= end || widen > 60) break;
       hi = std::min(end, lo + 2 * (hi - lo) + resolution);
     }
-    if (!std::any_of(g_work_.begin(), g_work_.end(), [](double x) { return x > 0.0; })) {
-      accept_exact(upper_);  // a touch within round-off: no event
-      continue;
-    }
-    const std::vector<double> fired = g_work_;
-    accept_exact(upper_);
-    apply_events(fired);
-    while (std::any_of(g_lo_.begin(), g_lo_.end(), [](double x) { return x > 0.0; })) {
-      g_work_ = g_lo_;
-      apply_events(g_work_);
-    }
+    const bool fired = any_fired(g_work_);
+    accept_exact(upper_);  // g_lo_ = the guards at upper_: g_work_
+    if (!fired) continue;  // a touch within round-off: no event
+    apply_pending_events();
     segment_valid_ = false;
   }
 }

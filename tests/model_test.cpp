@@ -47,6 +47,11 @@ TEST(DofLayout, InterleavesLevelsSoThatMatricesAreBanded) {
     }
     EXPECT_EQ(layout.dof(layout.frame_of(i), layout.floor_of(i)), i);
   }
+  // Elements 1–2 and 2–3 at floor 1.
+  EXPECT_EQ(layout.gap_left(0), 0);
+  EXPECT_EQ(layout.gap_right(0), 1);
+  EXPECT_EQ(layout.gap_left(1), 1);
+  EXPECT_EQ(layout.gap_right(1), 2);
 }
 
 TEST(Model, ValidateNamesTheElement) {

@@ -44,6 +44,7 @@ struct EnergyBalance {
 /// Accumulates the balance step by step.
 class EnergyMeter {
  public:
+  /// Keeps references to `model` and `layout`, which must outlive the meter.
   EnergyMeter(const Model& model, const DofLayout& layout);
 
   /// Sets E₀ and the stored terms from the initial state.
@@ -96,9 +97,9 @@ class EnergyMeter {
                    std::span<const GapMemory> memory);
 
   const Model* model_;
+  const DofLayout* layout_;
   Eigen::VectorXd mass_, storey_k_, storey_c_;
   std::vector<int> below_;
-  std::vector<int> gap_left_, gap_right_;
   EnergyBalance balance_;
   double scale_ = 0.0;
   double max_residual_ = 0.0;  ///< [J]

@@ -27,6 +27,9 @@ struct GuardSample {
   std::span<double> rate;
 };
 
+/// True when some guard has fired (is strictly positive).
+[[nodiscard]] bool any_fired(std::span<const double> guards);
+
 /// Evaluates the guards on the trajectory of the current step.
 class GuardEvaluator {
  public:

@@ -50,26 +50,27 @@ class LinearPhase {
   LinearPhase(const LinearPhase&) = delete;
   LinearPhase& operator=(const LinearPhase&) = delete;
 
-  [[nodiscard]] const ContactConfiguration& configuration() const { return configuration_; }
-  [[nodiscard]] Eigen::Index full_size() const { return mass_full_.size(); }
   [[nodiscard]] Eigen::Index reduced_size() const { return mass_.size(); }
   /// True when no element is locked (T = I, o = 0).
   [[nodiscard]] bool is_unreduced() const { return unreduced_; }
 
   /// Group (reduced DOF) of each floor DOF.
   [[nodiscard]] std::span<const int> group_of() const { return group_of_; }
-  /// Leftmost floor DOF of each group.
-  [[nodiscard]] std::span<const int> representative() const { return representative_; }
   /// o: floor displacement minus its group coordinate [m].
   [[nodiscard]] const Eigen::VectorXd& offset() const { return offset_; }
   /// Sets the link lengths ℓ of the locked elements (by element; others ignored), which fix the
   /// offsets o and the constant load b_r. Construction uses ℓ = δ + ε. Allocation-free.
-  void set_link_lengths(const Model& model, const DofLayout& layout, std::span<const double> length);
+  void set_link_lengths(const DofLayout& layout, std::span<const double> length);
 
-  /// q = Tᵀ-gather of a full vector (values of the representatives).
-  void gather(const Eigen::VectorXd& full, Eigen::VectorXd& reduced) const;
+  // Both take views, so that parts of work buffers can be passed without copies; sizes must
+  // match (reduced_size() and the layout's size). Allocation-free.
+
+  /// q = the values of a full vector at the leftmost floor of each group.
+  void gather(const Eigen::Ref<const Eigen::VectorXd>& full,
+              Eigen::Ref<Eigen::VectorXd> reduced) const;
   /// full = T q (+ o when `add_offset`).
-  void scatter(const Eigen::VectorXd& reduced, Eigen::VectorXd& full, bool add_offset) const;
+  void scatter(const Eigen::Ref<const Eigen::VectorXd>& reduced, Eigen::Ref<Eigen::VectorXd> full,
+               bool add_offset) const;
 
   // Reduced system.
   [[nodiscard]] const Eigen::VectorXd& mass() const { return mass_; }
@@ -86,7 +87,6 @@ class LinearPhase {
   /// Factorisation of M_r + (h/2) C_r + (h²/4) K_r for the step given at construction, made on
   /// first use.
   [[nodiscard]] const Solver& step_solver() const;
-  [[nodiscard]] double step() const { return step_; }
   /// Factorisation for a sub-step τ ≠ h (event location, last partial step). The returned solver
   /// is valid until the next call. Throws SimulationError on failure.
   const Solver& substep_solver(double tau) const;

@@ -14,6 +14,7 @@
 ///   DofLayout layout(m);   // 2 degrees of freedom
 /// @endcode
 
+#include <cstddef>
 #include <span>
 #include <vector>
 
@@ -54,6 +55,7 @@ void validate(const Model& model);
 /// frames) whatever the number of storeys: factorisations and solves cost O(N·F²) and O(N·F).
 class DofLayout {
  public:
+  /// The model's elements must join existing floors (validate(model)); std::out_of_range if not.
   explicit DofLayout(const Model& model);
 
   [[nodiscard]] int size() const { return static_cast<int>(frame_of_.size()); }
@@ -67,11 +69,16 @@ class DofLayout {
   [[nodiscard]] int below(int dof) const {
     return floor_of_[dof] == 0 ? -1 : dof_[frame_of_[dof]][floor_of_[dof] - 1];
   }
+  /// DOF of the left floor of gap element `gap` (Model::gaps order).
+  [[nodiscard]] int gap_left(std::size_t gap) const { return gap_left_[gap]; }
+  /// DOF of the right floor of gap element `gap`.
+  [[nodiscard]] int gap_right(std::size_t gap) const { return gap_right_[gap]; }
 
  private:
   std::vector<std::vector<int>> dof_;
   std::vector<int> frame_of_;
   std::vector<int> floor_of_;
+  std::vector<int> gap_left_, gap_right_;
 };
 
 }  // namespace poundsim

@@ -168,9 +168,6 @@ class Simulator {
   void set_event_handler(std::function<void(const Event&)> handler) {
     on_event_ = std::move(handler);
   }
-  /// Replaces the excitation from now on (e.g. a frequency sweep continuing from this state).
-  void set_excitation(Excitation excitation);
-
   /// Integrates grid steps of h until `t` [s]; the last step is shortened to end exactly at t.
   void advance_to(double t);
 
@@ -228,10 +225,17 @@ class Simulator {
   [[nodiscard]] Eigen::MatrixXd guard_rows(const ExactPhase& exact) const;
   void trial_step(double tau, bool nominal, KinematicState& out);
   void evaluate_guards(const KinematicState& x, std::span<double> g, std::span<double> dg);
+  /// λ of the locked elements at `x` (stop_reaction_, stop_noise_); evaluate_guards computes them.
   void compute_stop_reactions(const KinematicState& x);
   bool find_grazing(double tau);
-  void accept(KinematicState& next, std::span<const double> guards);
+  /// Accepts the Newmark step to `next`, whose guards are g_hi_.
+  void accept(KinematicState& next);
+  /// Makes `next` the current state (swapped with it) and records its statistics, which read λ:
+  /// the last evaluation of λ must have been at `next`.
   void after_accept(KinematicState& next);
+  /// Applies the events whose guards g_lo_ fired at the current state, and those they trigger,
+  /// until none fires.
+  void apply_pending_events();
   void apply_events(std::span<const double> fired_guards);
   void resolve_impacts(const std::vector<int>& pairs);
   void settle_after_events();
@@ -246,7 +250,6 @@ class Simulator {
   Excitation excitation_;
   TimeHistoryOptions options_;
 
-  std::vector<int> gap_left_, gap_right_;
   std::vector<int> neighbour_left_, neighbour_right_;  ///< DOFs of every NeighbourResponse
   ContactConfiguration config_;
   std::vector<GapMemory> memory_;
@@ -263,7 +266,7 @@ class Simulator {
   ExactTrajectory trajectory_;
   GuardExpansion expansion_;
   bool segment_valid_ = false;
-  Eigen::VectorXd x_work_, x_rate_work_, reduced_work_;
+  Eigen::VectorXd x_work_, x_rate_work_;
   std::vector<double> memory_amplitude_, memory_rate_;
   KinematicState node_;
   NewmarkIntegrator newmark_;
