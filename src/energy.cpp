@@ -126,8 +126,12 @@ void EnergyMeter::add_relaxation(const KinematicState& x0, const KinematicState&
 void EnergyMeter::finish_step(const KinematicState& x1, const ContactConfiguration& config,
                               std::span<const GapMemory> memory) {
   update_stored(x1, config, memory);
-  scale_ = std::max({scale_, std::abs(balance_.supplied()), balance_.accounted()});
-  max_residual_ = std::max(max_residual_, std::abs(balance_.residual()));
+  // Not std::max: it drops a NaN in its second argument, and a NaN balance must not pass.
+  for (const double x : {std::abs(balance_.supplied()), balance_.accounted()}) {
+    if (!(x <= scale_)) scale_ = x;
+  }
+  const double residual = std::abs(balance_.residual());
+  if (!(residual <= max_residual_)) max_residual_ = residual;
 }
 
 double EnergyMeter::relative_residual() const {

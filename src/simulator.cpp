@@ -15,6 +15,15 @@ namespace poundsim {
 
 namespace {
 constexpr double kInactive = -std::numeric_limits<double>::infinity();
+/// The closing speed u̇_L − u̇_R of a pair counts only above this fraction of |u̇_L| + |u̇_R|: below
+/// it, it is the round-off of equal velocities computed apart, or the remainder of the
+/// sequential restitution of a chain, which stops there. One threshold for both, so that what
+/// one impact resolution leaves behind never fires another.
+constexpr double kClosingTolerance = 1e-12;
+
+[[nodiscard]] bool closes(double v_left, double v_right) {
+  return v_left - v_right > kClosingTolerance * (std::abs(v_left) + std::abs(v_right));
+}
 
 Model validated(Model model) {
   validate(model);
@@ -50,6 +59,10 @@ void TimeHistoryOptions::validate() const {
     throw std::invalid_argument(fmt::format(
         "lock_time = {} s must be at least 10 × event_tolerance = {} s", lock_time,
         10 * event_tolerance));
+  }
+  if (!(rest_velocity_ratio >= 0 && rest_velocity_ratio < 1)) {
+    throw std::invalid_argument(
+        fmt::format("rest_velocity_ratio = {} must be in [0, 1)", rest_velocity_ratio));
   }
   if (max_events_per_step < 1) throw std::invalid_argument("max_events_per_step must be ≥ 1");
   if (phase_cache_size < 1) throw std::invalid_argument("phase_cache_size must be ≥ 1");
@@ -460,7 +473,51 @@ void Simulator::refine_step_peaks(const KinematicState& next) {
   }
 }
 
+void Simulator::check_finite() const {
+  // Magnitudes beyond double range (an amplitude of 1e300 g, k = 1e308 with m = 1e-300, ...) turn
+  // the state or the energies into ±inf and then NaN, which every comparison (peaks, the balance
+  // check) silently ignores. Stop at the first such state and say where it went.
+  const auto where = [&](int dof) {
+    return fmt::format("frame {} floor {}", layout_.frame_of(dof) + 1, layout_.floor_of(dof) + 1);
+  };
+  const auto fail = [&](const std::string& what) {
+    throw SimulationError(fmt::format(
+        "at t = {} s {} is not finite: the input's magnitudes (accelerations, initial velocities, "
+        "stiffness over mass) exceed the range of double precision",
+        state_.t, what));
+  };
+  if (!std::isfinite(state_.ground)) fail(fmt::format("the ground acceleration ({})", state_.ground));
+  for (int i = 0; i < layout_.size(); ++i) {
+    if (!std::isfinite(state_.u(i))) fail(fmt::format("the displacement of {} ({})", where(i), state_.u(i)));
+    if (!std::isfinite(state_.v(i))) fail(fmt::format("the velocity of {} ({})", where(i), state_.v(i)));
+    if (!std::isfinite(state_.a(i))) fail(fmt::format("the acceleration of {} ({})", where(i), state_.a(i)));
+  }
+  for (int f = 0; f < model_.frame_count(); ++f) {
+    const double v = storey_shear(f);
+    if (!std::isfinite(v)) fail(fmt::format("the base shear of frame {} ({} N)", f + 1, v));
+  }
+  for (std::size_t p = 0; p < config_.size(); ++p) {
+    const double force = gap_force(static_cast<int>(p));
+    if (!std::isfinite(force)) {
+      fail(fmt::format("the force of the gap element between frames {} and {} at floor {} ({} N)",
+                       model_.gaps[p].left_frame + 1, model_.gaps[p].left_frame + 2,
+                       model_.gaps[p].floor + 1, force));
+    }
+  }
+  const EnergyBalance& b = energy_.balance();
+  for (const auto& [name, value] :
+       {std::pair{"the input energy", b.input}, std::pair{"the kinetic energy", b.kinetic},
+        std::pair{"the storey strain energy", b.storey_strain},
+        std::pair{"the gap-element strain energy", b.gap_strain},
+        std::pair{"the energy dissipated by the storey dashpots", b.storey_damping},
+        std::pair{"the energy dissipated by the gap elements", b.gap_damping},
+        std::pair{"the energy lost in impacts", b.impact_loss}}) {
+    if (!std::isfinite(value)) fail(fmt::format("{} ({} J)", name, value));
+  }
+}
+
 void Simulator::record_statistics() {
+  check_finite();
   const double t = state_.t, ground = state_.ground;
   for (int i = 0; i < layout_.size(); ++i) {
     FloorResponse& fr = stats_.floors[static_cast<std::size_t>(i)];
@@ -576,83 +633,135 @@ void Simulator::apply_events(std::span<const double> fired) {
   settle_after_events();
 }
 
-void Simulator::resolve_impacts(const std::vector<int>& pairs) {
-  // Floors held together by locked elements collide as one body (their group).
-  const auto group = phase_->group_of();
-  const Eigen::VectorXd& group_mass = phase_->mass();
+double Simulator::stop_guard(std::size_t p) const {
+  const GapProperties& gp = model_.gaps[p].properties;
+  const double s = shortening(static_cast<int>(p));
+  if (config_[p] == GapMode::contact) return s - gp.shortening - bias_[p];
+  return s - memory_[p].free_end_shortening(state_.t, gp.stiffness, gp.damping) - bias_[p];
+}
+
+void Simulator::resolve_impacts(const std::vector<int>& fired) {
   Eigen::VectorXd& v = state_.v;
   const double kinetic_before = energy_.kinetic_energy(v);
+  const std::size_t elements = config_.size();
+  const double ground = ground_acceleration_now();
 
-  std::vector<double> left_before(pairs.size()), right_before(pairs.size()),
-      impulse(pairs.size(), 0.0);
-  double largest = 0.0;
-  for (std::size_t k = 0; k < pairs.size(); ++k) {
-    left_before[k] = v(layout_.gap_left(pairs[k]));
-    right_before[k] = v(layout_.gap_right(pairs[k]));
-    largest = std::max(largest, left_before[k] - right_before[k]);
+  std::vector<double> left_before(elements), right_before(elements), impulse(elements, 0.0);
+  std::vector<char> involved(elements, 0);
+  for (std::size_t p = 0; p < elements; ++p) {
+    left_before[p] = v(layout_.gap_left(p));
+    right_before[p] = v(layout_.gap_right(p));
   }
-  // Sequential pairwise restitution until no pair approaches: exact for independent pairs, the
-  // Newton's-cradle answer for a chain of frames that share a floor.
-  const int max_sweeps = 10000 * static_cast<int>(pairs.size());
-  for (int sweep = 0; sweep < max_sweeps; ++sweep) {
-    std::size_t worst = pairs.size();
-    double closing = 1e-12 * largest;
-    for (std::size_t k = 0; k < pairs.size(); ++k) {
-      const double w = v(layout_.gap_left(pairs[k])) - v(layout_.gap_right(pairs[k]));
-      if (w > closing) {
-        closing = w;
-        worst = k;
+  for (const int p : fired) involved[static_cast<std::size_t>(p)] = 1;
+  const auto closing_speed = [&](std::size_t p) {
+    const double vl = v(layout_.gap_left(p)), vr = v(layout_.gap_right(p));
+    return closes(vl, vr) ? vl - vr : 0.0;
+  };
+  struct Lock {
+    int element;
+    double left_before, right_before, impulse;
+  };
+  std::vector<Lock> locks;
+
+  // Rounds at one instant, until nothing changes:
+  // 1. Sequential pairwise restitution until no involved pair approaches: exact for independent
+  //    pairs, the Newton's-cradle answer for a chain of frames that share a floor. Floors held
+  //    together by locked elements collide as one body (their group). A pair that sits at its
+  //    stop — within the distance it closes in one event tolerance — and is driven into it by
+  //    these impulses joins in: its collision would follow within the tolerance, and resolving a
+  //    chain one located event at a time is an endless ping-pong of a light floor squeezed
+  //    between heavy ones (e → 0) that only the limit of this loop settles.
+  // 2. Lock the involved pairs that are pressed together and would only bounce for less than
+  //    lock_time. Their plastic merge changes the velocities of the others, which may close
+  //    again: back to 1.
+  const int max_sweeps = 10000 * static_cast<int>(elements);
+  int sweeps = 0;
+  for (;;) {
+    const auto group = phase_->group_of();
+    const Eigen::VectorXd& group_mass = phase_->mass();
+    const auto shares_a_body = [&](std::size_t p) {
+      const int gl = group[static_cast<std::size_t>(layout_.gap_left(p))];
+      const int gr = group[static_cast<std::size_t>(layout_.gap_right(p))];
+      for (std::size_t q = 0; q < elements; ++q) {
+        if (!involved[q]) continue;
+        const int ql = group[static_cast<std::size_t>(layout_.gap_left(q))];
+        const int qr = group[static_cast<std::size_t>(layout_.gap_right(q))];
+        if (gl == ql || gl == qr || gr == ql || gr == qr) return true;
+      }
+      return false;
+    };
+    for (;;) {
+      for (; sweeps < max_sweeps; ++sweeps) {
+        std::size_t worst = elements;
+        double closing = 0.0;
+        for (std::size_t p = 0; p < elements; ++p) {
+          if (!involved[p] || config_[p] == GapMode::locked) continue;
+          const double w = closing_speed(p);
+          if (w > closing) {
+            closing = w;
+            worst = p;
+          }
+        }
+        if (worst == elements) break;
+        const int l = layout_.gap_left(worst), r = layout_.gap_right(worst);
+        const int gl = group[static_cast<std::size_t>(l)];
+        const int gr = group[static_cast<std::size_t>(r)];
+        const double rest = options_.rest_velocity_ratio * (std::abs(v(l)) + std::abs(v(r)));
+        const double restitution =
+            closing <= rest ? 0.0 : model_.gaps[worst].properties.restitution;
+        const ImpactOutcome o =
+            restitution_impact(group_mass(gl), group_mass(gr), v(l), v(r), restitution);
+        for (Eigen::Index i = 0; i < v.size(); ++i) {
+          const int gi = group[static_cast<std::size_t>(i)];
+          if (gi == gl) v(i) = o.v_left;
+          if (gi == gr) v(i) = o.v_right;
+        }
+        impulse[worst] += o.impulse;
+      }
+      bool joined = false;
+      for (std::size_t p = 0; p < elements; ++p) {
+        if (involved[p]) continue;
+        const bool stop = config_[p] == GapMode::contact ||
+                          (config_[p] == GapMode::open && is_rigid(static_cast<int>(p)));
+        if (!stop) continue;
+        const double w = closing_speed(p);
+        if (!(w > 0) || !shares_a_body(p)) continue;
+        const int l = layout_.gap_left(p), r = layout_.gap_right(p);
+        const GapProperties& gp = model_.gaps[p].properties;
+        const double s_noise =
+            8 * std::numeric_limits<double>::epsilon() *
+            (std::abs(state_.u(l)) + std::abs(state_.u(r)) + gp.gap + gp.shortening);
+        if (stop_guard(p) < -(w * options_.event_tolerance + s_noise)) continue;
+        involved[p] = 1;
+        joined = true;
+      }
+      if (!joined) break;
+    }
+
+    newmark_.equilibrate(*phase_, ground, state_);
+    std::vector<int> locking;
+    for (std::size_t p = 0; p < elements; ++p) {
+      if (!involved[p] || config_[p] == GapMode::locked) continue;
+      const int l = layout_.gap_left(p), r = layout_.gap_right(p);
+      const int gl = group[static_cast<std::size_t>(l)], gr = group[static_cast<std::size_t>(r)];
+      if (gl == gr) continue;  // already held together through other locked links
+      const double pressing = state_.a(l) - state_.a(r);
+      const double opening = -(v(l) - v(r));
+      if (pressing > 0 && 2.0 * opening <= pressing * options_.lock_time) {
+        locking.push_back(static_cast<int>(p));
+        const double ml = group_mass(gl), mr = group_mass(gr);
+        locks.push_back({static_cast<int>(p), v(l), v(r), std::abs(v(l) - v(r)) * ml * mr / (ml + mr)});
       }
     }
-    if (worst == pairs.size()) break;
-    const int p = pairs[worst];
-    const int l = layout_.gap_left(p), r = layout_.gap_right(p);
-    const int gl = group[static_cast<std::size_t>(l)];
-    const int gr = group[static_cast<std::size_t>(r)];
-    const ImpactOutcome o = restitution_impact(group_mass(gl), group_mass(gr), v(l), v(r),
-                                               model_.gaps[p].properties.restitution);
-    for (Eigen::Index i = 0; i < v.size(); ++i) {
-      const int gi = group[static_cast<std::size_t>(i)];
-      if (gi == gl) v(i) = o.v_left;
-      if (gi == gr) v(i) = o.v_right;
+    if (locking.empty()) break;
+    for (const int p : locking) {
+      config_[static_cast<std::size_t>(p)] = GapMode::locked;
+      // The link keeps the floors where they are (on the stop, to the event tolerance).
+      link_length_[static_cast<std::size_t>(p)] =
+          state_.u(layout_.gap_left(p)) - state_.u(layout_.gap_right(p));
     }
-    impulse[worst] += o.impulse;
-  }
-  energy_.add_impact_loss(kinetic_before - energy_.kinetic_energy(v));
-  for (std::size_t k = 0; k < pairs.size(); ++k) {
-    const int p = pairs[k];
-    emit(p, EventKind::impact, left_before[k], right_before[k], impulse[k]);
-  }
-
-  // Lock the pairs that are pressed together and would only bounce for less than lock_time.
-  const double ground = ground_acceleration_now();
-  newmark_.equilibrate(*phase_, ground, state_);
-  std::vector<int> locking;
-  std::vector<double> lock_left, lock_right, lock_impulse;
-  for (const int p : pairs) {
-    const int l = layout_.gap_left(p), r = layout_.gap_right(p);
-    const double pressing = state_.a(l) - state_.a(r);
-    const double opening = -(v(l) - v(r));
-    if (pressing > 0 && 2.0 * opening <= pressing * options_.lock_time) {
-      locking.push_back(p);
-      lock_left.push_back(v(l));
-      lock_right.push_back(v(r));
-      const double ml = group_mass(group[static_cast<std::size_t>(l)]);
-      const double mr = group_mass(group[static_cast<std::size_t>(r)]);
-      lock_impulse.push_back(std::abs(v(l) - v(r)) * ml * mr / (ml + mr));
-    }
-  }
-  if (locking.empty()) return;
-  const double kinetic_unlocked = energy_.kinetic_energy(v);
-  for (const int p : locking) {
-    config_[static_cast<std::size_t>(p)] = GapMode::locked;
-    // The link keeps the floors where they are (on the stop, to the event tolerance).
-    link_length_[static_cast<std::size_t>(p)] =
-        state_.u(layout_.gap_left(p)) - state_.u(layout_.gap_right(p));
-  }
-  activate_phase();
-  // Plastic merge: each new group moves with the velocity of its centre of mass.
-  {
+    activate_phase();
+    // Plastic merge: each new group moves with the velocity of its centre of mass.
     const auto new_group = phase_->group_of();
     const Eigen::VectorXd& m = phase_->full_mass();
     Eigen::VectorXd momentum = Eigen::VectorXd::Zero(phase_->reduced_size());
@@ -662,9 +771,16 @@ void Simulator::resolve_impacts(const std::vector<int>& pairs) {
     const Eigen::VectorXd group_v = momentum.cwiseQuotient(phase_->mass());
     phase_->scatter(group_v, v, false);
   }
-  energy_.add_impact_loss(kinetic_unlocked - energy_.kinetic_energy(v));
-  for (std::size_t k = 0; k < locking.size(); ++k) {
-    emit(locking[k], EventKind::lock, lock_left[k], lock_right[k], lock_impulse[k]);
+  energy_.add_impact_loss(kinetic_before - energy_.kinetic_energy(v));
+  for (std::size_t p = 0; p < elements; ++p) {
+    // A pair whose guard fired without closing (a touch at equal speeds) took no impulse: it is no
+    // impact, though it may have locked.
+    if (involved[p] && impulse[p] > 0) {
+      emit(static_cast<int>(p), EventKind::impact, left_before[p], right_before[p], impulse[p]);
+    }
+  }
+  for (const Lock& lock : locks) {
+    emit(lock.element, EventKind::lock, lock.left_before, lock.right_before, lock.impulse);
   }
 }
 
@@ -684,8 +800,8 @@ void Simulator::set_impact_biases() {
         config_[p] == GapMode::contact || (config_[p] == GapMode::open && is_rigid(static_cast<int>(p)));
     const std::size_t j = 2 * p;
     if (!stop_guard || !(g_lo_[j] > 0)) continue;
-    const double rate = state_.v(layout_.gap_left(p)) - state_.v(layout_.gap_right(p));
-    if (rate > 0) continue;  // still closing: a genuine impact, applied by the caller
+    // Still closing: a genuine impact, applied by the caller.
+    if (closes(state_.v(layout_.gap_left(p)), state_.v(layout_.gap_right(p)))) continue;
     bias_[p] += g_lo_[j];
     g_lo_[j] = 0.0;
   }

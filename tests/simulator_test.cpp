@@ -287,5 +287,47 @@ TEST(SimulatorOptions, RejectsInconsistentOptions) {
                std::invalid_argument);
 }
 
+
+// Magnitudes beyond double range used to run to the end with NaN energies (the balance check
+// dropped them) and exit 0. Each must stop with the time and the quantity that went non-finite.
+TEST(SimulatorFailures, NonFiniteStatesStopTheRunNamingTimeAndQuantity) {
+  const GapProperties gap{.gap = 0.01, .restitution = 0.75};
+  const Model paper = two_oscillators(1.0, 200.0, 1.4, 1.0, 50.0, 0.7, gap);
+  const auto message_of = [](auto&& run) -> std::string {
+    try {
+      run();
+    } catch (const SimulationError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  // A huge ground acceleration: finite states, overflowing energies.
+  const std::string huge_ground = message_of([&] {
+    Simulator sim(paper, HarmonicExcitation{1e300 * 9.81, 10.0}, TimeHistoryOptions{.dt = 1e-3});
+    sim.advance_to(1.0);
+  });
+  EXPECT_NE(huge_ground.find("is not finite"), std::string::npos) << huge_ground;
+  EXPECT_NE(huge_ground.find("energy"), std::string::npos) << huge_ground;
+  EXPECT_NE(huge_ground.find("at t = "), std::string::npos) << huge_ground;
+  // Huge initial velocities: the kinetic energy overflows at once.
+  const std::string huge_velocity = message_of([&] {
+    InitialConditions ic;
+    ic.velocity = {{1e300}, {-1e300}};
+    Simulator sim(paper, NoExcitation{}, TimeHistoryOptions{.dt = 1e-3}, ic);
+    sim.advance_to(1.0);
+  });
+  EXPECT_NE(huge_velocity.find("at t = 0 s the kinetic energy"), std::string::npos) << huge_velocity;
+  // A stiffness near the largest double: its force overflows.
+  const std::string stiff = message_of([&] {
+    const Model m = two_oscillators(1.0, 1e308, 0.0, 1.0, 50.0, 0.0, gap);
+    InitialConditions ic;
+    ic.displacement = {{-10.0}, {0.0}};
+    Simulator sim(m, NoExcitation{}, TimeHistoryOptions{.dt = 1e-3}, ic);
+    sim.advance_to(1.0);
+  });
+  EXPECT_NE(stiff.find("at t = 0 s the acceleration of frame 1 floor 1 (inf) is not finite"), std::string::npos)
+      << stiff;
+}
+
 }  // namespace
 }  // namespace poundsim

@@ -76,6 +76,11 @@ struct TimeHistoryOptions {
   double event_tolerance = 1e-10;  ///< Event times are bracketed to this width [s]; > 0.
   /// A pressed pair whose next flight would be shorter than this locks [s]; ≥ 10 × event_tolerance.
   double lock_time = 1e-6;
+  /// An impact closing slower than this fraction of its floors' speeds, |u̇_L| + |u̇_R|, is
+  /// plastic (e = 0): such a bounce carries at most ratio² of the pair's kinetic energy, and with
+  /// e near 1 it would chatter without end at the resolution of event location. See
+  /// docs/model.md (resting contact). 0 switches the rule off. In [0, 1).
+  double rest_velocity_ratio = 1e-4;
   SeparationCriterion separation = SeparationCriterion::displacement;
   Integrator integrator = Integrator::newmark;
   int max_events_per_step = 100000;        ///< Beyond this the run stops with an error.
@@ -237,11 +242,18 @@ class Simulator {
   /// until none fires.
   void apply_pending_events();
   void apply_events(std::span<const double> fired_guards);
-  void resolve_impacts(const std::vector<int>& pairs);
+  /// Applies the impacts of the elements whose stop guards `fired`, with the neighbours they drive
+  /// into their stops, then locks the pairs left pressed together.
+  void resolve_impacts(const std::vector<int>& fired);
+  /// s minus the stop of element p (ε in contact, the free end when open), minus its bias [m].
+  [[nodiscard]] double stop_guard(std::size_t p) const;
   void settle_after_events();
   /// Reports an event; velocities after are read from the current state.
   void emit(int gap, EventKind kind, double left_before, double right_before, double impulse);
   void record_statistics();
+  /// Throws SimulationError naming the time and the quantity when the state, a force or an energy
+  /// is no longer finite.
+  void check_finite() const;
   void set_impact_biases();
   [[nodiscard]] bool is_rigid(int p) const;
 
