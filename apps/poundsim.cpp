@@ -1,14 +1,18 @@
 // poundsim command line: parses arguments, calls the library, reports. Exit codes: 0 success,
-// 1 failure during the run (numerical or file system), 2 bad input or usage.
+// 1 failure during the run (numerical or file system), 2 bad input or usage; stopped by SIGINT,
+// SIGTERM or SIGHUP, it ends by that signal (a shell reports 130, 143, 129).
 
+#include <pthread.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <mutex>
 #include <exception>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -19,6 +23,7 @@
 #include "poundsim/io/frequency_response_run.hpp"
 #include "poundsim/io/optimize_run.hpp"
 #include "poundsim/io/output_files.hpp"
+#include "poundsim/io/study_database.hpp"
 #include "poundsim/io/study_run.hpp"
 #include "poundsim/io/time_history_run.hpp"
 #include "poundsim/verification.hpp"
@@ -88,12 +93,13 @@ void print_study_report(const nlohmann::json& s, const std::string& out_dir, con
 void print_optimization_report(const nlohmann::json& s, const std::string& out_dir) {
   fmt::print("poundsim {}: {} (optimisation, {} evaluations, {:.3f} s)\n", POUNDSIM_VERSION,
              s["input"].get<std::string>(), s["evaluations"].get<long>(), s["run_time_s"].get<double>());
-  fmt::print("  optimum {}: {} = {:.4f}\n", s["optimum"].dump(), s["analysis"]["objective"].get<std::string>(),
-             s["objective"].get<double>());
-  if (s["comparison"].contains("bare_pounding")) {
-    fmt::print("  bare pounding at the same gap and restitution: {:.4f}\n",
-               s["comparison"]["bare_pounding"]["max_peak_V_W"].get<double>());
-  }
+  // The optimum and bare pounding by the same measure: the objective's.
+  const auto& objective = s["comparison"]["objective"];
+  const auto metric = objective["metric"].get<std::string>();
+  fmt::print("  objective {}: {} (lower is better)\n", metric, objective["meaning"].get<std::string>());
+  fmt::print("  optimum {}: {} = {:.4f}\n", s["optimum"].dump(), metric, objective["optimum"].get<double>());
+  fmt::print("  bare pounding at the same gap and restitution: {} = {:.4f}\n", metric,
+             objective["bare_pounding"].get<double>());
   fmt::print("  wrote {}/optimize.json, evaluations.csv{}\n", out_dir,
              s["analysis"]["each"] == "frf" ? ", optimum_frf.csv, bare_frf.csv" : "");
 }
@@ -119,9 +125,46 @@ class ProgressBar {
   std::mutex mutex_;
 };
 
+/// Stops cleanly on SIGINT, SIGTERM and SIGHUP. The signals are blocked in every thread (the
+/// workers started later inherit the mask) and taken by one thread with sigwait, so the clean-up
+/// is ordinary code, not a signal handler: it removes the temporaries of unfinished output files,
+/// closes the study databases (whole and resumable, without -wal or -shm) and then ends the process
+/// by the same signal with its default action, as if it had not been caught. A signal ignored
+/// when the program starts (nohup, a background job of a script) stays ignored: Linux keeps a
+/// blocked signal pending even when its action is to ignore it, so it is left out of the set.
+void stop_cleanly_on_signals() {
+  sigset_t signals;
+  sigemptyset(&signals);
+  int count = 0;
+  for (const int s : {SIGINT, SIGTERM, SIGHUP}) {
+    struct sigaction current {};
+    if (sigaction(s, nullptr, &current) == 0 && current.sa_handler != SIG_IGN) {
+      sigaddset(&signals, s);
+      ++count;
+    }
+  }
+  if (count == 0) return;
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  std::thread([signals] {
+    int signal = 0;
+    while (sigwait(&signals, &signal) != 0) {
+    }
+    poundsim::io::abandon_all_outputs();
+    poundsim::io::StudyDatabase::close_all_before_exit();
+    std::signal(signal, SIG_DFL);
+    sigset_t one;
+    sigemptyset(&one);
+    sigaddset(&one, signal);
+    pthread_sigmask(SIG_UNBLOCK, &one, nullptr);
+    std::raise(signal);
+    _exit(128 + signal);  // not reached: the default action of these signals ends the process
+  }).detach();
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  stop_cleanly_on_signals();
   CLI::App app{"poundsim: seismic pounding of adjacent buildings with unilateral visco-elastic gap elements"};
   app.set_version_flag("--version", std::string("poundsim ") + POUNDSIM_VERSION);
   app.require_subcommand(1);

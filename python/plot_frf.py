@@ -10,12 +10,9 @@ branches and jumps show; responses that are not periodic (periodicity 0) are mar
 
 import argparse
 
-import matplotlib
+from poundsim_results import colour, read_frf, use_matplotlib
 
-from poundsim_results import colour, read_frf
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+plt = use_matplotlib()
 
 
 def column(rows, key):

@@ -13,12 +13,9 @@ import argparse
 import json
 import sys
 
-import matplotlib
+from poundsim_results import finished_points, use_matplotlib
 
-from poundsim_results import finished_points
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+plt = use_matplotlib()
 
 
 def main():

@@ -16,12 +16,9 @@ import csv
 import json
 import os
 
-import matplotlib
+from poundsim_results import colour, use_matplotlib
 
-from poundsim_results import colour
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+plt = use_matplotlib()
 
 
 def columns(path):

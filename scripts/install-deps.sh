@@ -7,7 +7,7 @@ packages=(
   g++ cmake ninja-build pkg-config
   libeigen3-dev libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libsqlite3-dev libnlopt-dev libnlopt-cxx-dev
+  libsqlite3-dev libsqlitecpp-dev libnlopt-dev libnlopt-cxx-dev
   python3 python3-matplotlib
 )
 

@@ -1,7 +1,13 @@
 #include "poundsim/io/study_database.hpp"
 
+#include <cstdint>
 #include <stdexcept>
+#include <system_error>
 
+#include <SQLiteCpp/Database.h>
+#include <SQLiteCpp/Exception.h>
+#include <SQLiteCpp/Statement.h>
+#include <SQLiteCpp/Transaction.h>
 #include <fmt/format.h>
 #include <sqlite3.h>
 
@@ -11,160 +17,219 @@ namespace poundsim::io {
 
 namespace {
 
-/// A prepared statement, finalised on scope exit.
-class Statement {
- public:
-  Statement(sqlite3* db, const std::string& sql) : db_(db) {
-    if (sqlite3_prepare_v2(db, sql.c_str(), -1, &stmt_, nullptr) != SQLITE_OK) {
-      throw std::runtime_error(fmt::format("sqlite: {} ({})", sqlite3_errmsg(db), sql));
-    }
-  }
-  ~Statement() { sqlite3_finalize(stmt_); }
-  Statement(const Statement&) = delete;
-  Statement& operator=(const Statement&) = delete;
-
-  Statement& bind(int i, const std::string& text) {
-    check(sqlite3_bind_text(stmt_, i, text.c_str(), static_cast<int>(text.size()), SQLITE_TRANSIENT));
-    return *this;
-  }
-  Statement& bind(int i, long value) {
-    check(sqlite3_bind_int64(stmt_, i, value));
-    return *this;
-  }
-  Statement& bind(int i, double value) {
-    check(sqlite3_bind_double(stmt_, i, value));
-    return *this;
-  }
-  /// true while there is a row.
-  bool step() {
-    const int rc = sqlite3_step(stmt_);
-    if (rc == SQLITE_ROW) return true;
-    if (rc == SQLITE_DONE) return false;
-    throw std::runtime_error(fmt::format("sqlite: {}", sqlite3_errmsg(db_)));
-  }
-  [[nodiscard]] std::string text(int i) const {
-    const auto* p = sqlite3_column_text(stmt_, i);
-    return p != nullptr ? std::string(reinterpret_cast<const char*>(p)) : std::string();
-  }
-  [[nodiscard]] long integer(int i) const { return static_cast<long>(sqlite3_column_int64(stmt_, i)); }
-  [[nodiscard]] double real(int i) const { return sqlite3_column_double(stmt_, i); }
-
- private:
-  void check(int rc) const {
-    if (rc != SQLITE_OK) throw std::runtime_error(fmt::format("sqlite: {}", sqlite3_errmsg(db_)));
-  }
-  sqlite3* db_;
-  sqlite3_stmt* stmt_ = nullptr;
+/// The study databases open in the process, for close_all_before_exit(). Never destroyed: the
+/// thread that handles a signal may use it while the main thread runs the static destructors.
+struct Registry {
+  std::mutex mutex;
+  std::set<StudyDatabase*> open;
 };
+Registry& registry() {
+  static auto* r = new Registry;
+  return *r;
+}
+
+/// An SQLite failure as the error it is: a file that is not an SQLite database, or a damaged one,
+/// is bad input (InputError); anything else (a full disk, an I/O error) fails the run.
+[[noreturn]] void rethrow(const std::filesystem::path& file, const SQLite::Exception& e) {
+  const int code = e.getErrorCode();
+  if (code == SQLITE_NOTADB || code == SQLITE_CORRUPT) {
+    throw InputError(fmt::format("{}: not an SQLite database, or a damaged one ({}); move it away or choose "
+                                 "another output folder",
+                                 file.string(), e.what()));
+  }
+  throw std::runtime_error(fmt::format("{}: sqlite: {}", file.string(), e.what()));
+}
+
+nlohmann::json parse(const std::filesystem::path& file, const std::string& text, const char* what) {
+  nlohmann::json value = nlohmann::json::parse(text, nullptr, false);
+  if (value.is_discarded()) {
+    throw InputError(fmt::format("{}: not a poundsim study database ({} is not JSON: {})", file.string(), what,
+                                 text.substr(0, 60)));
+  }
+  return value;
+}
 
 }  // namespace
 
 StudyDatabase::StudyDatabase(const std::filesystem::path& file, const std::string& fingerprint,
                              const nlohmann::json& definition)
     : file_(file) {
-  if (sqlite3_open_v2(file.c_str(), &db_, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) != SQLITE_OK) {
-    const std::string message = db_ != nullptr ? sqlite3_errmsg(db_) : "out of memory";
-    sqlite3_close(db_);
-    db_ = nullptr;
-    throw std::runtime_error(fmt::format("{}: cannot open the study database: {}", file.string(), message));
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec)) {
+    throw InputError(fmt::format("{}: is a folder, not a study database", file.string()));
   }
-  sqlite3_busy_timeout(db_, 10000);
-  exec("PRAGMA journal_mode = WAL");
-  exec("PRAGMA synchronous = NORMAL");
-  exec("CREATE TABLE IF NOT EXISTS study (key TEXT PRIMARY KEY, value TEXT NOT NULL)");
-  exec("CREATE TABLE IF NOT EXISTS points (id INTEGER PRIMARY KEY, parameters TEXT NOT NULL, "
-       "status TEXT NOT NULL, error TEXT, metrics TEXT, run_time REAL)");
-  exec("CREATE TABLE IF NOT EXISTS baselines (key TEXT PRIMARY KEY, metrics TEXT NOT NULL)");
-  Statement get(db_, "SELECT value FROM study WHERE key = 'fingerprint'");
-  if (get.step()) {
-    if (get.text(0) != fingerprint) {
-      throw InputError(fmt::format(
-          "{}: this database holds the results of a different study (other input or parameters); "
-          "choose another output folder or delete it",
-          file.string()));
+  try {
+    db_ = std::make_unique<SQLite::Database>(file.string(), SQLite::OPEN_READWRITE | SQLite::OPEN_CREATE, 10000);
+    // Anything the file holds is checked before the first write: a file that is not this study's
+    // database stays as it was. An empty database (a new file) becomes one.
+    bool empty = false;
+    {
+      SQLite::Statement tables(*db_, "SELECT count(*) FROM sqlite_master");
+      tables.executeStep();
+      empty = tables.getColumn(0).getInt64() == 0;
     }
-  } else {
-    Statement put(db_, "INSERT INTO study (key, value) VALUES ('fingerprint', ?1), ('definition', ?2)");
-    put.bind(1, fingerprint).bind(2, definition.dump());
-    put.step();
+    if (!empty) check_is_study(&fingerprint);
+    db_->exec("PRAGMA journal_mode = WAL");
+    db_->exec("PRAGMA synchronous = NORMAL");
+    if (empty) {
+      // One transaction: a kill leaves a study database or an empty one, nothing in between.
+      SQLite::Transaction transaction(*db_);
+      db_->exec("CREATE TABLE study (key TEXT PRIMARY KEY, value TEXT NOT NULL);"
+                "CREATE TABLE points (id INTEGER PRIMARY KEY, parameters TEXT NOT NULL, status TEXT NOT NULL, "
+                "error TEXT, metrics TEXT, run_time REAL);"
+                "CREATE TABLE baselines (key TEXT PRIMARY KEY, metrics TEXT NOT NULL)");
+      SQLite::Statement put(*db_, "INSERT INTO study (key, value) VALUES ('fingerprint', ?1), ('definition', ?2)");
+      put.bind(1, fingerprint);
+      put.bind(2, definition.dump());
+      put.exec();
+      transaction.commit();
+    }
+  } catch (const SQLite::Exception& e) {
+    rethrow(file_, e);
   }
+  enlist();
 }
 
 StudyDatabase::StudyDatabase(const std::filesystem::path& file) : file_(file) {
-  if (!std::filesystem::exists(file)) {
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec)) {
     throw InputError(fmt::format("{}: no such study database", file.string()));
   }
-  if (sqlite3_open_v2(file.c_str(), &db_, SQLITE_OPEN_READONLY, nullptr) != SQLITE_OK) {
-    sqlite3_close(db_);
-    db_ = nullptr;
-    throw InputError(fmt::format("{}: cannot open the study database", file.string()));
+  if (std::filesystem::is_directory(file, ec)) {
+    throw InputError(fmt::format("{}: is a folder, not a study database", file.string()));
   }
   try {
-    Statement check(db_, "SELECT value FROM study WHERE key = 'definition'");
-    if (!check.step()) throw InputError(fmt::format("{}: not a poundsim study database", file.string()));
-  } catch (const std::runtime_error&) {
-    throw InputError(fmt::format("{}: not a poundsim study database", file.string()));
+    // Only read, but not opened read-only: the last connection to close removes -wal and -shm
+    // only if it may write. A file the system protects is still opened, read-only.
+    db_ = std::make_unique<SQLite::Database>(file.string(), SQLite::OPEN_READWRITE, 10000);
+    check_is_study(nullptr);
+  } catch (const SQLite::Exception& e) {
+    rethrow(file_, e);
+  }
+  enlist();
+}
+
+void StudyDatabase::check_is_study(const std::string* fingerprint) const {
+  if (!db_->tableExists("study") || !db_->tableExists("points") || !db_->tableExists("baselines")) {
+    throw InputError(fmt::format("{}: not a poundsim study database (it lacks the tables study, points and "
+                                 "baselines); move it away or choose another output folder",
+                                 file_.string()));
+  }
+  // A damaged page would otherwise surface in the middle of the run.
+  SQLite::Statement check(*db_, "PRAGMA quick_check(1)");
+  if (check.executeStep() && check.getColumn(0).getString() != "ok") {
+    throw InputError(fmt::format("{}: a damaged study database ({}); move it away or choose another output folder",
+                                 file_.string(), check.getColumn(0).getString()));
+  }
+  SQLite::Statement get(*db_, "SELECT value FROM study WHERE key = 'fingerprint'");
+  if (!get.executeStep()) {
+    throw InputError(fmt::format("{}: not a poundsim study database (no fingerprint)", file_.string()));
+  }
+  if (fingerprint != nullptr && get.getColumn(0).getString() != *fingerprint) {
+    throw InputError(fmt::format(
+        "{}: this database holds the results of a different study (other input or parameters); "
+        "choose another output folder or delete it",
+        file_.string()));
   }
 }
 
-StudyDatabase::~StudyDatabase() { sqlite3_close(db_); }
+void StudyDatabase::enlist() {
+  const std::lock_guard lock(registry().mutex);
+  registry().open.insert(this);
+}
 
-void StudyDatabase::exec(const std::string& sql) const {
-  char* message = nullptr;
-  if (sqlite3_exec(db_, sql.c_str(), nullptr, nullptr, &message) != SQLITE_OK) {
-    const std::string text = message != nullptr ? message : "error";
-    sqlite3_free(message);
-    throw std::runtime_error(fmt::format("{}: sqlite: {} ({})", file_.string(), text, sql));
+StudyDatabase::~StudyDatabase() {
+  const std::lock_guard lock(registry().mutex);
+  registry().open.erase(this);
+}
+
+void StudyDatabase::close_all_before_exit() noexcept {
+  // Neither lock is released: the process is about to end, and nothing may use a closed database.
+  registry().mutex.lock();
+  for (StudyDatabase* db : registry().open) {
+    db->mutex_.lock();
+    db->db_.reset();
   }
 }
 
 std::set<long> StudyDatabase::finished() const {
   const std::lock_guard lock(mutex_);
   std::set<long> ids;
-  Statement s(db_, "SELECT id FROM points");
-  while (s.step()) ids.insert(s.integer(0));
+  try {
+    SQLite::Statement s(*db_, "SELECT id FROM points");
+    while (s.executeStep()) ids.insert(s.getColumn(0).getInt64());
+  } catch (const SQLite::Exception& e) {
+    rethrow(file_, e);
+  }
   return ids;
 }
 
 void StudyDatabase::record(long id, const nlohmann::json& parameters, const std::string& status,
                            const std::string& error, const nlohmann::json& metrics, double run_time) {
   const std::lock_guard lock(mutex_);
-  Statement s(db_, "INSERT OR REPLACE INTO points (id, parameters, status, error, metrics, run_time) "
-                   "VALUES (?1, ?2, ?3, ?4, ?5, ?6)");
-  s.bind(1, id).bind(2, parameters.dump()).bind(3, status).bind(4, error).bind(5, metrics.dump()).bind(6, run_time);
-  s.step();
+  try {
+    SQLite::Statement s(*db_, "INSERT OR REPLACE INTO points (id, parameters, status, error, metrics, run_time) "
+                              "VALUES (?1, ?2, ?3, ?4, ?5, ?6)");
+    s.bind(1, static_cast<std::int64_t>(id));
+    s.bind(2, parameters.dump());
+    s.bind(3, status);
+    s.bind(4, error);
+    s.bind(5, metrics.dump());
+    s.bind(6, run_time);
+    s.exec();
+  } catch (const SQLite::Exception& e) {
+    rethrow(file_, e);
+  }
 }
 
 std::optional<nlohmann::json> StudyDatabase::baseline(const std::string& key) const {
   const std::lock_guard lock(mutex_);
-  Statement s(db_, "SELECT metrics FROM baselines WHERE key = ?1");
-  s.bind(1, key);
-  if (!s.step()) return std::nullopt;
-  return nlohmann::json::parse(s.text(0));
+  try {
+    SQLite::Statement s(*db_, "SELECT metrics FROM baselines WHERE key = ?1");
+    s.bind(1, key);
+    if (!s.executeStep()) return std::nullopt;
+    return parse(file_, s.getColumn(0).getString(), "a baseline's metrics");
+  } catch (const SQLite::Exception& e) {
+    rethrow(file_, e);
+  }
 }
 
 void StudyDatabase::record_baseline(const std::string& key, const nlohmann::json& metrics) {
   const std::lock_guard lock(mutex_);
-  Statement s(db_, "INSERT OR REPLACE INTO baselines (key, metrics) VALUES (?1, ?2)");
-  s.bind(1, key).bind(2, metrics.dump());
-  s.step();
+  try {
+    SQLite::Statement s(*db_, "INSERT OR REPLACE INTO baselines (key, metrics) VALUES (?1, ?2)");
+    s.bind(1, key);
+    s.bind(2, metrics.dump());
+    s.exec();
+  } catch (const SQLite::Exception& e) {
+    rethrow(file_, e);
+  }
 }
 
 std::vector<StudyDatabase::Row> StudyDatabase::rows() const {
   const std::lock_guard lock(mutex_);
   std::vector<Row> out;
-  Statement s(db_, "SELECT id, parameters, status, error, metrics, run_time FROM points ORDER BY id");
-  while (s.step()) {
-    out.push_back(Row{s.integer(0), nlohmann::json::parse(s.text(1)), s.text(2), s.text(3),
-                      nlohmann::json::parse(s.text(4)), s.real(5)});
+  try {
+    SQLite::Statement s(*db_, "SELECT id, parameters, status, error, metrics, run_time FROM points ORDER BY id");
+    while (s.executeStep()) {
+      out.push_back(Row{s.getColumn(0).getInt64(), parse(file_, s.getColumn(1).getString(), "a point's parameters"),
+                        s.getColumn(2).getString(), s.getColumn(3).getString(),
+                        parse(file_, s.getColumn(4).getString(), "a point's metrics"), s.getColumn(5).getDouble()});
+    }
+  } catch (const SQLite::Exception& e) {
+    rethrow(file_, e);
   }
   return out;
 }
 
 nlohmann::json StudyDatabase::definition() const {
   const std::lock_guard lock(mutex_);
-  Statement s(db_, "SELECT value FROM study WHERE key = 'definition'");
-  return s.step() ? nlohmann::json::parse(s.text(0)) : nlohmann::json{};
+  try {
+    SQLite::Statement s(*db_, "SELECT value FROM study WHERE key = 'definition'");
+    return s.executeStep() ? parse(file_, s.getColumn(0).getString(), "the study's definition") : nlohmann::json{};
+  } catch (const SQLite::Exception& e) {
+    rethrow(file_, e);
+  }
 }
 
 }  // namespace poundsim::io

@@ -5,6 +5,8 @@
 /// Each file is written to a hidden temporary in the output folder and renamed to its final name
 /// only by commit(), after every file has been written and closed without error. A run that
 /// fails (or an OutputTransaction destroyed without commit) leaves no new or half-written file.
+/// A run stopped by a signal leaves none either: the program's signal thread calls
+/// abandon_all_outputs() before the signal ends the process.
 
 #include <cstdio>
 #include <filesystem>
@@ -28,17 +30,31 @@ class OutputFile {
   template <typename... Args>
   void print(fmt::format_string<Args...> format, Args&&... args) {
     fmt::format_to(std::back_inserter(buffer_), format, std::forward<Args>(args)...);
-    if (buffer_.size() > (1u << 20)) flush();
+    written();
   }
   /// Appends a number in the shortest form that reads back to the same double.
-  void number(double x) { fmt::format_to(std::back_inserter(buffer_), "{}", x); }
-  void text(std::string_view s) { buffer_.append(s); }
+  void number(double x) {
+    fmt::format_to(std::back_inserter(buffer_), "{}", x);
+    written();
+  }
+  void text(std::string_view s) {
+    buffer_.append(s);
+    written();
+  }
   void character(char c) { buffer_.push_back(c); }
+  /// Appends `s` as one CSV field (RFC 4180): as it is, or — when it holds a comma, a double
+  /// quote or a line break — in double quotes with every double quote doubled.
+  void csv_field(std::string_view s);
   void flush();
   /// Flushes and closes; throws std::runtime_error naming the file on any write error.
   void close();
 
  private:
+  /// Writes the buffer out once it holds a megabyte: a long history streams to its file instead
+  /// of growing in memory.
+  void written() {
+    if (buffer_.size() > (1u << 20)) flush();
+  }
   std::FILE* file_;
   std::filesystem::path path_;
   fmt::memory_buffer buffer_;
@@ -59,10 +75,12 @@ class OutputTransaction {
   OutputFile& open(const std::string& name);
   /// Writes `value` as the whole file `name`: indented by two, with a final newline.
   void write_json(const std::string& name, const nlohmann::json& value);
-  /// Closes every file and renames it into place.
+  /// Closes every file and renames it into place: all of them, or none if the process is
+  /// stopped meanwhile (abandon_all_outputs).
   void commit();
 
  private:
+  friend void abandon_all_outputs() noexcept;
   struct Entry {
     std::filesystem::path temporary, final_path;
     std::unique_ptr<OutputFile> file;
@@ -71,5 +89,11 @@ class OutputTransaction {
   std::vector<Entry> entries_;
   bool committed_ = false;
 };
+
+/// Removes the temporaries of every OutputTransaction of the process that has not committed, and
+/// keeps any from opening a file or committing from then on (that thread blocks), so that no new
+/// result appears, whole or in part. For the thread that handles SIGINT/SIGTERM just before it
+/// ends the process (it is not async-signal-safe: never from a signal handler).
+void abandon_all_outputs() noexcept;
 
 }  // namespace poundsim::io

@@ -12,28 +12,37 @@
 ///
 /// Each row is its own transaction (journal_mode = WAL, synchronous = NORMAL): a kill loses at
 /// most the points still running.
+///
+/// The connection is closed by the destructor on every path, a refusal included, so that SQLite
+/// removes its -wal and -shm files; a file that is not a study database is refused before
+/// anything is written to it. Runs on SQLiteCpp (RAII connection, statements and transactions).
 
 #include <filesystem>
-#include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <set>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
-struct sqlite3;
+namespace SQLite {
+class Database;
+}
 
 namespace poundsim::io {
 
 class StudyDatabase {
  public:
-  /// Opens (creating if needed) `file`. A database made for another study — a different
-  /// `fingerprint` — is refused with InputError naming the file. Throws std::runtime_error when
-  /// SQLite fails.
+  /// Opens (creating if needed) `file`. Refused with InputError naming the file: a database made
+  /// for another study (a different `fingerprint`), an SQLite database of another program, a file
+  /// that is not an SQLite database or is damaged, a folder. Throws std::runtime_error naming the
+  /// file when SQLite fails otherwise (e.g. the disk is full).
   StudyDatabase(const std::filesystem::path& file, const std::string& fingerprint,
                 const nlohmann::json& definition);
-  /// Opens an existing database read-only (for export). Throws InputError if it is not a study.
+  /// Opens an existing study database to read it (for export); it is never created. Throws
+  /// InputError when it is missing or is not a study database, as above.
   explicit StudyDatabase(const std::filesystem::path& file);
   ~StudyDatabase();
   StudyDatabase(const StudyDatabase&) = delete;
@@ -59,10 +68,19 @@ class StudyDatabase {
   [[nodiscard]] std::vector<Row> rows() const;
   [[nodiscard]] nlohmann::json definition() const;
 
+  /// Closes every study database open in the process, each under its lock, and keeps them closed
+  /// and locked: a thread that then uses one blocks. SQLite checkpoints and removes the -wal and
+  /// -shm files, so a run stopped by a signal leaves a database that is one whole file. For the
+  /// thread that handles SIGINT/SIGTERM just before it ends the process (not async-signal-safe:
+  /// never from a signal handler).
+  static void close_all_before_exit() noexcept;
+
  private:
-  void exec(const std::string& sql) const;
-  sqlite3* db_ = nullptr;
+  /// Refuses (InputError) a file that is not a study database; `fingerprint` null: any study.
+  void check_is_study(const std::string* fingerprint) const;
+  void enlist();
   std::filesystem::path file_;
+  std::unique_ptr<SQLite::Database> db_;
   mutable std::mutex mutex_;
 };
 
