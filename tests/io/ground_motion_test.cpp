@@ -1,5 +1,5 @@
-// Readers of ground-motion records: the real files in ../shared/data/ground_motions (values from
-// its SOURCES.md), every header spelling, and every kind of malformed file.
+// Readers of ground-motion records: the real files in data/ground_motions (values from its
+// SOURCES.md), every header spelling, and every kind of malformed file.
 
 #include "poundsim/io/ground_motion.hpp"
 
@@ -17,7 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kShared = fs::path(POUNDSIM_SOURCE_DIR) / ".." / "shared" / "data" / "ground_motions";
+const fs::path kRecords = fs::path(POUNDSIM_SOURCE_DIR) / "data" / "ground_motions";
 
 double peak_time(const GroundMotionRecord& r) {
   std::size_t k = 0;
@@ -38,7 +38,7 @@ class RealRecords : public ::testing::TestWithParam<Reference> {};
 
 TEST_P(RealRecords, MatchTheirVerifiedValues) {
   const Reference& ref = GetParam();
-  const GroundMotionRecord r = read_ground_motion(kShared / ref.file, RecordOptions{});
+  const GroundMotionRecord r = read_ground_motion(kRecords / ref.file, RecordOptions{});
   EXPECT_EQ(r.format, ref.format);
   EXPECT_EQ(r.points, ref.points);
   EXPECT_EQ(r.excitation.time.size(), static_cast<std::size_t>(ref.points));
@@ -86,7 +86,7 @@ class MalformedRecords : public ::testing::Test {
            "ACCELERATION TIME SERIES IN UNITS OF G\n" + npts_line + "\n" + data;
   }
   static std::string original() {
-    std::ifstream in(kShared / "RSN6_IMPVALL.I_I-ELC180.AT2", std::ios::binary);
+    std::ifstream in(kRecords / "RSN6_IMPVALL.I_I-ELC180.AT2", std::ios::binary);
     std::stringstream s;
     s << in.rdbuf();
     return s.str();
@@ -143,13 +143,13 @@ TEST_F(MalformedRecords, ErrorsNameTheFileAndTheLine) {
   // Declared units must agree with the file.
   RecordOptions wrong;
   wrong.units = "cm/s2";
-  EXPECT_NE(error_of(kShared / "elCentro.AT2", wrong).find("the file says its accelerations are in g, the input says cm/s2"),
+  EXPECT_NE(error_of(kRecords / "elCentro.AT2", wrong).find("the file says its accelerations are in g, the input says cm/s2"),
             std::string::npos);
   EXPECT_NE(error_of("/no/such/record.AT2").find("/no/such/record.AT2: cannot open"), std::string::npos);
 }
 
 TEST_F(MalformedRecords, CosmosWithoutSamplingIntervalOrData) {
-  std::ifstream in(kShared / "us1000hyfh_akbmrp_AKBMR--n.1000hyfh.BNZ.--.acc.V2c", std::ios::binary);
+  std::ifstream in(kRecords / "us1000hyfh_akbmrp_AKBMR--n.1000hyfh.BNZ.--.acc.V2c", std::ios::binary);
   std::stringstream s;
   s << in.rdbuf();
   std::string text = s.str();

@@ -1,7 +1,7 @@
 #pragma once
 /// @file
 /// Ground-motion records in the formats engineers download (details and real examples in
-/// ../shared/data/ground_motions/FORMATS.md):
+/// data/ground_motions/FORMATS.md):
 ///
 /// - PEER `.AT2` — four header lines, then NPTS values; every NPTS/DT spelling (`NPTS= 5372,
 ///   DT= .0100 SEC`, `4096 0.0100 NPTS, DT`, reversed, unlabelled); units from line 3.
