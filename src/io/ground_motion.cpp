@@ -80,10 +80,29 @@ struct Lines {
   }
 };
 
-Lines read_lines(const fs::path& file) {
-  const auto fail = [&](const std::string& message) {
-    throw InputError(fmt::format("{}: {}", file.string(), message));
-  };
+[[noreturn]] void fail_file(const fs::path& file, const std::string& message) {
+  throw InputError(fmt::format("{}: {}", file.string(), message));
+}
+
+std::string too_large() {
+  return fmt::format("larger than {} MiB: not a ground-motion record", kMaxRecordBytes >> 20);
+}
+
+/// The content split into lines; `file` names it in messages.
+Lines split_lines(std::string content, const fs::path& file) {
+  if (content.size() > kMaxRecordBytes) fail_file(file, too_large());
+  Lines lines{file, std::move(content), {}};
+  for (std::size_t begin = 0; begin < lines.content.size();) {
+    lines.starts.push_back(static_cast<std::uint32_t>(begin));  // < kMaxRecordBytes < 2³²
+    const std::size_t newline = lines.content.find('\n', begin);
+    begin = newline == std::string::npos ? lines.content.size() : newline + 1;
+  }
+  if (lines.size() == 0) fail_file(file, "the file is empty");
+  return lines;
+}
+
+std::string read_bytes(const fs::path& file) {
+  const auto fail = [&](const std::string& message) { fail_file(file, message); };
   std::error_code ec;
   const fs::file_status status = fs::status(file, ec);
   if (ec && ec != std::errc::no_such_file_or_directory) fail("cannot open the record file: " + ec.message());
@@ -97,24 +116,16 @@ Lines read_lines(const fs::path& file) {
   }
   std::ifstream in(file, std::ios::binary);
   if (!in) fail("cannot open the record file");
-  Lines lines{file, {}, {}};
   // Read in chunks up to the bound, for the files whose size is not known in advance.
+  std::string content;
   std::vector<char> chunk(std::size_t{1} << 16);
   while (in) {
     in.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
-    lines.content.append(chunk.data(), static_cast<std::size_t>(in.gcount()));
-    if (lines.content.size() > kMaxRecordBytes) {
-      fail(fmt::format("larger than {} MiB: not a ground-motion record", kMaxRecordBytes >> 20));
-    }
+    content.append(chunk.data(), static_cast<std::size_t>(in.gcount()));
+    if (content.size() > kMaxRecordBytes) fail(too_large());
   }
   if (in.bad()) fail("read error");
-  for (std::size_t begin = 0; begin < lines.content.size();) {
-    lines.starts.push_back(static_cast<std::uint32_t>(begin));  // < kMaxRecordBytes < 2³²
-    const std::size_t newline = lines.content.find('\n', begin);
-    begin = newline == std::string::npos ? lines.content.size() : newline + 1;
-  }
-  if (lines.size() == 0) fail("the file is empty");
-  return lines;
+  return content;
 }
 
 std::string upper(std::string_view text) {
@@ -281,13 +292,16 @@ GroundMotionRecord read_at2(const Lines& lines, std::size_t& units_line) {
   GroundMotionRecord r;
   r.format = "at2";
   r.description = std::string(lines[1]);
-  // Patterns without repetition only: std::regex recurses per repeated character.
+  // Patterns without repetition only: std::regex recurses per repeated character. Built once
+  // (matching a const regex from several threads is safe).
+  static const std::regex in_g(R"(UNITS OF G\b|\(G\)|IN G\b)"), in_cm(R"(CM/S(EC)?(/S(EC)?|2|\^2|\*\*2))"),
+      in_m(R"(\bM/S(EC)?(/S(EC)?|2|\^2|\*\*2))");
   const std::string quantity = upper(lines[2]);
-  if (std::regex_search(quantity, std::regex(R"(UNITS OF G\b|\(G\)|IN G\b)"))) {
+  if (std::regex_search(quantity, in_g)) {
     r.file_units = "g";
-  } else if (std::regex_search(quantity, std::regex(R"(CM/S(EC)?(/S(EC)?|2|\^2|\*\*2))"))) {
+  } else if (std::regex_search(quantity, in_cm)) {
     r.file_units = "cm/s2";
-  } else if (std::regex_search(quantity, std::regex(R"(\bM/S(EC)?(/S(EC)?|2|\^2|\*\*2))"))) {
+  } else if (std::regex_search(quantity, in_m)) {
     r.file_units = "m/s2";
   }
   units_line = 3;
@@ -559,20 +573,9 @@ RecordFormat detect(const fs::path& file, const Lines& lines) {
   return RecordFormat::columns;
 }
 
-}  // namespace
-
-double units_to_si(const std::string& units, double gravity) {
-  if (units == "g") return gravity;
-  if (units == "m/s2") return 1.0;
-  if (units == "cm/s2") return 0.01;
-  throw InputError(fmt::format("units \"{}\" must be \"g\", \"m/s2\" or \"cm/s2\"", units));
-}
-
-GroundMotionRecord read_ground_motion(const std::filesystem::path& file, const RecordOptions& o) {
-  const auto fail = [&](const std::string& message) {
-    throw InputError(fmt::format("{}: {}", file.string(), message));
-  };
-  // The options are checked first, so that every message names the record.
+/// The options, checked before the file is read so that every message names the record.
+void check(const RecordOptions& o, const fs::path& file) {
+  const auto fail = [&](const std::string& message) { fail_file(file, message); };
   if (!o.units.empty() && o.units != "g" && o.units != "m/s2" && o.units != "cm/s2") {
     fail(fmt::format("units \"{}\" must be \"g\", \"m/s2\" or \"cm/s2\"", o.units));
   }
@@ -585,7 +588,26 @@ GroundMotionRecord read_ground_motion(const std::filesystem::path& file, const R
     fail(fmt::format("a one-column record needs its dt (a finite number > 0), not {}", o.dt));
   }
   if (o.column < 2) fail(fmt::format("column {}: the acceleration column is 2 or more (column 1 is time)", o.column));
-  const Lines lines = read_lines(file);
+}
+
+}  // namespace
+
+double units_to_si(const std::string& units, double gravity) {
+  if (units == "g") return gravity;
+  if (units == "m/s2") return 1.0;
+  if (units == "cm/s2") return 0.01;
+  throw InputError(fmt::format("units \"{}\" must be \"g\", \"m/s2\" or \"cm/s2\"", units));
+}
+
+GroundMotionRecord read_ground_motion(const std::filesystem::path& file, const RecordOptions& options) {
+  check(options, file);
+  return parse_ground_motion(read_bytes(file), file, options);
+}
+
+GroundMotionRecord parse_ground_motion(std::string content, const std::filesystem::path& file, const RecordOptions& o) {
+  check(o, file);
+  const auto fail = [&](const std::string& message) { fail_file(file, message); };
+  const Lines lines = split_lines(std::move(content), file);
   RecordFormat format = o.format == RecordFormat::automatic ? detect(file, lines) : o.format;
   std::size_t units_line = 0;  // column files carry no units
   GroundMotionRecord r = format == RecordFormat::at2      ? read_at2(lines, units_line)

@@ -87,6 +87,14 @@ class MalformedRecords : public ::testing::Test {
     }
     return "(no error)";
   }
+  std::string error_of_text(const std::string& text, const std::string& name) {
+    try {
+      parse_ground_motion(text, name, {});
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "(no error)";
+  }
   static std::string at2(const std::string& npts_line, const std::string& data) {
     return "PEER NGA STRONG MOTION DATABASE RECORD\nTest, 1/1/2000, Station, 090\n"
            "ACCELERATION TIME SERIES IN UNITS OF G\n" + npts_line + "\n" + data;
@@ -188,6 +196,18 @@ std::string joined(const std::vector<std::string>& lines) {
   std::string text;
   for (const std::string& line : lines) text += line + "\n";
   return text;
+}
+
+TEST_F(MalformedRecords, ParsedFromMemoryAsFromTheFile) {
+  std::ifstream in(kRecords / "elCentro.AT2", std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  const GroundMotionRecord file = read_ground_motion(kRecords / "elCentro.AT2", {});
+  const GroundMotionRecord memory = parse_ground_motion(s.str(), "memory.AT2", {});
+  EXPECT_EQ(memory.excitation.acceleration, file.excitation.acceleration);
+  EXPECT_EQ(memory.excitation.time, file.excitation.time);
+  EXPECT_EQ(memory.excitation.source, "memory.AT2");
+  EXPECT_TRUE(Contains(error_of_text("NPTS= 3", "memory.AT2"), "memory.AT2:1: an AT2 file has four header lines"));
 }
 
 TEST_F(MalformedRecords, CosmosCutToFourPointsReads) {

@@ -12,9 +12,10 @@
 /// - One column — one acceleration per line, dt given.
 ///
 /// Every problem is an InputError naming the file and the line: a header that says nothing of
-/// NPTS or DT, fewer or more values than NPTS, text where a number should be, NaN or infinity,
-/// times that do not increase, unknown units. Nothing is guessed: column files must declare
-/// their units.
+/// NPTS or DT, a count larger than the file can hold or that its lines do not hold (COSMOS), a
+/// sampling interval that is not a finite number > 0, times that overflow, fewer or more values
+/// than NPTS, text where a number should be, NaN or infinity, times that do not increase,
+/// unknown units. Nothing is guessed: column files must declare their units.
 
 #include <filesystem>
 #include <optional>
@@ -51,8 +52,15 @@ struct GroundMotionRecord {
   double duration = 0.0;        ///< Last sample time [s].
 };
 
-/// Reads `file`. Throws InputError naming the file and line on any problem.
+/// Reads `file`. Throws InputError naming the file and line on any problem. Files larger than
+/// 64 MiB are refused (the longest records are tens of MB; a device never ends), and no header
+/// count is trusted beyond what the file can hold.
 GroundMotionRecord read_ground_motion(const std::filesystem::path& file, const RecordOptions& options);
+
+/// The same for a file's `content` already in memory; `file` names it in messages and, with its
+/// extension, chooses the format as read_ground_motion does (for tests and fuzzing).
+GroundMotionRecord parse_ground_motion(std::string content, const std::filesystem::path& file,
+                                       const RecordOptions& options);
 
 /// "g" → gravity, "m/s2" → 1, "cm/s2" → 0.01; throws InputError for anything else.
 double units_to_si(const std::string& units, double gravity);
