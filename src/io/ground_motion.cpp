@@ -155,6 +155,13 @@ bool parse_number(std::string_view text, double& value) {
   return ec == std::errc{};
 }
 
+/// The message for a token parse_number took as a non-finite value: NaN and infinity are spelt
+/// with an 'n' (nan, inf, infinity), a number out of range never is.
+std::string not_finite(std::string_view token) {
+  if (token.find_first_of("nN") != std::string_view::npos) return fmt::format("{} is not a finite value", shown(token));
+  return fmt::format("{} is beyond the range of a double", shown(token));
+}
+
 /// A count written as digits; nullopt when `token` is not one, `UINT64_MAX` when it is too large
 /// for 64 bits (then larger than any bound it is checked against).
 std::optional<std::uint64_t> parse_count(std::string_view token) {
@@ -195,7 +202,7 @@ std::vector<double> read_values(const Lines& lines, std::size_t first, std::size
       if (!parse_number(token, v)) {
         lines.fail(line + 1, fmt::format("'{}' is not a number (reading the {} values)", shown(token), what));
       }
-      if (!std::isfinite(v)) lines.fail(line + 1, fmt::format("{} is not a finite value", shown(token)));
+      if (!std::isfinite(v)) lines.fail(line + 1, not_finite(token));
       if (values.size() == count) {
         lines.fail(line + 1, fmt::format("more values than the {} the header announces", count));
       }
@@ -524,7 +531,7 @@ GroundMotionRecord read_columns(const Lines& lines, const RecordOptions& o, bool
     data_started = true;
     last = i + 1;
     for (std::size_t k = 0; k < values.size(); ++k) {
-      if (!std::isfinite(values[k])) lines.fail(i + 1, fmt::format("{} is not a finite value", shown(tokens[k])));
+      if (!std::isfinite(values[k])) lines.fail(i + 1, not_finite(tokens[k]));
     }
     if (single) {
       if (values.size() != 1) lines.fail(i + 1, fmt::format("expected one value per line, found {}", values.size()));

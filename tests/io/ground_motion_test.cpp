@@ -314,12 +314,14 @@ TEST_F(MalformedRecords, At2DtMustBeFiniteAndItsTimesToo) {
 
 TEST_F(MalformedRecords, ValuesOutOfRangeAndEmptyFilesNameTheFileAndLine) {
   EXPECT_TRUE(Contains(error_of(write("overflow.AT2", at2("NPTS= 3, DT= .01 SEC", "0.1\n1e999 0.3\n"))),
-                       "overflow.AT2:6: 1e999 is not a finite value"));
+                       "overflow.AT2:6: 1e999 is beyond the range of a double"));
   EXPECT_TRUE(Contains(error_of(write("empty.AT2", "")), "empty.AT2: the file is empty"));
   EXPECT_TRUE(Contains(error_of(write("header.AT2", at2("NPTS= 3, DT= .01 SEC", ""))),
                        "header.AT2:4: an AT2 file has four header lines before the data"));
-  EXPECT_TRUE(
-      Contains(error_of(write("time.txt", "0 0\n1e309 0.1\n"), in_g()), "time.txt:2: 1e309 is not a finite value"));
+  EXPECT_TRUE(Contains(error_of(write("time.txt", "0 0\n1e309 0.1\n"), in_g()),
+                       "time.txt:2: 1e309 is beyond the range of a double"));
+  EXPECT_TRUE(Contains(error_of(write("tiny.txt", "0 0\n0.1 1e-400\n"), in_g()),
+                       "tiny.txt:2: 1e-400 is beyond the range of a double"));
   EXPECT_TRUE(
       Contains(error_of(write("nan_time.txt", "0 0\nnan 0.1\n"), in_g()), "nan_time.txt:2: nan is not a finite value"));
   EXPECT_TRUE(Contains(error_of(write("one.txt", "# t a\n0 0\n"), in_g()),
