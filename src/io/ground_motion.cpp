@@ -639,20 +639,25 @@ GroundMotionRecord parse_ground_motion(std::string content, const std::filesyste
     if (!(r.pga_file_g > 0)) fail("the record is all zeros: no PGA to scale");
     r.scale = *o.target_pga_g / r.pga_file_g;
     if (!std::isfinite(r.scale)) {
-      fail(fmt::format("the peak {} g is too small to scale to target_pga_g = {}", r.pga_file_g, *o.target_pga_g));
+      throw RecordScaleError(fmt::format("{}: the peak {} g is too small to scale to target_pga_g {}", file.string(),
+                                         r.pga_file_g, *o.target_pga_g));
     }
   } else {
     r.scale = o.scale;
   }
   const std::string scaled_by =
       o.target_pga_g ? fmt::format("target_pga_g {}", *o.target_pga_g) : fmt::format("scale {}", r.scale);
-  if (!std::isfinite(r.scale * to_si)) fail(fmt::format("the {} overflows in m/s² per {}", scaled_by, r.file_units));
+  const auto overflow = [&](const std::string& message) {
+    throw RecordScaleError(fmt::format("{}: {}", file.string(), message));
+  };
+  if (!std::isfinite(r.scale * to_si)) overflow(fmt::format("the {} overflows in m/s² per {}", scaled_by, r.file_units));
   for (std::size_t k = 0; k < r.excitation.acceleration.size(); ++k) {
     double& a = r.excitation.acceleration[k];
     const double file_value = a;
     a *= r.scale * to_si;
     if (!std::isfinite(a)) {
-      fail(fmt::format("the {} makes sample {} ({} {} in the file) overflow", scaled_by, k + 1, file_value, r.file_units));
+      overflow(
+          fmt::format("the {} makes sample {} ({} {} in the file) overflow", scaled_by, k + 1, file_value, r.file_units));
     }
   }
   r.pga_g = pga(r.excitation.acceleration) / o.gravity;

@@ -342,8 +342,14 @@ TEST_F(MalformedRecords, OnlyRegularFilesOfBoundedSize) {
 }
 
 // A scale that makes the accelerations overflow is an error naming the file and the scale, not
-// "sample 1 is not finite" later.
+// "sample 1 is not finite" later; its own type lets the input blame the scale key.
 TEST_F(MalformedRecords, ScaleThatOverflowsIsAnError) {
+  RecordOptions huge;
+  huge.scale = 1e308;
+  EXPECT_THROW(read_ground_motion(kRecords / "elCentro.AT2", huge), RecordScaleError);
+  RecordOptions tiny_peak = in_g();
+  tiny_peak.target_pga_g = 1.0;
+  EXPECT_THROW(read_ground_motion(write("tiny_peak.txt", "0 1e-320\n0.01 0\n"), tiny_peak), RecordScaleError);
   RecordOptions o;
   o.scale = 1e308;
   EXPECT_TRUE(

@@ -21,6 +21,7 @@
 #include <optional>
 #include <string>
 
+#include "poundsim/error.hpp"
 #include "poundsim/excitation.hpp"
 
 namespace poundsim::io {
@@ -36,6 +37,13 @@ struct RecordOptions {
   double dt = 0.0;             ///< Single column: the sampling interval [s].
   int column = 2;              ///< Columns: the acceleration column (1-based; column 1 is time).
   double gravity = 9.81;       ///< g [m/s²] for records in g (the paper's value).
+};
+
+/// The record is fine but `scale` or `target_pga_g` makes an acceleration overflow in m/s²: a
+/// caller reading them from its own input can blame that key rather than the file.
+class RecordScaleError : public InputError {
+ public:
+  using InputError::InputError;
 };
 
 /// A record read and converted to m/s².
