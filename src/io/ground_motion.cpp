@@ -573,7 +573,11 @@ GroundMotionRecord read_columns(const Lines& lines, const RecordOptions& o, bool
 RecordFormat detect(const fs::path& file, const Lines& lines) {
   const std::string ext = upper(file.extension().string());
   const std::string_view first = lines[0];
-  if (ext == ".AT2" || upper(first).find("PEER") != std::string::npos) return RecordFormat::at2;
+  // PEER's banner opens its files; a column file may name PEER as its source further on.
+  const std::size_t text = first.find_first_not_of(" \t");
+  if (ext == ".AT2" || (text != std::string_view::npos && upper(first.substr(text)).rfind("PEER", 0) == 0)) {
+    return RecordFormat::at2;
+  }
   const bool cosmos_banner = first.rfind("Corrected acceleration", 0) == 0 ||
                              first.rfind("Uncorrected acceleration", 0) == 0 || first.rfind("Raw acceleration", 0) == 0;
   if (ext == ".V2" || ext == ".V2C" || cosmos_banner) return RecordFormat::cosmos;

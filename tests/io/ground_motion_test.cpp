@@ -381,6 +381,14 @@ TEST_F(MalformedRecords, ColumnFilesNeedTheirUnitsAndIncreasingTimes) {
             std::string::npos);
   EXPECT_NE(error_of(write("text.txt", "0 0\n0.1 oops\n"), in_g()).find("text.txt:2: text among the numbers"),
             std::string::npos);
+  // A header naming PEER as its source is a column file's (AT2 files open with PEER's banner).
+  const GroundMotionRecord peer =
+      read_ground_motion(write("northridge.dat", "Source: PEER Strong Motion Database\nTime[s] Accel[g]\n0.0\t-0.0012\n"
+                                                 "0.01\t-0.0007\n"),
+                         in_g());
+  EXPECT_EQ(peer.format, "columns");
+  EXPECT_EQ(peer.points, 2);
+  EXPECT_EQ(read_ground_motion(write("banner.txt", at2("NPTS= 2, DT= .01", "0.1 0.2\n")), {}).format, "at2");
   // One column with its dt; a target PGA replaces the scale.
   RecordOptions single = in_g();
   single.format = RecordFormat::single;
