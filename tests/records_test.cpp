@@ -17,12 +17,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kShared = fs::path(POUNDSIM_SOURCE_DIR) / ".." / "shared" / "data" / "ground_motions";
+const fs::path kRecords = fs::path(POUNDSIM_SOURCE_DIR) / "data" / "ground_motions";
 
 RecordExcitation el_centro(double target_pga_g) {
   io::RecordOptions o;
   o.target_pga_g = target_pga_g;
-  return io::read_ground_motion(kShared / "RSN6_IMPVALL.I_I-ELC180.AT2", o).excitation;
+  return io::read_ground_motion(kRecords / "RSN6_IMPVALL.I_I-ELC180.AT2", o).excitation;
 }
 
 /// One mode, q'' + 2ζω q' + ω² q = −Γ a_g(t) with a_g linear between samples: on each interval

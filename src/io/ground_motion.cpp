@@ -3,10 +3,14 @@
 #include <algorithm>
 #include <cctype>
 #include <charconv>
+#include <climits>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
+#include <limits>
 #include <regex>
-#include <sstream>
+#include <string_view>
+#include <system_error>
 #include <vector>
 
 #include <fmt/format.h>
@@ -17,10 +21,58 @@ namespace poundsim::io {
 
 namespace {
 
-/// The file as lines (CR stripped), with 1-based numbers in messages.
+namespace fs = std::filesystem;
+
+/// The largest record file read. The longest strong-motion records (an hour at 1000 samples/s) are
+/// a few tens of MB; anything larger is not a record, and reading it whole would only exhaust
+/// memory (a device such as /dev/zero never ends).
+constexpr std::size_t kMaxRecordBytes = std::size_t{64} << 20;
+
+/// Text from a file as shown in a message: control bytes escaped, and cut after 40 bytes with the
+/// length given, so that a message never carries a megabyte line or raw binary.
+std::string shown(std::string_view text) {
+  constexpr std::size_t kShown = 40;
+  std::size_t n = std::min(text.size(), kShown);
+  while (n < text.size() && n > 0 && (static_cast<unsigned char>(text[n]) & 0xC0) == 0x80) --n;  // UTF-8
+  std::string out;
+  for (const char c : text.substr(0, n)) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u < 0x20 || u == 0x7F) {
+      out += fmt::format("\\x{:02x}", u);
+    } else {
+      out.push_back(c);
+    }
+  }
+  if (n < text.size()) out += fmt::format("… ({} characters)", text.size());
+  return out;
+}
+
+/// The file's content and where its lines start; lines are views without "\n" or a final "\r",
+/// numbered from 1 in messages. Four bytes per line, whatever the file holds.
 struct Lines {
-  std::filesystem::path file;
-  std::vector<std::string> text;
+  fs::path file;
+  std::string content;
+  std::vector<std::uint32_t> starts;
+
+  std::size_t size() const { return starts.size(); }
+
+  std::string_view operator[](std::size_t k) const {
+    const std::size_t begin = starts[k];
+    std::size_t end = k + 1 < starts.size() ? starts[k + 1] - 1 : content.size();
+    if (k + 1 == starts.size() && end > begin && content[end - 1] == '\n') --end;
+    if (end > begin && content[end - 1] == '\r') --end;
+    return std::string_view(content).substr(begin, end - begin);
+  }
+
+  /// At most how many values lines [first, end) can hold: a value takes a character and a
+  /// separator (a line's end counts as one), so that no count read from a header can make us
+  /// allocate more than the file justifies.
+  std::size_t capacity_from(std::size_t first) const { return bytes_from(first) / 2; }
+  std::size_t bytes_from(std::size_t first) const {
+    if (first >= starts.size()) return 0;
+    const std::size_t bytes = content.size() - starts[first];
+    return content.empty() || content.back() == '\n' ? bytes : bytes + 1;
+  }
 
   [[noreturn]] void fail(std::size_t line, const std::string& message) const {
     if (line == 0) throw InputError(fmt::format("{}: {}", file.string(), message));
@@ -28,65 +80,129 @@ struct Lines {
   }
 };
 
-Lines read_lines(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot open the record file", file.string()));
-  Lines lines{file, {}};
-  for (std::string line; std::getline(in, line);) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    lines.text.push_back(std::move(line));
+[[noreturn]] void fail_file(const fs::path& file, const std::string& message) {
+  throw InputError(fmt::format("{}: {}", file.string(), message));
+}
+
+std::string too_large() {
+  return fmt::format("larger than {} MiB: not a ground-motion record", kMaxRecordBytes >> 20);
+}
+
+/// The content split into lines; `file` names it in messages.
+Lines split_lines(std::string content, const fs::path& file) {
+  if (content.size() > kMaxRecordBytes) fail_file(file, too_large());
+  Lines lines{file, std::move(content), {}};
+  for (std::size_t begin = 0; begin < lines.content.size();) {
+    lines.starts.push_back(static_cast<std::uint32_t>(begin));  // < kMaxRecordBytes < 2³²
+    const std::size_t newline = lines.content.find('\n', begin);
+    begin = newline == std::string::npos ? lines.content.size() : newline + 1;
   }
-  if (in.bad()) throw InputError(fmt::format("{}: read error", file.string()));
+  if (lines.size() == 0) fail_file(file, "the file is empty");
   return lines;
 }
 
-std::string upper(std::string s) {
+std::string read_bytes(const fs::path& file) {
+  const auto fail = [&](const std::string& message) { fail_file(file, message); };
+  std::error_code ec;
+  const fs::file_status status = fs::status(file, ec);
+  if (ec && ec != std::errc::no_such_file_or_directory) fail("cannot open the record file: " + ec.message());
+  if (!fs::exists(status)) fail("cannot open the record file");
+  if (fs::is_directory(status)) fail("a directory, not a record file");
+  if (fs::is_regular_file(status)) {
+    const std::uintmax_t size = fs::file_size(file, ec);
+    if (!ec && size > kMaxRecordBytes) {
+      fail(fmt::format("{} bytes, larger than {} MiB: not a ground-motion record", size, kMaxRecordBytes >> 20));
+    }
+  }
+  std::ifstream in(file, std::ios::binary);
+  if (!in) fail("cannot open the record file");
+  // Read in chunks up to the bound, for the files whose size is not known in advance.
+  std::string content;
+  std::vector<char> chunk(std::size_t{1} << 16);
+  while (in) {
+    in.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
+    content.append(chunk.data(), static_cast<std::size_t>(in.gcount()));
+    if (content.size() > kMaxRecordBytes) fail(too_large());
+  }
+  if (in.bad()) fail("read error");
+  return content;
+}
+
+std::string upper(std::string_view text) {
+  std::string s(text);
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::toupper(c)); });
   return s;
 }
 
+bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+bool is_digit(char c) { return c >= '0' && c <= '9'; }
+
 /// Parses a real number token; Fortran D exponents accepted. False if the token is not a
-/// complete number.
-bool parse_number(std::string token, double& value) {
+/// complete number. A number beyond the range of a double (1e999, 1e-999) is a number, +inf,
+/// so that the finiteness checks reject it with the token in the message.
+bool parse_number(std::string_view text, double& value) {
+  std::string token(text);
   for (char& c : token) {
     if (c == 'D' || c == 'd') c = 'E';
   }
   if (!token.empty() && token.front() == '+') token.erase(0, 1);
   const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
-  return ec == std::errc{} && end == token.data() + token.size();
+  if (end != token.data() + token.size()) return false;
+  if (ec == std::errc::result_out_of_range) {
+    value = std::numeric_limits<double>::infinity();
+    return true;
+  }
+  return ec == std::errc{};
 }
 
-std::vector<std::string> split(const std::string& line, const std::string& separators) {
-  std::vector<std::string> tokens;
-  std::string current;
-  for (const char c : line) {
-    if (separators.find(c) != std::string::npos) {
-      if (!current.empty()) tokens.push_back(current);
-      current.clear();
-    } else {
-      current.push_back(c);
+/// The message for a token parse_number took as a non-finite value: NaN and infinity are spelt
+/// with an 'n' (nan, inf, infinity), a number out of range never is.
+std::string not_finite(std::string_view token) {
+  if (token.find_first_of("nN") != std::string_view::npos) return fmt::format("{} is not a finite value", shown(token));
+  return fmt::format("{} is beyond the range of a double", shown(token));
+}
+
+/// A count written as digits; nullopt when `token` is not one, `UINT64_MAX` when it is too large
+/// for 64 bits (then larger than any bound it is checked against).
+std::optional<std::uint64_t> parse_count(std::string_view token) {
+  if (token.empty() || !std::all_of(token.begin(), token.end(), is_digit)) return std::nullopt;
+  std::uint64_t value = 0;
+  const auto [end, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+  if (ec == std::errc::result_out_of_range) return std::numeric_limits<std::uint64_t>::max();
+  return value;
+}
+
+std::vector<std::string_view> split(std::string_view line, std::string_view separators) {
+  std::vector<std::string_view> tokens;
+  std::size_t begin = 0;
+  for (std::size_t i = 0; i <= line.size(); ++i) {
+    if (i == line.size() || separators.find(line[i]) != std::string_view::npos) {
+      if (i > begin) tokens.push_back(line.substr(begin, i - begin));
+      begin = i + 1;
     }
   }
-  if (!current.empty()) tokens.push_back(current);
   return tokens;
 }
 
-/// Reads `count` numbers from lines [first, end): whitespace-separated tokens, NPTS
+std::vector<std::string_view> words(std::string_view line) { return split(line, " \t\r\v\f"); }
+
+/// Reads `count` numbers from lines [first, end): whitespace-separated tokens, the count
 /// authoritative. Fails on text, NaN, too few, and numbers left over (`stop_at` marks a line
-/// where another section starts, e.g. COSMOS "End-of-data").
+/// where another section starts, e.g. COSMOS "End-of-data"). `count` has been checked against
+/// `capacity_from(first)` by the caller, so the reservation is bounded by the file.
 std::vector<double> read_values(const Lines& lines, std::size_t first, std::size_t count,
-                                const std::string& what, const std::string& stop_at = {}) {
+                                const std::string& what, std::string_view stop_at = {}) {
   std::vector<double> values;
   values.reserve(count);
   std::size_t line = first;
-  for (; line < lines.text.size(); ++line) {
-    if (!stop_at.empty() && lines.text[line].find(stop_at) != std::string::npos) break;
-    for (const std::string& token : split(lines.text[line], " \t")) {
+  for (; line < lines.size(); ++line) {
+    if (!stop_at.empty() && lines[line].find(stop_at) != std::string_view::npos) break;
+    for (const std::string_view token : words(lines[line])) {
       double v = 0;
       if (!parse_number(token, v)) {
-        lines.fail(line + 1, fmt::format("'{}' is not a number (reading the {} values)", token, what));
+        lines.fail(line + 1, fmt::format("'{}' is not a number (reading the {} values)", shown(token), what));
       }
-      if (!std::isfinite(v)) lines.fail(line + 1, fmt::format("{} is not a finite value", token));
+      if (!std::isfinite(v)) lines.fail(line + 1, not_finite(token));
       if (values.size() == count) {
         lines.fail(line + 1, fmt::format("more values than the {} the header announces", count));
       }
@@ -94,10 +210,17 @@ std::vector<double> read_values(const Lines& lines, std::size_t first, std::size
     }
   }
   if (values.size() < count) {
-    lines.fail(std::min(line, lines.text.size()),
+    lines.fail(std::min(line, lines.size()),
                fmt::format("truncated: {} values where the header announces {}", values.size(), count));
   }
   return values;
+}
+
+/// t_i = i·dt for i < points; dt > 0 and finite, and the last time is checked finite first.
+std::vector<double> uniform_times(std::size_t points, double dt) {
+  std::vector<double> time(points);
+  for (std::size_t i = 0; i < points; ++i) time[i] = static_cast<double>(i) * dt;
+  return time;
 }
 
 double pga(const std::vector<double>& a) {
@@ -106,7 +229,7 @@ double pga(const std::vector<double>& a) {
   return p;
 }
 
-std::string normalise_units(const std::string& text) {
+std::string normalise_units(std::string_view text) {
   const std::string u = upper(text);
   if (u == "G") return "g";
   if (u == "M/S2" || u == "M/S/S" || u == "M/SEC2" || u == "M/S^2") return "m/s2";
@@ -114,102 +237,266 @@ std::string normalise_units(const std::string& text) {
   return {};
 }
 
-GroundMotionRecord read_at2(const Lines& lines) {
-  if (lines.text.size() < 5) lines.fail(lines.text.size(), "an AT2 file has four header lines before the data");
+/// The digits after the first `NPTS` that blanks and an optional '=' separate from digits
+/// (as the pattern NPTS\s*=?\s*(\d+)); empty if none. Scanned by hand: std::regex recurses per
+/// character and overflows its stack on a long line.
+std::string_view labelled_npts(std::string_view header) {
+  for (std::size_t at = header.find("NPTS"); at != std::string_view::npos; at = header.find("NPTS", at + 1)) {
+    std::size_t i = at + 4;
+    while (i < header.size() && is_blank(header[i])) ++i;
+    if (i < header.size() && header[i] == '=') ++i;
+    while (i < header.size() && is_blank(header[i])) ++i;
+    std::size_t end = i;
+    while (end < header.size() && is_digit(header[end])) ++end;
+    if (end > i) return header.substr(i, end - i);
+  }
+  return {};
+}
+
+/// The number after the first word `DT` that blanks and an optional '=' separate from a number
+/// [0-9]*\.?[0-9]+ with an optional exponent [ED][-+]?[0-9]+ (header upper-cased); empty if none.
+std::string_view labelled_dt(std::string_view header) {
+  const auto word = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_'; };
+  for (std::size_t at = header.find("DT"); at != std::string_view::npos; at = header.find("DT", at + 1)) {
+    if (at > 0 && word(header[at - 1])) continue;
+    std::size_t i = at + 2;
+    while (i < header.size() && is_blank(header[i])) ++i;
+    if (i < header.size() && header[i] == '=') ++i;
+    while (i < header.size() && is_blank(header[i])) ++i;
+    std::size_t end = i;
+    while (end < header.size() && is_digit(header[end])) ++end;
+    if (end + 1 < header.size() && header[end] == '.' && is_digit(header[end + 1])) {
+      ++end;
+      while (end < header.size() && is_digit(header[end])) ++end;
+    }
+    if (end == i) continue;
+    if (end < header.size() && (header[end] == 'E' || header[end] == 'D')) {
+      std::size_t e = end + 1;
+      if (e < header.size() && (header[e] == '+' || header[e] == '-')) ++e;
+      const std::size_t digits = e;
+      while (e < header.size() && is_digit(header[e])) ++e;
+      if (e > digits) end = e;
+    }
+    return header.substr(i, end - i);
+  }
+  return {};
+}
+
+/// A header count on line `line` (0-based) that must not exceed `limit`; `why` says what the
+/// limit is. The value is returned only when it fits: nothing is allocated from a count the file
+/// cannot hold.
+std::size_t bounded_count(const Lines& lines, std::size_t line, std::string_view token, const std::string& what,
+                          std::size_t limit, const std::string& why) {
+  const std::optional<std::uint64_t> n = parse_count(token);
+  if (!n) lines.fail(line + 1, fmt::format("'{}' is not a count of {}", shown(token), what));
+  if (*n > limit) lines.fail(line + 1, fmt::format("{} {} announced: {}", shown(token), what, why));
+  return static_cast<std::size_t>(*n);
+}
+
+/// `units_line` is set to the line that gives the units (1-based).
+GroundMotionRecord read_at2(const Lines& lines, std::size_t& units_line) {
+  if (lines.size() < 5) lines.fail(lines.size(), "an AT2 file has four header lines before the data");
   GroundMotionRecord r;
   r.format = "at2";
-  r.description = lines.text[1];
-  const std::string units_line = upper(lines.text[2]);
-  if (std::regex_search(units_line, std::regex(R"(UNITS OF G\b|\(G\)|IN G\b)"))) {
+  r.description = std::string(lines[1]);
+  // Patterns without repetition only: std::regex recurses per repeated character. Built once
+  // (matching a const regex from several threads is safe).
+  static const std::regex in_g(R"(UNITS OF G\b|\(G\)|IN G\b)"), in_cm(R"(CM/S(EC)?(/S(EC)?|2|\^2|\*\*2))"),
+      in_m(R"(\bM/S(EC)?(/S(EC)?|2|\^2|\*\*2))");
+  const std::string quantity = upper(lines[2]);
+  if (std::regex_search(quantity, in_g)) {
     r.file_units = "g";
-  } else if (std::regex_search(units_line, std::regex(R"(CM/S(EC)?(/S(EC)?|2|\^2|\*\*2))"))) {
+  } else if (std::regex_search(quantity, in_cm)) {
     r.file_units = "cm/s2";
-  } else if (std::regex_search(units_line, std::regex(R"(\bM/S(EC)?(/S(EC)?|2|\^2|\*\*2))"))) {
+  } else if (std::regex_search(quantity, in_m)) {
     r.file_units = "m/s2";
   }
-  if (units_line.find("VELOCITY") != std::string::npos || units_line.find("DISPLACEMENT") != std::string::npos) {
+  units_line = 3;
+  if (quantity.find("VELOCITY") != std::string::npos || quantity.find("DISPLACEMENT") != std::string::npos) {
     lines.fail(3, "this is a velocity or displacement record (.VT2/.DT2), not an acceleration");
   }
   // NPTS and DT: labelled values anywhere on the line; else the first two numbers before "SEC"
   // (filter information may follow), ordered by their labels, or integer first.
-  const std::string header = upper(lines.text[3]);
-  const std::string cut = header.substr(0, header.find("SEC") == std::string::npos ? header.size() : header.find("SEC") + 3);
-  std::smatch m;
-  double npts = -1, dt = -1;
-  const std::regex npts_value(R"(NPTS\s*=?\s*(\d+))"), dt_value(R"(\bDT\s*=?\s*([0-9]*\.?[0-9]+(?:[EDed][-+]?\d+)?))");
-  if (std::regex_search(header, m, npts_value)) npts = std::stod(m[1]);
-  if (std::regex_search(header, m, dt_value)) parse_number(m[1], dt);
-  if (npts < 0 || dt < 0) {
-    std::vector<double> numbers;
-    for (const std::string& token : split(cut, " \t,=")) {
+  const std::string header = upper(lines[3]);
+  const std::string_view cut =
+      std::string_view(header).substr(0, header.find("SEC") == std::string::npos ? header.size() : header.find("SEC") + 3);
+  std::string_view npts_token = labelled_npts(header), dt_token = labelled_dt(header);
+  if (npts_token.empty() || dt_token.empty()) {
+    std::vector<std::pair<double, std::string_view>> numbers;
+    for (const std::string_view token : split(cut, " \t,=")) {
       double v = 0;
-      if (parse_number(token, v)) numbers.push_back(v);
+      if (parse_number(token, v)) numbers.emplace_back(v, token);
     }
     if (numbers.size() >= 2) {
       const auto at_npts = cut.find("NPTS"), at_dt = cut.find("DT");
       const bool dt_first = at_dt != std::string::npos && at_npts != std::string::npos && at_dt < at_npts;
       const bool unlabelled = at_npts == std::string::npos && at_dt == std::string::npos;
-      const bool integer_first = numbers[0] == std::floor(numbers[0]) && numbers[0] >= 2;
+      const bool integer_first = numbers[0].first == std::floor(numbers[0].first) && numbers[0].first >= 2;
       const bool npts_first = unlabelled ? integer_first : !dt_first;
-      if (npts < 0) npts = npts_first ? numbers[0] : numbers[1];
-      if (dt < 0) dt = npts_first ? numbers[1] : numbers[0];
+      if (npts_token.empty()) npts_token = numbers[npts_first ? 0 : 1].second;
+      if (dt_token.empty()) dt_token = numbers[npts_first ? 1 : 0].second;
     }
   }
-  if (npts < 0) lines.fail(4, fmt::format("no NPTS in the header line '{}'", lines.text[3]));
-  if (!(dt > 0)) lines.fail(4, fmt::format("no DT (> 0) in the header line '{}'", lines.text[3]));
-  if (npts != std::floor(npts) || npts < 2) lines.fail(4, fmt::format("NPTS = {} must be an integer ≥ 2", npts));
-  r.points = static_cast<int>(npts);
+  if (npts_token.empty()) lines.fail(4, fmt::format("no NPTS in the header line '{}'", shown(lines[3])));
+  if (dt_token.empty()) lines.fail(4, fmt::format("no DT (> 0) in the header line '{}'", shown(lines[3])));
+  double npts = 0, dt = 0;
+  parse_number(npts_token, npts);
+  parse_number(dt_token, dt);
+  if (!(std::isfinite(dt) && dt > 0)) lines.fail(4, fmt::format("DT = {} s must be a finite number > 0", shown(dt_token)));
+  const std::size_t capacity = lines.capacity_from(4);
+  const std::size_t limit = std::min<std::size_t>(capacity, INT_MAX);
+  if (!(npts <= static_cast<double>(limit))) {  // NaN too
+    lines.fail(4, fmt::format("NPTS = {} announced: the {} bytes after the header hold at most {} values",
+                              shown(npts_token), lines.bytes_from(4), capacity));
+  }
+  if (npts != std::floor(npts) || npts < 2) lines.fail(4, fmt::format("NPTS = {} must be an integer ≥ 2", shown(npts_token)));
+  const auto points = static_cast<std::size_t>(npts);  // an integer in [2, INT_MAX]
+  if (!std::isfinite(static_cast<double>(points - 1) * dt)) {
+    lines.fail(4, fmt::format("the record's length (NPTS − 1) × DT = {} × {} s is not a finite number", points - 1,
+                              shown(dt_token)));
+  }
+  r.points = static_cast<int>(points);
   r.dt = dt;
-  r.excitation.acceleration = read_values(lines, 4, static_cast<std::size_t>(npts), "NPTS");
-  for (int i = 0; i < r.points; ++i) r.excitation.time.push_back(i * dt);
+  r.excitation.acceleration = read_values(lines, 4, points, "NPTS");
+  r.excitation.time = uniform_times(points, dt);
   return r;
 }
 
-GroundMotionRecord read_cosmos(const Lines& lines) {
+GroundMotionRecord read_cosmos(const Lines& lines, std::size_t& units_line) {
   GroundMotionRecord r;
   r.format = "cosmos";
-  std::smatch m;
-  const auto find = [&](std::size_t line, const std::regex& pattern, const std::string& what) {
-    if (line >= lines.text.size() || !std::regex_search(lines.text[line], m, pattern)) {
-      lines.fail(std::min(line + 1, lines.text.size()), fmt::format("expected {}", what));
-    }
-  };
-  const std::string first = lines.text.empty() ? std::string() : lines.text[0];
+  const std::string_view first = lines[0];
   if (first.rfind("Corrected acceleration", 0) != 0) {
     lines.fail(1, first.find("acceleration") != std::string::npos
                       ? "not corrected acceleration (COSMOS V2): V0/V1 records are not processed"
                       : "a COSMOS V2 file starts with 'Corrected acceleration'");
   }
-  find(0, std::regex(R"(with\s+(\d+)\s+text lines)"), "'with N text lines' in the first line");
-  std::size_t line = std::stoul(m[1]);
-  if (lines.text.size() > 1) r.description = lines.text[1];
-  find(line, std::regex(R"(^\s*(\d+)\s+Integer-header values follow on\s+(\d+)\s+lines)"), "the integer-header line");
-  line += 1 + std::stoul(m[2]);
-  find(line, std::regex(R"(^\s*(\d+)\s+Real-header values follow on\s+(\d+)\s+lines)"), "the real-header line");
-  const std::size_t real_count = std::stoul(m[1]), real_lines = std::stoul(m[2]);
-  std::vector<double> reals;
-  for (std::size_t k = line + 1; k <= line + real_lines && k < lines.text.size(); ++k) {
-    for (const std::string& token : split(lines.text[k], " \t")) {
-      double v = 0;
-      if (!parse_number(token, v)) lines.fail(k + 1, fmt::format("'{}' is not a number (real header)", token));
-      reals.push_back(v);
-    }
+  // Each section announces its own length; every count is checked against the lines that follow
+  // before it is used, and each section's values are counted against its count.
+  const auto expect = [&](std::size_t line, const std::string& what) {
+    lines.fail(std::min(line + 1, lines.size()), fmt::format("expected {}", what));
+  };
+  const auto begins = [](std::string_view word, std::string_view prefix) { return word.rfind(prefix, 0) == 0; };
+  std::size_t line = 0;
+  {
+    const std::vector<std::string_view> w = words(first);
+    std::size_t k = 0;
+    while (k + 3 < w.size() && !(w[k] == "with" && w[k + 2] == "text" && begins(w[k + 3], "lines"))) ++k;
+    if (k + 3 >= w.size()) expect(0, "'with N text lines' in the first line");
+    line = bounded_count(lines, 0, w[k + 1], "text lines", lines.size() - 1,
+                         fmt::format("the file has {} lines", lines.size()));
+    if (line == 0) lines.fail(1, "0 text lines announced: the first line is one");
   }
-  if (reals.size() < std::min<std::size_t>(real_count, 62)) lines.fail(line + 1, "real header too short: no sampling interval (#62)");
-  line += 1 + real_lines;
-  find(line, std::regex(R"(^\s*(\d+)\s+Comment line)"), "the comment-count line");
-  line += 1 + std::stoul(m[1]);
-  find(line, std::regex(R"(^\s*(\d+)\s+acceleration pts.*units=\s*([^(,\s]+))"), "the data header '<n> acceleration pts, …, units=…'");
-  const std::size_t npts = std::stoul(m[1]);
-  r.file_units = normalise_units(m[2]);
-  if (r.file_units.empty()) lines.fail(line + 1, fmt::format("unknown units '{}'", m[2].str()));
-  const double dt_ms = reals[61];
-  if (!(dt_ms > 0) || dt_ms == -999.0) lines.fail(line + 1, "no sampling interval: real header #62 is unknown (-999)");
-  r.dt = dt_ms / 1000.0;
-  r.points = static_cast<int>(npts);
-  if (npts < 2) lines.fail(line + 1, "fewer than two points");
-  r.excitation.acceleration = read_values(lines, line + 1, npts, "acceleration", "End-of-data");
-  for (std::size_t i = 0; i < npts; ++i) r.excitation.time.push_back(static_cast<double>(i) * r.dt);
+  if (lines.size() > 1) r.description = std::string(lines[1]);
+  // "<n> Integer-header values follow on <m> lines" and the same for the real header.
+  const auto header_counts = [&](const std::string& name, std::string_view label) {
+    const std::vector<std::string_view> w = line < lines.size() ? words(lines[line]) : std::vector<std::string_view>{};
+    if (w.size() < 7 || w[1] != label || w[2] != "values" || w[3] != "follow" || w[4] != "on" || !begins(w[6], "lines")) {
+      expect(line, fmt::format("the {}-header line '<n> {} values follow on <m> lines'", name, label));
+    }
+    const std::size_t follow = lines.size() - line - 1;
+    const std::size_t count_lines = bounded_count(lines, line, w[5], name + "-header lines", follow,
+                                                  fmt::format("{} lines follow", follow));
+    const std::optional<std::uint64_t> count = parse_count(w[0]);
+    if (!count) lines.fail(line + 1, fmt::format("'{}' is not a count of {}-header values", shown(w[0]), name));
+    return std::pair{*count, count_lines};
+  };
+  const auto check_count = [&](std::uint64_t count, std::size_t held, std::size_t count_lines, const std::string& name,
+                               std::string_view token) {
+    if (count != held) {
+      lines.fail(line + 1, fmt::format("{} {}-header values announced: lines {}–{} hold {}", shown(token), name,
+                                       line + 2, line + 1 + count_lines, held));
+    }
+  };
+  {
+    const auto [count, count_lines] = header_counts("integer", "Integer-header");
+    std::size_t held = 0;
+    for (std::size_t k = line + 1; k <= line + count_lines; ++k) {
+      for (const std::string_view token : words(lines[k])) {
+        long long v = 0;
+        const std::string_view digits = token.substr(token.front() == '+' ? 1 : 0);
+        const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v);
+        if (ec != std::errc{} || end != digits.data() + digits.size()) {
+          lines.fail(k + 1, fmt::format("'{}' is not an integer (integer header)", shown(token)));
+        }
+        ++held;
+      }
+    }
+    check_count(count, held, count_lines, "integer", words(lines[line])[0]);
+    line += 1 + count_lines;
+  }
+  // Real header #62: the sampling interval in ms, found on `dt_line` as `dt_token`.
+  double dt_ms = 0;
+  std::size_t dt_line = 0;
+  std::string_view dt_token;
+  {
+    const auto [count, count_lines] = header_counts("real", "Real-header");
+    std::size_t held = 0;
+    for (std::size_t k = line + 1; k <= line + count_lines; ++k) {
+      for (const std::string_view token : words(lines[k])) {
+        double v = 0;
+        if (!parse_number(token, v)) lines.fail(k + 1, fmt::format("'{}' is not a number (real header)", shown(token)));
+        if (++held == 62) {
+          dt_ms = v;
+          dt_line = k;
+          dt_token = token;
+        }
+      }
+    }
+    check_count(count, held, count_lines, "real", words(lines[line])[0]);
+    if (held < 62) {
+      lines.fail(line + 1, fmt::format("the real header has {} values: the sampling interval is value #62", held));
+    }
+    line += 1 + count_lines;
+  }
+  {
+    const std::vector<std::string_view> w = line < lines.size() ? words(lines[line]) : std::vector<std::string_view>{};
+    if (w.size() < 2 || !begins(w[1], "Comment")) expect(line, "the comment-count line '<n> Comment line(s) follow'");
+    const std::size_t follow = lines.size() - line - 1;
+    const std::size_t comments =
+        bounded_count(lines, line, w[0], "comment lines", follow, fmt::format("{} lines follow", follow));
+    for (std::size_t k = 1; k <= comments; ++k) {
+      if (!begins(lines[line + k], "|")) {
+        lines.fail(line + k + 1, fmt::format("comment line {} of {} does not start with '|'", k, comments));
+      }
+    }
+    line += 1 + comments;
+  }
+  {
+    const std::vector<std::string_view> w = line < lines.size() ? words(lines[line]) : std::vector<std::string_view>{};
+    if (w.size() < 3 || w[1] != "acceleration" || !begins(w[2], "pts")) {
+      expect(line, "the data header '<n> acceleration pts, …, units=…'");
+    }
+    const std::string_view header = lines[line];
+    const std::size_t at = header.find("units=");
+    if (at == std::string_view::npos) lines.fail(line + 1, "the data header gives no units=");
+    std::size_t begin = at + 6;
+    while (begin < header.size() && is_blank(header[begin])) ++begin;
+    std::size_t end = begin;
+    while (end < header.size() && header[end] != '(' && header[end] != ',' && !is_blank(header[end])) ++end;
+    const std::string_view units = header.substr(begin, end - begin);
+    r.file_units = normalise_units(units);
+    if (r.file_units.empty()) lines.fail(line + 1, fmt::format("unknown units '{}'", shown(units)));
+    units_line = line + 1;
+    const std::size_t capacity = lines.capacity_from(line + 1);
+    const std::size_t points =
+        bounded_count(lines, line, w[0], "acceleration points", std::min<std::size_t>(capacity, INT_MAX),
+                      fmt::format("the {} bytes after this line hold at most {}", lines.bytes_from(line + 1), capacity));
+    if (points < 2) lines.fail(line + 1, "fewer than two points");
+    if (!(std::isfinite(dt_ms) && dt_ms > 0)) {
+      lines.fail(dt_line + 1, fmt::format("no sampling interval: real header #62 is {} ms, not a finite number > 0 "
+                                          "(-999 means unknown)",
+                                          shown(dt_token)));
+    }
+    r.dt = dt_ms / 1000.0;
+    if (!std::isfinite(static_cast<double>(points - 1) * r.dt)) {
+      lines.fail(dt_line + 1, fmt::format("the record's length ({} − 1) × {} ms is not a finite number", points,
+                                          shown(dt_token)));
+    }
+    r.points = static_cast<int>(points);  // ≤ INT_MAX, checked above
+    r.excitation.acceleration = read_values(lines, line + 1, points, "acceleration", "End-of-data");
+    r.excitation.time = uniform_times(points, r.dt);
+  }
   return r;
 }
 
@@ -217,14 +504,16 @@ GroundMotionRecord read_columns(const Lines& lines, const RecordOptions& o, bool
   GroundMotionRecord r;
   r.format = single ? "single" : "columns";
   bool data_started = false;
-  for (std::size_t i = 0; i < lines.text.size(); ++i) {
-    const std::string& text = lines.text[i];
+  std::size_t last = 0;  // the last data line, 1-based
+  const auto column = static_cast<std::size_t>(o.column);  // ≥ 2, checked by the caller
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    const std::string_view text = lines[i];
     const auto start = text.find_first_not_of(" \t");
     if (start == std::string::npos || text[start] == '#' || text[start] == '%') continue;
-    const std::vector<std::string> tokens = split(text, " \t,;");
+    const std::vector<std::string_view> tokens = split(text, " \t,;");
     std::vector<double> values;
     bool numeric = true;
-    for (const std::string& t : tokens) {
+    for (const std::string_view t : tokens) {
       double v = 0;
       if (!parse_number(t, v)) {
         numeric = false;
@@ -234,24 +523,28 @@ GroundMotionRecord read_columns(const Lines& lines, const RecordOptions& o, bool
     }
     if (!numeric) {
       if (!data_started) {
-        if (r.description.empty()) r.description = text;
+        if (r.description.empty()) r.description = std::string(text);
         continue;  // a header line
       }
-      lines.fail(i + 1, fmt::format("text among the numbers: '{}'", text));
+      lines.fail(i + 1, fmt::format("text among the numbers: '{}'", shown(text)));
     }
     data_started = true;
-    for (const double v : values) {
-      if (!std::isfinite(v)) lines.fail(i + 1, "NaN or infinite value");
+    last = i + 1;
+    for (std::size_t k = 0; k < values.size(); ++k) {
+      if (!std::isfinite(values[k])) lines.fail(i + 1, not_finite(tokens[k]));
     }
     if (single) {
       if (values.size() != 1) lines.fail(i + 1, fmt::format("expected one value per line, found {}", values.size()));
-      r.excitation.time.push_back(static_cast<double>(r.excitation.acceleration.size()) * o.dt);
+      const std::size_t k = r.excitation.acceleration.size();
+      const double t = static_cast<double>(k) * o.dt;
+      if (!std::isfinite(t)) lines.fail(i + 1, fmt::format("time {} × {} s is not a finite number", k, o.dt));
+      r.excitation.time.push_back(t);
       r.excitation.acceleration.push_back(values[0]);
       continue;
     }
-    if (static_cast<int>(values.size()) < std::max(2, o.column)) {
-      lines.fail(i + 1, fmt::format("expected at least {} columns (time and acceleration), found {}",
-                                    std::max(2, o.column), values.size()));
+    if (values.size() < column) {
+      lines.fail(i + 1, fmt::format("expected at least {} columns (time and acceleration), found {}", column,
+                                    values.size()));
     }
     const double t = values[0];
     if (r.excitation.time.empty() && t < 0) lines.fail(i + 1, fmt::format("the first time {} s is negative", t));
@@ -259,10 +552,11 @@ GroundMotionRecord read_columns(const Lines& lines, const RecordOptions& o, bool
       lines.fail(i + 1, fmt::format("time {} s does not increase (previous {} s)", t, r.excitation.time.back()));
     }
     r.excitation.time.push_back(t);
-    r.excitation.acceleration.push_back(values[static_cast<std::size_t>(o.column - 1)]);
+    r.excitation.acceleration.push_back(values[column - 1]);
   }
-  r.points = static_cast<int>(r.excitation.time.size());
-  if (r.points < 2) lines.fail(0, fmt::format("a record needs at least two samples, found {}", r.points));
+  const std::size_t points = r.excitation.time.size();  // ≤ kMaxRecordBytes / 2 < INT_MAX
+  if (points < 2) lines.fail(last > 0 ? last : lines.size(), fmt::format("a record needs at least two samples, found {}", points));
+  r.points = static_cast<int>(points);
   r.dt = single ? o.dt : 0.0;
   if (!single) {
     // Uniform sampling (to a millisecond of the step) is reported as dt; otherwise 0.
@@ -276,13 +570,35 @@ GroundMotionRecord read_columns(const Lines& lines, const RecordOptions& o, bool
   return r;
 }
 
-RecordFormat detect(const std::filesystem::path& file, const Lines& lines) {
+RecordFormat detect(const fs::path& file, const Lines& lines) {
   const std::string ext = upper(file.extension().string());
-  const std::string first = lines.text.empty() ? std::string() : lines.text[0];
-  if (ext == ".AT2" || upper(first).find("PEER") != std::string::npos) return RecordFormat::at2;
-  const bool cosmos_banner = std::regex_search(first, std::regex(R"(^(Corrected|Uncorrected|Raw) acceleration)"));
+  const std::string_view first = lines[0];
+  // PEER's banner opens its files; a column file may name PEER as its source further on.
+  const std::size_t text = first.find_first_not_of(" \t");
+  if (ext == ".AT2" || (text != std::string_view::npos && upper(first.substr(text)).rfind("PEER", 0) == 0)) {
+    return RecordFormat::at2;
+  }
+  const bool cosmos_banner = first.rfind("Corrected acceleration", 0) == 0 ||
+                             first.rfind("Uncorrected acceleration", 0) == 0 || first.rfind("Raw acceleration", 0) == 0;
   if (ext == ".V2" || ext == ".V2C" || cosmos_banner) return RecordFormat::cosmos;
   return RecordFormat::columns;
+}
+
+/// The options, checked before the file is read so that every message names the record.
+void check(const RecordOptions& o, const fs::path& file) {
+  const auto fail = [&](const std::string& message) { fail_file(file, message); };
+  if (!o.units.empty() && o.units != "g" && o.units != "m/s2" && o.units != "cm/s2") {
+    fail(fmt::format("units \"{}\" must be \"g\", \"m/s2\" or \"cm/s2\"", o.units));
+  }
+  if (!(std::isfinite(o.gravity) && o.gravity > 0)) fail(fmt::format("gravity {} m/s² must be > 0", o.gravity));
+  if (!std::isfinite(o.scale)) fail(fmt::format("scale {} must be a finite number", o.scale));
+  if (o.target_pga_g && !(std::isfinite(*o.target_pga_g) && *o.target_pga_g > 0)) {
+    fail(fmt::format("target_pga_g {} must be a finite number > 0", *o.target_pga_g));
+  }
+  if (o.format == RecordFormat::single && !(std::isfinite(o.dt) && o.dt > 0)) {
+    fail(fmt::format("a one-column record needs its dt (a finite number > 0), not {}", o.dt));
+  }
+  if (o.column < 2) fail(fmt::format("column {}: the acceleration column is 2 or more (column 1 is time)", o.column));
 }
 
 }  // namespace
@@ -294,35 +610,60 @@ double units_to_si(const std::string& units, double gravity) {
   throw InputError(fmt::format("units \"{}\" must be \"g\", \"m/s2\" or \"cm/s2\"", units));
 }
 
-GroundMotionRecord read_ground_motion(const std::filesystem::path& file, const RecordOptions& o) {
-  const Lines lines = read_lines(file);
+GroundMotionRecord read_ground_motion(const std::filesystem::path& file, const RecordOptions& options) {
+  check(options, file);
+  return parse_ground_motion(read_bytes(file), file, options);
+}
+
+GroundMotionRecord parse_ground_motion(std::string content, const std::filesystem::path& file, const RecordOptions& o) {
+  check(o, file);
+  const auto fail = [&](const std::string& message) { fail_file(file, message); };
+  const Lines lines = split_lines(std::move(content), file);
   RecordFormat format = o.format == RecordFormat::automatic ? detect(file, lines) : o.format;
-  if (format == RecordFormat::single && !(o.dt > 0)) {
-    throw InputError(fmt::format("{}: a one-column record needs its dt", file.string()));
-  }
-  GroundMotionRecord r = format == RecordFormat::at2      ? read_at2(lines)
-                         : format == RecordFormat::cosmos ? read_cosmos(lines)
+  std::size_t units_line = 0;  // column files carry no units
+  GroundMotionRecord r = format == RecordFormat::at2      ? read_at2(lines, units_line)
+                         : format == RecordFormat::cosmos ? read_cosmos(lines, units_line)
                                                           : read_columns(lines, o, format == RecordFormat::single);
   if (r.file_units.empty()) {
     if (o.units.empty()) {
-      throw InputError(fmt::format("{}: the units of the accelerations are not in the file: declare them "
-                                   "(units = \"g\", \"m/s2\" or \"cm/s2\")",
-                                   file.string()));
+      lines.fail(units_line, "the units of the accelerations are not in the file: declare them "
+                               "(units = \"g\", \"m/s2\" or \"cm/s2\")");
     }
     r.file_units = o.units;
   } else if (!o.units.empty() && o.units != r.file_units) {
-    throw InputError(fmt::format("{}: the file says its accelerations are in {}, the input says {}",
-                                 file.string(), r.file_units, o.units));
+    lines.fail(units_line,
+               fmt::format("the file says its accelerations are in {}, the input says {}", r.file_units, o.units));
   }
   const double to_si = units_to_si(r.file_units, o.gravity);
   r.pga_file_g = pga(r.excitation.acceleration) * to_si / o.gravity;
+  if (!std::isfinite(r.pga_file_g)) {
+    fail(fmt::format("the peak {} {} overflows in m/s²", pga(r.excitation.acceleration), r.file_units));
+  }
   if (o.target_pga_g) {
-    if (!(r.pga_file_g > 0)) throw InputError(fmt::format("{}: the record is all zeros: no PGA to scale", file.string()));
+    if (!(r.pga_file_g > 0)) fail("the record is all zeros: no PGA to scale");
     r.scale = *o.target_pga_g / r.pga_file_g;
+    if (!std::isfinite(r.scale)) {
+      throw RecordScaleError(fmt::format("{}: the peak {} g is too small to scale to target_pga_g {}", file.string(),
+                                         r.pga_file_g, *o.target_pga_g));
+    }
   } else {
     r.scale = o.scale;
   }
-  for (double& a : r.excitation.acceleration) a *= r.scale * to_si;
+  const std::string scaled_by =
+      o.target_pga_g ? fmt::format("target_pga_g {}", *o.target_pga_g) : fmt::format("scale {}", r.scale);
+  const auto overflow = [&](const std::string& message) {
+    throw RecordScaleError(fmt::format("{}: {}", file.string(), message));
+  };
+  if (!std::isfinite(r.scale * to_si)) overflow(fmt::format("the {} overflows in m/s² per {}", scaled_by, r.file_units));
+  for (std::size_t k = 0; k < r.excitation.acceleration.size(); ++k) {
+    double& a = r.excitation.acceleration[k];
+    const double file_value = a;
+    a *= r.scale * to_si;
+    if (!std::isfinite(a)) {
+      overflow(
+          fmt::format("the {} makes sample {} ({} {} in the file) overflow", scaled_by, k + 1, file_value, r.file_units));
+    }
+  }
   r.pga_g = pga(r.excitation.acceleration) / o.gravity;
   r.duration = r.excitation.time.back();
   r.excitation.source = file.string();

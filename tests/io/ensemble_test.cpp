@@ -15,7 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kShared = fs::path(POUNDSIM_SOURCE_DIR) / ".." / "shared" / "data" / "ground_motions";
+const fs::path kRecords = fs::path(POUNDSIM_SOURCE_DIR) / "data" / "ground_motions";
 
 std::string ensemble_input(const std::string& kind) {
   return testing::model_toml("[1, 1]", testing::fig2('c')) + R"([excitation]
@@ -31,7 +31,7 @@ records = ["RSN6_IMPVALL.I_I-ELC180.AT2", "elCentro.AT2", "RSN758_LOMAP_EMY260.A
 }
 
 RunInput read(const std::string& text, std::vector<std::string> overrides = {}) {
-  return read_input_string(text, "ensemble.toml", kShared, overrides);
+  return read_input_string(text, "ensemble.toml", kRecords, overrides);
 }
 
 TEST(Ensemble, MeanAndMaximumOverTheRecords) {

@@ -48,8 +48,8 @@ duration = 15.0
 dt = 0.002
 output_dt = 0.1
 )";
-  const fs::path shared = fs::path(POUNDSIM_SOURCE_DIR) / ".." / "shared" / "data" / "ground_motions";
-  const RunInput input = read_input_string(text, "two.toml", shared);
+  const fs::path records = fs::path(POUNDSIM_SOURCE_DIR) / "data" / "ground_motions";
+  const RunInput input = read_input_string(text, "two.toml", records);
   const fs::path out = fs::temp_directory_path() / "poundsim_th_summary";
   const nlohmann::json s = run_time_history(input, out);
   ASSERT_EQ(s["separation"].size(), 1u);

@@ -1,7 +1,7 @@
 #pragma once
 /// @file
 /// Ground-motion records in the formats engineers download (details and real examples in
-/// ../shared/data/ground_motions/FORMATS.md):
+/// data/ground_motions/FORMATS.md):
 ///
 /// - PEER `.AT2` — four header lines, then NPTS values; every NPTS/DT spelling (`NPTS= 5372,
 ///   DT= .0100 SEC`, `4096 0.0100 NPTS, DT`, reversed, unlabelled); units from line 3.
@@ -12,14 +12,16 @@
 /// - One column — one acceleration per line, dt given.
 ///
 /// Every problem is an InputError naming the file and the line: a header that says nothing of
-/// NPTS or DT, fewer or more values than NPTS, text where a number should be, NaN or infinity,
-/// times that do not increase, unknown units. Nothing is guessed: column files must declare
-/// their units.
+/// NPTS or DT, a count larger than the file can hold or that its lines do not hold (COSMOS), a
+/// sampling interval that is not a finite number > 0, times that overflow, fewer or more values
+/// than NPTS, text where a number should be, NaN or infinity, times that do not increase,
+/// unknown units. Nothing is guessed: column files must declare their units.
 
 #include <filesystem>
 #include <optional>
 #include <string>
 
+#include "poundsim/error.hpp"
 #include "poundsim/excitation.hpp"
 
 namespace poundsim::io {
@@ -37,6 +39,13 @@ struct RecordOptions {
   double gravity = 9.81;       ///< g [m/s²] for records in g (the paper's value).
 };
 
+/// The record is fine but `scale` or `target_pga_g` makes an acceleration overflow in m/s²: a
+/// caller reading them from its own input can blame that key rather than the file.
+class RecordScaleError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
 /// A record read and converted to m/s².
 struct GroundMotionRecord {
   RecordExcitation excitation;  ///< time [s], acceleration [m/s²] (scaled)
@@ -51,8 +60,15 @@ struct GroundMotionRecord {
   double duration = 0.0;        ///< Last sample time [s].
 };
 
-/// Reads `file`. Throws InputError naming the file and line on any problem.
+/// Reads `file`. Throws InputError naming the file and line on any problem. Files larger than
+/// 64 MiB are refused (the longest records are tens of MB; a device never ends), and no header
+/// count is trusted beyond what the file can hold.
 GroundMotionRecord read_ground_motion(const std::filesystem::path& file, const RecordOptions& options);
+
+/// The same for a file's `content` already in memory; `file` names it in messages and, with its
+/// extension, chooses the format as read_ground_motion does (for tests and fuzzing).
+GroundMotionRecord parse_ground_motion(std::string content, const std::filesystem::path& file,
+                                       const RecordOptions& options);
 
 /// "g" → gravity, "m/s2" → 1, "cm/s2" → 0.01; throws InputError for anything else.
 double units_to_si(const std::string& units, double gravity);
