@@ -27,11 +27,25 @@ ExactPhase::ExactPhase(const LinearPhase& phase) : n_(phase.reduced_size()) {
   e.tail(n_).setConstant(-1.0);
   a_inv_e_ = a_lu_.solve(e);
 
-  const Eigen::EigenSolver<Eigen::MatrixXd> eig(a_, true);
+  // Decompose the balanced Â = D⁻¹ A D, D = diag(1, ω_i) with ω_i = √(K_ii/M_ii): each velocity
+  // measured in units of its own floor's frequency. Unbalanced, an oscillator of frequency ω has
+  // the modes (1, ±iω)/‖·‖, nearly parallel when ω is large, so rcond(V) ~ 1/ω: a stiff neighbour
+  // (a wall, 1e4 times the frequency of its frame) failed the conditioning test and sent the
+  // phase to the matrix exponential, whose derivative bounds (‖A‖⁴ ~ ω⁸) then stalled the root
+  // search. Balanced, the modes of well-separated oscillators are orthogonal whatever ω. A's
+  // modes are V = D V̂ with the same eigenvalues; V⁻¹ r = V̂⁻¹ D⁻¹ r.
+  scale_ = Eigen::VectorXd::Ones(2 * n_);
+  for (Eigen::Index i = 0; i < n_; ++i) {
+    const double omega2 = phase.stiffness().coeff(i, i) / phase.mass()(i);
+    if (omega2 > 0 && std::isfinite(omega2)) scale_(n_ + i) = std::sqrt(omega2);
+  }
+  const Eigen::MatrixXd balanced =
+      scale_.cwiseInverse().asDiagonal() * a_ * scale_.asDiagonal();
+  const Eigen::EigenSolver<Eigen::MatrixXd> eig(balanced, true);
   if (eig.info() == Eigen::Success) {
     lambda_ = eig.eigenvalues();
-    v_ = eig.eigenvectors();
-    v_lu_.compute(v_);
+    v_lu_.compute(eig.eigenvectors());
+    v_ = scale_.cast<std::complex<double>>().asDiagonal() * eig.eigenvectors();
     modal_ = v_lu_.rcond() > kMinModeConditioning;
     spectral_radius_ = lambda_.cwiseAbs().maxCoeff();
   }
@@ -48,7 +62,7 @@ ExactPhase::ExactPhase(const LinearPhase& phase) : n_(phase.reduced_size()) {
 }
 
 Eigen::VectorXcd ExactPhase::modal_coordinates(const Eigen::VectorXd& r) const {
-  return v_lu_.solve(r.cast<std::complex<double>>());
+  return v_lu_.solve(r.cwiseQuotient(scale_).cast<std::complex<double>>());
 }
 
 const Eigen::VectorXcd& ExactPhase::harmonic_response(double omega) const {

@@ -48,7 +48,7 @@ class ExactPhase {
   [[nodiscard]] bool modal() const { return modal_; }
   [[nodiscard]] const Eigen::VectorXcd& eigenvalues() const { return lambda_; }
   [[nodiscard]] const Eigen::MatrixXcd& modes() const { return v_; }
-  /// V⁻¹ r.
+  /// V⁻¹ r (through the balanced modes V̂ = D⁻¹V, see the constructor).
   [[nodiscard]] Eigen::VectorXcd modal_coordinates(const Eigen::VectorXd& r) const;
   /// A⁻¹ r.
   [[nodiscard]] Eigen::VectorXd solve(const Eigen::VectorXd& r) const { return a_lu_.solve(r); }
@@ -74,8 +74,9 @@ class ExactPhase {
   Eigen::VectorXd a_inv_e_;
   bool modal_ = false;
   Eigen::VectorXcd lambda_;
-  Eigen::MatrixXcd v_;
-  Eigen::PartialPivLU<Eigen::MatrixXcd> v_lu_;
+  Eigen::VectorXd scale_;  ///< D of the balanced decomposition: 1 for q, ω_i for q̇_i.
+  Eigen::MatrixXcd v_;     ///< V = D V̂
+  Eigen::PartialPivLU<Eigen::MatrixXcd> v_lu_;  ///< of V̂
   double spectral_radius_ = 0.0;
   double norm_ = std::numeric_limits<double>::quiet_NaN();
   double log_norm_ = std::numeric_limits<double>::quiet_NaN();
