@@ -56,14 +56,18 @@ struct Origin {
   /// Key path → "key=value" as typed. An override that creates tables on its way also owns them.
   std::map<std::string, std::string> overrides;
 
-  /// The start of a message about `path`: "--set key=value: path", "file:line:column: path", or
-  /// "file: path" (a key that the file does not hold); "file" alone for the whole file.
-  [[nodiscard]] std::string locate(const toml::node* node, const std::string& path) const {
+  /// The override that set `path` (or created a table on its way to it), or null.
+  [[nodiscard]] const std::string* override_of(const std::string& path) const {
     for (const auto& [key, text] : overrides) {
-      if (path == key || path.starts_with(key + ".") || path.starts_with(key + "[")) {
-        return fmt::format("--set {}: {}", printable(text), path);
-      }
+      if (path == key || path.starts_with(key + ".") || path.starts_with(key + "[")) return &text;
     }
+    return nullptr;
+  }
+
+  /// The start of a message about `path`: "file: --set key=value: path", "file:line:column: path",
+  /// or "file: path" (a key that the file does not hold); "file" alone for the whole file.
+  [[nodiscard]] std::string locate(const toml::node* node, const std::string& path) const {
+    if (const std::string* text = override_of(path)) return fmt::format("{}: --set {}: {}", file, printable(*text), path);
     if (path.empty()) return file;
     if (node != nullptr && node->source().begin.line > 0) {
       return fmt::format("{}:{}:{}: {}", file, node->source().begin.line, node->source().begin.column, path);
@@ -141,6 +145,8 @@ class TableReader {
     if (!has(key)) return std::nullopt;
     return integer<T>(key, lo, hi);
   }
+  /// True when a --set override gave `key`.
+  [[nodiscard]] bool overridden(std::string_view key) const { return origin_->override_of(key_path(key)) != nullptr; }
   /// The start of a message about `key` (for messages made later, e.g. by a study's points).
   [[nodiscard]] std::string where(std::string_view key) const {
     return origin_->locate(table_->get(key), key_path(key));
@@ -280,7 +286,8 @@ struct KeySegment {
   int index = 0;  // 1-based array index, 0 for none
 };
 
-std::vector<KeySegment> split_key(const std::string& key, const std::string& text) {
+/// `at` starts every message: "model.toml: --set key=value".
+std::vector<KeySegment> split_key(const std::string& key, const std::string& at) {
   std::vector<KeySegment> out;
   std::size_t begin = 0;
   for (;;) {
@@ -289,20 +296,20 @@ std::vector<KeySegment> split_key(const std::string& key, const std::string& tex
     KeySegment seg;
     const auto bracket = part.find('[');
     if (bracket != std::string::npos) {
-      if (part.back() != ']') throw InputError(fmt::format("--set {}: malformed key", text));
+      if (part.back() != ']') throw InputError(at + ": malformed key");
       const std::string number = part.substr(bracket + 1, part.size() - bracket - 2);
       // Digits only, and few enough that the number fits: "2][3", "+2" or "1e3" are not indices.
       if (number.empty() || number.size() > 9 ||
           number.find_first_not_of("0123456789") != std::string::npos) {
-        throw InputError(fmt::format("--set {}: '{}' is not an index", text, number));
+        throw InputError(fmt::format("{}: '{}' is not an index", at, number));
       }
       seg.index = std::stoi(number);
       if (seg.index < 1) {
-        throw InputError(fmt::format("--set {}: indices start at 1 (frames are numbered from 1)", text));
+        throw InputError(at + ": indices start at 1 (frames are numbered from 1)");
       }
       part = part.substr(0, bracket);
     }
-    if (part.empty()) throw InputError(fmt::format("--set {}: empty key segment", text));
+    if (part.empty()) throw InputError(at + ": empty key segment");
     seg.key = part;
     out.push_back(seg);
     if (dot == std::string::npos) break;
@@ -315,7 +322,7 @@ std::vector<KeySegment> split_key(const std::string& key, const std::string& tex
 /// string; anything that starts like a number, an array, a table or a quoted string, or holds
 /// blanks or TOML punctuation, must be valid TOML, so that 1e309 or [1, 2 is an error rather than
 /// a string.
-void parse_value(toml::table& holder, const std::string& value, const std::string& text,
+void parse_value(toml::table& holder, const std::string& value, const std::string& at,
                  const std::string& path) {
   try {
     holder = toml::parse("v = " + value);
@@ -323,35 +330,35 @@ void parse_value(toml::table& holder, const std::string& value, const std::strin
     const bool bare = !value.empty() && value.find_first_of("0123456789+-[{\"'") != 0 &&
                       value.find_first_of(" \t#=,[]{}\"'") == std::string::npos;
     if (!bare) {
-      throw InputError(fmt::format("--set {}: {}: the value is not valid TOML ({})", printable(text), path,
-                                   e.description()));
+      throw InputError(fmt::format("{}: {}: the value is not valid TOML ({})", at, path, e.description()));
     }
     holder = toml::table{{"v", value}};
   }
   if (holder.size() != 1 || !holder.contains("v")) {
-    throw InputError(fmt::format("--set {}: {}: one value expected", printable(text), path));
+    throw InputError(fmt::format("{}: {}: one value expected", at, path));
   }
 }
 
 /// Applies one override; returns the canonical key path (e.g. "frames[2].mass"). The tables it
 /// creates on its way are registered in `origin`, so that a message about them names the override.
 std::string apply_override(toml::table& root, const std::string& text, Origin& origin) {
+  const std::string at = fmt::format("{}: --set {}", origin.file, printable(text));
   // The value is the rest of the argument: a line break would let it carry more keys (ignored).
   if (text.find_first_of("\n\r") != std::string::npos) {
-    throw InputError(fmt::format("--set {}: the override contains a line break", printable(text)));
+    throw InputError(at + ": the override contains a line break");
   }
   for (const char c : text) {
     if (static_cast<unsigned char>(c) < 0x20 && c != '\t') {
-      throw InputError(fmt::format("--set {}: the override contains a control character", printable(text)));
+      throw InputError(at + ": the override contains a control character");
     }
   }
   const auto eq = text.find('=');
   if (eq == std::string::npos || eq == 0) {
-    throw InputError(fmt::format("--set {}: expected key=value", text));
+    throw InputError(at + ": expected key=value");
   }
   const std::string key = text.substr(0, eq);
   const std::string value = text.substr(eq + 1);
-  const std::vector<KeySegment> segments = split_key(key, text);
+  const std::vector<KeySegment> segments = split_key(key, at);
 
   toml::table* table = &root;
   std::string path;
@@ -362,19 +369,19 @@ std::string apply_override(toml::table& root, const std::string& text, Origin& o
     if (seg.index > 0) {
       toml::array* array = table->get_as<toml::array>(seg.key);
       if (array == nullptr || !array->is_array_of_tables()) {
-        throw InputError(fmt::format("--set {}: '{}' is not an array of tables in the file", text, path));
+        throw InputError(fmt::format("{}: '{}' is not an array of tables in the file", at, path));
       }
       if (static_cast<std::size_t>(seg.index) > array->size()) {
-        throw InputError(fmt::format("--set {}: the file has only {} [[{}]]", text, array->size(), path));
+        throw InputError(fmt::format("{}: the file has only {} [[{}]]", at, array->size(), path));
       }
       path += fmt::format("[{}]", seg.index);
-      if (last) throw InputError(fmt::format("--set {}: cannot replace a whole table", text));
+      if (last) throw InputError(at + ": cannot replace a whole table");
       table = &static_cast<toml::table&>((*array)[static_cast<std::size_t>(seg.index - 1)]);
       continue;
     }
     if (last) {
       toml::table parsed;
-      parse_value(parsed, value, text, path);
+      parse_value(parsed, value, at, path);
       table->insert_or_assign(seg.key, std::move(*parsed.get("v")));
       break;
     }
@@ -385,7 +392,7 @@ std::string apply_override(toml::table& root, const std::string& text, Origin& o
     } else if (child->is_table()) {
       table = child->as_table();
     } else {
-      throw InputError(fmt::format("--set {}: '{}' is not a table", text, path));
+      throw InputError(fmt::format("{}: '{}' is not a table", at, path));
     }
   }
   return path;
@@ -802,7 +809,7 @@ void check_event_tolerance(TableReader& analysis, const TimeHistoryOptions& o, d
 void check_time_history_work(TableReader& analysis, const AnalysisSettings& a, const std::string& source) {
   const double steps = std::ceil(a.duration / a.options.dt);
   // Blamed on the duration when an override set it, else on dt (the duration may be a record's).
-  const char* key = analysis.has("duration") && analysis.where("duration").starts_with("--set ") ? "duration" : "dt";
+  const char* key = analysis.has("duration") && analysis.overridden("duration") ? "duration" : "dt";
   if (!(steps <= a.max_steps)) {
     analysis.fail(key, fmt::format("dt = {} s over the duration {} s{} makes {:.4g} steps, more than analysis.max_steps "
                                     "= {:.4g}: give a longer dt, a shorter duration, or a larger max_steps",

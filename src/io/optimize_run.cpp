@@ -155,7 +155,9 @@ json run_optimization(const RunInput& input, const std::filesystem::path& out_di
     for (std::size_t i = 0; i < n; ++i) {
       const OptimizeVariable& v = s.variables[i];
       values += fmt::format("{}{} = {}", i == 0 ? "" : ", ", v.key, toml_float(x[i]));
-      if (!v.where.empty() && first.error.starts_with("--set " + v.key + "=")) where = v.where;
+      if (!v.where.empty() && first.error.starts_with(fmt::format("{}: --set {}=", input.source.string(), v.key))) {
+        where = v.where;
+      }
     }
     throw InputError(fmt::format("{}: the starting point ({}) is rejected: {}", where, values, first.error));
   }

@@ -436,7 +436,9 @@ json run_points(const RunInput& input, const std::filesystem::path& out_dir, con
       const std::string message = e.what();
       std::string where = input.source.string();
       for (const StudyParameter& p : study.parameters) {
-        if (!p.where.empty() && message.starts_with("--set " + p.key + "=")) where = p.where;
+        if (!p.where.empty() && message.starts_with(fmt::format("{}: --set {}=", input.source.string(), p.key))) {
+          where = p.where;
+        }
       }
       throw InputError(fmt::format("{}: {} {} ({}): {}", where, stem == "ensemble" ? "ensemble record" : "study point",
                                    id + 1, values, message));
