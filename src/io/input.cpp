@@ -753,6 +753,19 @@ void read_excitation(TableReader& t, const Model& model, const std::filesystem::
       info.record_pga_g = r.pga_g;
       info.record_duration = r.duration;
     } catch (const InputError& e) {
+      // A record that reads unscaled fails because of the factor: the message names that key.
+      if (t.has("scale") || t.has("target_pga_g")) {
+        RecordOptions unscaled = o;
+        unscaled.scale = 1.0;
+        unscaled.target_pga_g.reset();
+        bool reads_unscaled = false;
+        try {
+          (void)read_ground_motion(path, unscaled);
+          reads_unscaled = true;
+        } catch (const InputError&) {
+        }
+        if (reads_unscaled) t.fail(t.has("target_pga_g") ? "target_pga_g" : "scale", e.what());
+      }
       t.fail("file", e.what());
     }
     // The reader checks the file's numbers; the factor applied to them is this table's.
