@@ -3,8 +3,9 @@
 /// Reading a model file (TOML). The format is documented key by key in docs/input.md.
 ///
 /// Every problem is an InputError whose message starts with the location — `file:line:column:`
-/// for a key in the file, `--set key=value:` for an override — then names the key and the rule
-/// it broke. Unknown keys are errors. Nothing is guessed.
+/// for a key in the file, `file: --set key=value:` for an override — then names the key and the
+/// rule it broke. Unknown keys are errors. Nothing is guessed. Sizes and amounts of work are
+/// bounded (namespace limits) before anything is allocated or run.
 
 #include <array>
 #include <cstdint>
