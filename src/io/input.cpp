@@ -400,6 +400,13 @@ std::string apply_override(toml::table& root, const std::string& text, Origin& o
 
 // --- sections ----------------------------------------------------------------------------------
 
+/// True when an element whose gap and shortening add up to `stroke` fits a joint of `width`: it
+/// bottoms out before the floors meet. Decimal inputs (0.1 + 0.2 in a joint of 0.3) are let
+/// through the rounding of the sum.
+bool fits_in_joint(double width, double stroke) {
+  return width >= stroke * (1 - 4 * std::numeric_limits<double>::epsilon());
+}
+
 Model read_dimensionless(TableReader& model_table, RunInput& run) {
   const toml::node& storeys_node = model_table.require("storeys");
   const toml::array* storeys_array = storeys_node.as_array();
@@ -434,7 +441,7 @@ Model read_dimensionless(TableReader& model_table, RunInput& run) {
   // w̄ = w λ²/g like delta and epsilon; the floors would collide at w, so the element must
   // bottom out first: delta + epsilon ≤ joint_width.
   const std::optional<double> joint = d.optional_number("joint_width");
-  if (joint && !(*joint >= p.delta + p.epsilon)) {
+  if (joint && !fits_in_joint(*joint, p.delta + p.epsilon)) {
     d.fail("joint_width", fmt::format("{} is narrower than delta + epsilon = {}: the floors would collide "
                                       "before the gap element bottoms out", *joint, p.delta + p.epsilon));
   }
@@ -489,7 +496,7 @@ GapSpec read_gap_properties(TableReader& t, const GapSpec* defaults) {
   if (auto w = t.optional_number("joint_width")) spec.joint = *w;
   // The floors would collide at the joint width: the element must bottom out first. An override
   // that widens the element beyond an inherited joint is blamed on the key it changed.
-  if (spec.joint && !(*spec.joint >= g.gap + g.shortening)) {
+  if (spec.joint && !fits_in_joint(*spec.joint, g.gap + g.shortening)) {
     const char* key = t.has("joint_width") ? "joint_width" : t.has("gap") ? "gap" : "shortening";
     t.fail(key, fmt::format("the joint width {} m is narrower than gap + shortening = {} m: the floors "
                             "would collide before the gap element bottoms out",
@@ -517,7 +524,7 @@ void check_floor_heights(const std::vector<Frame>& frames, std::vector<TableRead
     for (std::size_t i = 0; i < shared; ++i) {
       height_left += left.storey_height[i];
       height_right += right.storey_height[i];
-      // Sums of the same heights in another order differ by rounding only.
+      // Heights written to different precision (3.2 and 3.2000000001) are the same floor.
       if (std::abs(height_left - height_right) > 1e-9 * std::max(height_left, height_right)) {
         tables[f + 1].fail("storey_height", fmt::format(
             "floor {} stands {} m above the ground, floor {} of frame {} {} m: gap elements join "

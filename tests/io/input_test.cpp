@@ -481,6 +481,10 @@ TEST(InputJoint, WidthDefaultsToTheGapAndMustHoldTheElement) {
   // An override inherits the joint, or gives its own.
   const RunInput over = read(bumper + "[[gap_elements.override]]\nframes = [1, 2]\nfloor = 2\njoint_width = 0.05\n");
   EXPECT_EQ(over.joint_widths, (std::vector<double>{0.04, 0.05}));
+  // 0.1 + 0.2 rounds above 0.3: a joint of exactly the stroke written in decimals still fits.
+  const std::string exact = replace(replace(replace(bumper, "gap = 0.02", "gap = 0.1"), "shortening = 0.01", "shortening = 0.2"),
+                                    "joint_width = 0.04", "joint_width = 0.3");
+  EXPECT_EQ(read(exact).joint_widths[0], 0.3);
   EXPECT_TRUE(has(error_of(replace(bumper, "joint_width = 0.04", "joint_width = 0.025")),
                   "gap_elements.joint_width: the joint width 0.025 m is narrower than gap + shortening = 0.03 m"));
   EXPECT_TRUE(has(error_of(bumper + "[[gap_elements.override]]\nframes = [1, 2]\nfloor = 2\nshortening = 0.03\n"),
