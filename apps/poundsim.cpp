@@ -6,11 +6,13 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <charconv>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <mutex>
 #include <exception>
+#include <limits>
 #include <string>
 #include <thread>
 #include <vector>
@@ -104,6 +106,18 @@ void print_optimization_report(const nlohmann::json& s, const std::string& out_d
              s["analysis"]["each"] == "frf" ? ", optimum_frf.csv, bare_frf.csv" : "");
 }
 
+/// --max-points N: a whole number ≥ 1.
+long parse_max_points(const std::string& text) {
+  long n = 0;
+  const char* end = text.data() + text.size();
+  const auto [stop, error] = std::from_chars(text.data(), end, n);
+  if (error != std::errc{} || stop != end || n < 1) {
+    throw poundsim::InputError(fmt::format("--max-points {}: expected a whole number of points from 1 to {}",
+                                           text, std::numeric_limits<long>::max()));
+  }
+  return n;
+}
+
 /// A one-line progress bar on a terminal; silent otherwise. Updates come from worker threads.
 class ProgressBar {
  public:
@@ -178,10 +192,9 @@ int main(int argc, char** argv) {
   run->add_option("--set", overrides, "Override an input key: --set analysis.dt=0.001 (repeatable)")
       ->take_all();
   run->add_flag("--quiet,-q", quiet, "Print nothing on success");
-  long max_points = 0;
-  run->add_option("--max-points", max_points,
-                  "Study or ensemble: run at most this many new points, then stop (run again to go on)")
-      ->check(CLI::PositiveNumber);
+  std::string max_points_text;  // checked below: CLI11's own check prints a 309-digit range
+  run->add_option("--max-points", max_points_text,
+                  "Study or ensemble: run at most this many new points, then stop (run again to go on)");
 
   std::string database, export_file;
   CLI::App* exporter = app.add_subcommand("export", "Write the points of a study database as CSV");
@@ -221,6 +234,7 @@ int main(int argc, char** argv) {
       if (!quiet) fmt::print("wrote {}\n", export_file);
       return 0;
     }
+    const long max_points = run->count("--max-points") > 0 ? parse_max_points(max_points_text) : 0;
     const poundsim::io::RunInput input = poundsim::io::read_input(model_file, overrides);
     const bool study = input.analysis.kind == "study" || input.analysis.kind == "ensemble";
     if (max_points > 0 && !study) {

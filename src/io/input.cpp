@@ -1,7 +1,10 @@
 #include "poundsim/io/input.hpp"
 
+#include <cassert>
 #include <cmath>
+#include <cstdint>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <set>
@@ -30,25 +33,69 @@ std::string_view type_name(const toml::node& node) {
   }
 }
 
+/// `text` with its control characters escaped, so that a message stays on one line.
+std::string printable(std::string_view text) {
+  std::string out;
+  for (const char c : text) {
+    if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\r') {
+      out += "\\r";
+    } else if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+      out += fmt::format("\\x{:02x}", static_cast<unsigned char>(c));
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
 /// Where a key came from, for messages.
 struct Origin {
   std::string file;
-  std::map<std::string, std::string> overrides;  ///< key path → "key=value" as typed.
+  /// Key path → "key=value" as typed. An override that creates tables on its way also owns them.
+  std::map<std::string, std::string> overrides;
+
+  /// The override that set `path` (or created a table on its way to it), or null.
+  [[nodiscard]] const std::string* override_of(const std::string& path) const {
+    for (const auto& [key, text] : overrides) {
+      if (path == key || path.starts_with(key + ".") || path.starts_with(key + "[")) return &text;
+    }
+    return nullptr;
+  }
+
+  /// The start of a message about `path`: "file: --set key=value: path", "file:line:column: path",
+  /// or "file: path" (a key that the file does not hold); "file" alone for the whole file.
+  [[nodiscard]] std::string locate(const toml::node* node, const std::string& path) const {
+    if (const std::string* text = override_of(path)) return fmt::format("{}: --set {}: {}", file, printable(*text), path);
+    if (path.empty()) return file;
+    if (node != nullptr && node->source().begin.line > 0) {
+      return fmt::format("{}:{}:{}: {}", file, node->source().begin.line, node->source().begin.column, path);
+    }
+    return fmt::format("{}: {}", file, path);
+  }
 
   [[noreturn]] void fail(const toml::node* node, const std::string& path,
                          const std::string& message) const {
-    for (const auto& [key, text] : overrides) {
-      if (path == key || path.starts_with(key + ".") || path.starts_with(key + "[")) {
-        throw InputError(fmt::format("--set {}: {}: {}", text, path, message));
-      }
-    }
-    if (node != nullptr && node->source().begin.line > 0) {
-      throw InputError(fmt::format("{}:{}:{}: {}: {}", file, node->source().begin.line,
-                                   node->source().begin.column, path, message));
-    }
-    throw InputError(fmt::format("{}: {}: {}", file, path.empty() ? "(top level)" : path, message));
+    throw InputError(fmt::format("{}: {}", locate(node, path), message));
   }
 };
+
+/// The value of an integer node if it lies in [lo, hi]; otherwise `fail(message)` (which must
+/// throw) is called with the rule broken. The 64-bit value TOML holds is checked before it is
+/// narrowed, so that 4294967297 is not read as 1. `what` starts the message ("item 2: ").
+/// T is the type the value is stored in; [lo, hi] must lie within it.
+template <class T = int, class Fail>
+T bounded_integer(const toml::node& node, std::int64_t lo, std::int64_t hi, const std::string& what,
+                  const Fail& fail) {
+  assert(lo >= static_cast<std::int64_t>(std::numeric_limits<T>::min()) &&
+         static_cast<std::uint64_t>(hi) <= static_cast<std::uint64_t>(std::numeric_limits<T>::max()));
+  if (!node.is_integer()) fail(fmt::format("{}expected an integer, got a {}", what, type_name(node)));
+  const std::int64_t v = node.as_integer()->get();
+  if (v < lo) fail(fmt::format("{}must be ≥ {} (got {})", what, lo, v));
+  if (v > hi) fail(fmt::format("{}must be ≤ {} (got {})", what, hi, v));
+  return static_cast<T>(v);
+}
 
 /// Reads keys of one table, remembers which were read, and rejects the others in finish().
 class TableReader {
@@ -88,14 +135,21 @@ class TableReader {
   double number_or(std::string_view key, double fallback) {
     return optional_number(key).value_or(fallback);
   }
-  int integer(std::string_view key) {
-    const toml::node& node = require(key);
-    if (!node.is_integer()) fail(key, fmt::format("expected an integer, got a {}", type_name(node)));
-    return static_cast<int>(*node.value<std::int64_t>());
+  /// An integer in [lo, hi], stored as a T.
+  template <class T = int>
+  T integer(std::string_view key, std::int64_t lo, std::int64_t hi) {
+    return bounded_integer<T>(require(key), lo, hi, "", [&](const std::string& m) { fail(key, m); });
   }
-  std::optional<int> optional_integer(std::string_view key) {
+  template <class T = int>
+  std::optional<T> optional_integer(std::string_view key, std::int64_t lo, std::int64_t hi) {
     if (!has(key)) return std::nullopt;
-    return integer(key);
+    return integer<T>(key, lo, hi);
+  }
+  /// True when a --set override gave `key`.
+  [[nodiscard]] bool overridden(std::string_view key) const { return origin_->override_of(key_path(key)) != nullptr; }
+  /// The start of a message about `key` (for messages made later, e.g. by a study's points).
+  [[nodiscard]] std::string where(std::string_view key) const {
+    return origin_->locate(table_->get(key), key_path(key));
   }
   std::string string(std::string_view key) {
     const toml::node& node = require(key);
@@ -232,43 +286,79 @@ struct KeySegment {
   int index = 0;  // 1-based array index, 0 for none
 };
 
-std::vector<KeySegment> split_key(const std::string& key, const std::string& text) {
+/// `at` starts every message: "model.toml: --set key=value".
+std::vector<KeySegment> split_key(const std::string& key, const std::string& at) {
   std::vector<KeySegment> out;
-  std::stringstream ss(key);
-  std::string part;
-  while (std::getline(ss, part, '.')) {
+  std::size_t begin = 0;
+  for (;;) {
+    const std::size_t dot = key.find('.', begin);
+    std::string part = key.substr(begin, dot == std::string::npos ? std::string::npos : dot - begin);
     KeySegment seg;
     const auto bracket = part.find('[');
     if (bracket != std::string::npos) {
-      if (part.back() != ']') throw InputError(fmt::format("--set {}: malformed key", text));
+      if (part.back() != ']') throw InputError(at + ": malformed key");
       const std::string number = part.substr(bracket + 1, part.size() - bracket - 2);
-      try {
-        seg.index = std::stoi(number);
-      } catch (const std::exception&) {
-        throw InputError(fmt::format("--set {}: '{}' is not an index", text, number));
+      // Digits only, and few enough that the number fits: "2][3", "+2" or "1e3" are not indices.
+      if (number.empty() || number.size() > 9 ||
+          number.find_first_not_of("0123456789") != std::string::npos) {
+        throw InputError(fmt::format("{}: '{}' is not an index", at, number));
       }
+      seg.index = std::stoi(number);
       if (seg.index < 1) {
-        throw InputError(fmt::format("--set {}: indices start at 1 (frames are numbered from 1)", text));
+        throw InputError(at + ": indices start at 1 (frames are numbered from 1)");
       }
       part = part.substr(0, bracket);
     }
-    if (part.empty()) throw InputError(fmt::format("--set {}: empty key segment", text));
+    if (part.empty()) throw InputError(at + ": empty key segment");
     seg.key = part;
     out.push_back(seg);
+    if (dot == std::string::npos) break;
+    begin = dot + 1;
   }
-  if (out.empty()) throw InputError(fmt::format("--set {}: empty key", text));
   return out;
 }
 
-/// Applies one override; returns the canonical key path (e.g. "frames[2].mass").
-std::string apply_override(toml::table& root, const std::string& text) {
+/// Parses the TOML value of an override into holder["v"]. A bare word (force, records/x.at2) is a
+/// string; anything that starts like a number, an array, a table or a quoted string, or holds
+/// blanks or TOML punctuation, must be valid TOML, so that 1e309 or [1, 2 is an error rather than
+/// a string.
+void parse_value(toml::table& holder, const std::string& value, const std::string& at,
+                 const std::string& path) {
+  try {
+    holder = toml::parse("v = " + value);
+  } catch (const toml::parse_error& e) {
+    const bool bare = !value.empty() && value.find_first_of("0123456789+-[{\"'") != 0 &&
+                      value.find_first_of(" \t#=,[]{}\"'") == std::string::npos;
+    if (!bare) {
+      throw InputError(fmt::format("{}: {}: the value is not valid TOML ({})", at, path, e.description()));
+    }
+    holder = toml::table{{"v", value}};
+  }
+  if (holder.size() != 1 || !holder.contains("v")) {
+    throw InputError(fmt::format("{}: {}: one value expected", at, path));
+  }
+}
+
+/// Applies one override; returns the canonical key path (e.g. "frames[2].mass"). The tables it
+/// creates on its way are registered in `origin`, so that a message about them names the override.
+std::string apply_override(toml::table& root, const std::string& text, Origin& origin) {
+  const std::string at = fmt::format("{}: --set {}", origin.file, printable(text));
+  // The value is the rest of the argument: a line break would let it carry more keys (ignored).
+  if (text.find_first_of("\n\r") != std::string::npos) {
+    throw InputError(at + ": the override contains a line break");
+  }
+  for (const char c : text) {
+    if (static_cast<unsigned char>(c) < 0x20 && c != '\t') {
+      throw InputError(at + ": the override contains a control character");
+    }
+  }
   const auto eq = text.find('=');
   if (eq == std::string::npos || eq == 0) {
-    throw InputError(fmt::format("--set {}: expected key=value", text));
+    throw InputError(at + ": expected key=value");
   }
   const std::string key = text.substr(0, eq);
   const std::string value = text.substr(eq + 1);
-  const std::vector<KeySegment> segments = split_key(key, text);
+  const std::vector<KeySegment> segments = split_key(key, at);
 
   toml::table* table = &root;
   std::string path;
@@ -279,39 +369,43 @@ std::string apply_override(toml::table& root, const std::string& text) {
     if (seg.index > 0) {
       toml::array* array = table->get_as<toml::array>(seg.key);
       if (array == nullptr || !array->is_array_of_tables()) {
-        throw InputError(fmt::format("--set {}: '{}' is not an array of tables in the file", text, path));
+        throw InputError(fmt::format("{}: '{}' is not an array of tables in the file", at, path));
       }
       if (static_cast<std::size_t>(seg.index) > array->size()) {
-        throw InputError(fmt::format("--set {}: the file has only {} [[{}]]", text, array->size(), path));
+        throw InputError(fmt::format("{}: the file has only {} [[{}]]", at, array->size(), path));
       }
       path += fmt::format("[{}]", seg.index);
-      if (last) throw InputError(fmt::format("--set {}: cannot replace a whole table", text));
+      if (last) throw InputError(at + ": cannot replace a whole table");
       table = &static_cast<toml::table&>((*array)[static_cast<std::size_t>(seg.index - 1)]);
       continue;
     }
     if (last) {
       toml::table parsed;
-      try {
-        parsed = toml::parse("v = " + value);
-      } catch (const toml::parse_error&) {
-        parsed = toml::table{{"v", value}};  // a bare word is a string
-      }
+      parse_value(parsed, value, at, path);
       table->insert_or_assign(seg.key, std::move(*parsed.get("v")));
       break;
     }
     toml::node* child = table->get(seg.key);
     if (child == nullptr) {
       table = table->insert_or_assign(seg.key, toml::table{}).first->second.as_table();
+      origin.overrides[path] = text;
     } else if (child->is_table()) {
       table = child->as_table();
     } else {
-      throw InputError(fmt::format("--set {}: '{}' is not a table", text, path));
+      throw InputError(fmt::format("{}: '{}' is not a table", at, path));
     }
   }
   return path;
 }
 
 // --- sections ----------------------------------------------------------------------------------
+
+/// True when an element whose gap and shortening add up to `stroke` fits a joint of `width`: it
+/// bottoms out before the floors meet. Decimal inputs (0.1 + 0.2 in a joint of 0.3) are let
+/// through the rounding of the sum.
+bool fits_in_joint(double width, double stroke) {
+  return width >= stroke * (1 - 4 * std::numeric_limits<double>::epsilon());
+}
 
 Model read_dimensionless(TableReader& model_table, RunInput& run) {
   const toml::node& storeys_node = model_table.require("storeys");
@@ -323,11 +417,8 @@ Model read_dimensionless(TableReader& model_table, RunInput& run) {
   }
   std::array<int, 2> storeys{};
   for (std::size_t i = 0; i < 2; ++i) {
-    const toml::node& item = (*storeys_array)[i];
-    if (!item.is_integer() || *item.value<std::int64_t>() < 1) {
-      model_table.fail("storeys", "each entry must be an integer ≥ 1");
-    }
-    storeys[i] = static_cast<int>(*item.value<std::int64_t>());
+    storeys[i] = bounded_integer((*storeys_array)[i], 1, limits::storeys, fmt::format("frame {}: ", i + 1),
+                                 [&](const std::string& m) { model_table.fail("storeys", m); });
   }
   TableReader d = model_table.table("dimensionless");
   DimensionlessParameters p;
@@ -347,6 +438,13 @@ Model read_dimensionless(TableReader& model_table, RunInput& run) {
            "is 0 but eta or mu is not: an element without stroke is a rigid stop whose spring and "
            "dashpot never act; give epsilon > 0 or eta = mu = 0");
   }
+  // w̄ = w λ²/g like delta and epsilon; the floors would collide at w, so the element must
+  // bottom out first: delta + epsilon ≤ joint_width.
+  const std::optional<double> joint = d.optional_number("joint_width");
+  if (joint && !fits_in_joint(*joint, p.delta + p.epsilon)) {
+    d.fail("joint_width", fmt::format("{} is narrower than delta + epsilon = {}: the floors would collide "
+                                      "before the gap element bottoms out", *joint, p.delta + p.epsilon));
+  }
   d.finish();
   double height = 0.0;
   if (auto h = model_table.optional_number("storey_height")) height = model_table.positive("storey_height", *h);
@@ -356,11 +454,22 @@ Model read_dimensionless(TableReader& model_table, RunInput& run) {
   if (height > 0) {
     for (Frame& f : model.frames) f.storey_height.assign(f.mass.size(), height);
   }
+  for (const GapElement& g : model.gaps) {
+    run.joint_widths.push_back(joint ? *joint * standard_gravity / p.lambda2 : g.properties.gap);
+  }
   return model;
 }
 
-GapProperties read_gap_properties(TableReader& t, const GapProperties* defaults) {
-  GapProperties g = defaults != nullptr ? *defaults : GapProperties{};
+/// The properties of gap elements and the width of the joint they sit in.
+struct GapSpec {
+  GapProperties properties;
+  std::optional<double> joint;  ///< w [m]; absent: the element's gap.
+};
+
+/// [gap_elements] (defaults == nullptr) or one of its overrides, which inherits from `defaults`.
+GapSpec read_gap_properties(TableReader& t, const GapSpec* defaults) {
+  GapSpec spec = defaults != nullptr ? *defaults : GapSpec{};
+  GapProperties& g = spec.properties;
   const auto get = [&](const char* key, double& field, bool required) {
     if (required) {
       field = t.number(key);
@@ -384,16 +493,59 @@ GapProperties read_gap_properties(TableReader& t, const GapProperties* defaults)
            "an element with shortening = 0 is a rigid stop whose spring and dashpot never act; "
            "give shortening > 0 or stiffness = damping = 0");
   }
-  return g;
+  if (auto w = t.optional_number("joint_width")) spec.joint = *w;
+  // The floors would collide at the joint width: the element must bottom out first. An override
+  // that widens the element beyond an inherited joint is blamed on the key it changed.
+  if (spec.joint && !fits_in_joint(*spec.joint, g.gap + g.shortening)) {
+    const char* key = t.has("joint_width") ? "joint_width" : t.has("gap") ? "gap" : "shortening";
+    t.fail(key, fmt::format("the joint width {} m is narrower than gap + shortening = {} m: the floors "
+                            "would collide before the gap element bottoms out",
+                            *spec.joint, g.gap + g.shortening));
+  }
+  return spec;
 }
 
-Model read_physical(TableReader& top) {
+/// Storey heights: gap elements join floors at the same height above the ground. Floors at
+/// different heights (a slab hitting a column) are not modelled, so they are refused.
+void check_floor_heights(const std::vector<Frame>& frames, std::vector<TableReader>& tables) {
+  for (std::size_t f = 0; f + 1 < frames.size(); ++f) {
+    const Frame& left = frames[f];
+    const Frame& right = frames[f + 1];
+    if (left.storey_height.empty() && right.storey_height.empty()) continue;
+    if (left.storey_height.empty() || right.storey_height.empty()) {
+      const std::size_t without = left.storey_height.empty() ? f : f + 1;
+      tables[without].fail_table(fmt::format(
+          "missing key: storey_height (frame {} has one): frames {} and {} are joined floor to floor, "
+          "which needs their floors at the same heights; give storey_height for both or neither",
+          without == f ? f + 2 : f + 1, f + 1, f + 2));
+    }
+    const std::size_t shared = std::min(left.storey_height.size(), right.storey_height.size());
+    double height_left = 0.0, height_right = 0.0;
+    for (std::size_t i = 0; i < shared; ++i) {
+      height_left += left.storey_height[i];
+      height_right += right.storey_height[i];
+      // Heights written to different precision (3.2 and 3.2000000001) are the same floor.
+      if (std::abs(height_left - height_right) > 1e-9 * std::max(height_left, height_right)) {
+        tables[f + 1].fail("storey_height", fmt::format(
+            "floor {} stands {} m above the ground, floor {} of frame {} {} m: gap elements join "
+            "floors at the same height (floors at different heights are not modelled)",
+            i + 1, height_right, i + 1, f + 1, height_left));
+      }
+    }
+  }
+}
+
+Model read_physical(TableReader& top, RunInput& run) {
   std::vector<Frame> frames;
-  for (TableReader& f : top.tables("frames")) {
+  std::vector<TableReader> frame_tables = top.tables("frames");
+  if (frame_tables.size() > static_cast<std::size_t>(limits::frames)) {
+    top.fail("frames", fmt::format("{} frames: at most {}", frame_tables.size(), limits::frames));
+  }
+  int floors = 0;
+  for (TableReader& f : frame_tables) {
     Frame frame;
     frame.name = f.string_or("name", "");
-    const std::optional<int> storeys = f.optional_integer("storeys");
-    if (storeys && *storeys < 1) f.fail("storeys", "must be ≥ 1");
+    const std::optional<int> storeys = f.optional_integer("storeys", 1, limits::storeys);
     std::vector<double> mass = f.numbers("mass");
     std::vector<double> stiffness = f.numbers("stiffness");
     const bool has_damping = f.has("damping"), has_ratio = f.has("damping_ratio");
@@ -403,15 +555,24 @@ Model read_physical(TableReader& top) {
     }
     std::vector<double> damping = has_damping ? f.numbers("damping") : std::vector<double>{};
     int n = storeys.value_or(0);
-    for (const auto* v : {&mass, &stiffness, &damping}) {
+    for (const auto& [key, v] : {std::pair<const char*, const std::vector<double>*>{"mass", &mass},
+                                 {"stiffness", &stiffness}, {"damping", &damping}}) {
+      if (v->size() > static_cast<std::size_t>(limits::storeys)) {
+        f.fail(key, fmt::format("has {} values: a frame has at most {} storeys", v->size(), limits::storeys));
+      }
       if (v->size() > 1 && n == 0) n = static_cast<int>(v->size());
     }
     if (n == 0) {
       if (!storeys) f.fail_table("missing key: storeys (or give per-floor arrays)");
     }
+    floors += n;
+    if (floors > limits::floors) {
+      f.fail_table(fmt::format("the frames up to this one have {} floors: at most {} in all", floors,
+                               limits::floors));
+    }
     const auto broadcast = [&](const char* key, std::vector<double>& v) {
       if (v.size() == 1) v.assign(static_cast<std::size_t>(n), v[0]);
-      if (static_cast<int>(v.size()) != n) {
+      if (v.size() != static_cast<std::size_t>(n)) {
         f.fail(key, fmt::format("has {} values for {} floors", v.size(), n));
       }
     };
@@ -450,6 +611,7 @@ Model read_physical(TableReader& top) {
     f.finish();
     frames.push_back(std::move(frame));
   }
+  check_floor_heights(frames, frame_tables);
 
   if (frames.size() == 1) {
     if (top.has("gap_elements")) {
@@ -458,40 +620,55 @@ Model read_physical(TableReader& top) {
     return make_model(std::move(frames), GapProperties{});
   }
   TableReader gaps = top.table("gap_elements");
-  const GapProperties defaults = read_gap_properties(gaps, nullptr);
+  const GapSpec defaults = read_gap_properties(gaps, nullptr);
   std::vector<GapOverride> overrides;
+  std::vector<std::optional<double>> override_joints;
   if (gaps.has("override")) {
     for (TableReader& o : gaps.tables("override")) {
       const toml::node& pair_node = o.require("frames");
       const toml::array* pair = pair_node.as_array();
-      if (pair == nullptr || pair->size() != 2 || !(*pair)[0].is_integer() ||
-          !(*pair)[1].is_integer()) {
+      if (pair == nullptr || pair->size() != 2) {
         o.fail("frames", "expected two neighbouring frame numbers, e.g. [1, 2]");
       }
-      const auto left = *(*pair)[0].value<std::int64_t>();
-      const auto right = *(*pair)[1].value<std::int64_t>();
-      if (right != left + 1 || left < 1 || right > static_cast<std::int64_t>(frames.size())) {
+      const auto frames_count = static_cast<std::int64_t>(frames.size());
+      const auto frame_number = [&](std::size_t i) {
+        return bounded_integer((*pair)[i], 1, frames_count, fmt::format("item {}: ", i + 1),
+                               [&](const std::string& m) {
+                                 o.fail("frames", m + fmt::format(" (the model has {} frames)", frames_count));
+                               });
+      };
+      const int left = frame_number(0), right = frame_number(1);
+      if (right != left + 1) {
         o.fail("frames", fmt::format("[{}, {}] are not neighbouring frames of the {} in the model",
                                      left, right, frames.size()));
       }
-      const int floor = o.integer("floor");
       const int shared = std::min(frames[static_cast<std::size_t>(left - 1)].storeys(),
                                   frames[static_cast<std::size_t>(right - 1)].storeys());
-      if (floor < 1 || floor > shared) {
-        o.fail("floor", fmt::format("frames {} and {} share floors 1..{}", left, right, shared));
-      }
-      GapOverride go{static_cast<int>(left - 1), floor - 1, read_gap_properties(o, &defaults)};
+      const int floor = bounded_integer(o.require("floor"), 1, shared, "", [&](const std::string& m) {
+        o.fail("floor", fmt::format("{}: frames {} and {} share floors 1..{}", m, left, right, shared));
+      });
+      const GapSpec spec = read_gap_properties(o, &defaults);
+      GapOverride go{left - 1, floor - 1, spec.properties};
       for (const GapOverride& seen : overrides) {
         if (seen.left_frame == go.left_frame && seen.floor == go.floor) {
           o.fail_table("a second override of the same element");
         }
       }
       overrides.push_back(go);
+      override_joints.push_back(spec.joint);
       o.finish();
     }
   }
   gaps.finish();
-  return make_model(std::move(frames), defaults, overrides);
+  Model model = make_model(std::move(frames), defaults.properties, overrides);
+  for (const GapElement& g : model.gaps) {
+    std::optional<double> joint = defaults.joint;
+    for (std::size_t k = 0; k < overrides.size(); ++k) {
+      if (overrides[k].left_frame == g.left_frame && overrides[k].floor == g.floor) joint = override_joints[k];
+    }
+    run.joint_widths.push_back(joint.value_or(g.properties.gap));
+  }
+  return model;
 }
 
 void read_initial(TableReader& t, const Model& model, InitialConditions& ic) {
@@ -542,7 +719,10 @@ void read_excitation(TableReader& t, const Model& model, const std::filesystem::
                                      : RecordFormat::automatic;
     o.units = t.has("units") ? t.choice("units", {"g", "m/s2", "cm/s2"}) : std::string();
     if (t.has("scale") && t.has("target_pga_g")) t.fail("target_pga_g", "give either scale or target_pga_g, not both");
-    if (auto scale = t.optional_number("scale")) o.scale = *scale;
+    if (auto scale = t.optional_number("scale")) {
+      if (*scale == 0) t.fail("scale", "must not be 0 (a negative scale reverses the record)");
+      o.scale = *scale;
+    }
     if (auto target = t.optional_number("target_pga_g")) o.target_pga_g = t.positive("target_pga_g", *target);
     if (t.has("dt")) {
       if (format != "single") t.fail("dt", "only for format = \"single\" (the other formats carry their times)");
@@ -550,10 +730,11 @@ void read_excitation(TableReader& t, const Model& model, const std::filesystem::
     } else if (format == "single") {
       t.fail_table("missing key: dt (format = \"single\" has no times)");
     }
-    if (auto column = t.optional_integer("column")) {
+    if (t.has("column")) {
       if (format != "columns" && format != "auto") t.fail("column", "only for column files");
-      if (*column < 2) t.fail("column", "the acceleration column is 2 or more (column 1 is time)");
-      o.column = *column;
+      o.column = bounded_integer(t.require("column"), 2, limits::column, "", [&](const std::string& m) {
+        t.fail("column", m + " (the acceleration column; column 1 is time)");
+      });
     }
     // An ensemble names its records in [ensemble]: a file here only comes from one of its points.
     if (run.ensemble && !(t.has("file") && origin.overrides.contains("excitation.file"))) {
@@ -579,7 +760,26 @@ void read_excitation(TableReader& t, const Model& model, const std::filesystem::
       info.record_pga_g = r.pga_g;
       info.record_duration = r.duration;
     } catch (const InputError& e) {
+      // A record that reads unscaled fails because of the factor: the message names that key.
+      if (t.has("scale") || t.has("target_pga_g")) {
+        RecordOptions unscaled = o;
+        unscaled.scale = 1.0;
+        unscaled.target_pga_g.reset();
+        bool reads_unscaled = false;
+        try {
+          (void)read_ground_motion(path, unscaled);
+          reads_unscaled = true;
+        } catch (const InputError&) {
+        }
+        if (reads_unscaled) t.fail(t.has("target_pga_g") ? "target_pga_g" : "scale", e.what());
+      }
       t.fail("file", e.what());
+    }
+    // The reader checks the file's numbers; the factor applied to them is this table's.
+    if (!std::isfinite(info.record_pga_g) || !std::isfinite(info.record_scale)) {
+      const char* key = t.has("target_pga_g") ? "target_pga_g" : t.has("scale") ? "scale" : "file";
+      t.fail(key, fmt::format("{}: the record's peak {} g scaled by {} is beyond the range of a double",
+                              path.string(), info.record_pga_file_g, info.record_scale));
     }
   } else {
     run.excitation = NoExcitation{};
@@ -603,6 +803,45 @@ void read_integration(TableReader& t, AnalysisSettings& a) {
   o.separation = t.choice("separation", {"displacement", "force"}, std::string("displacement")) == "force"
                      ? SeparationCriterion::force
                      : SeparationCriterion::displacement;
+  a.max_steps = t.number_or("max_steps", a.max_steps);
+  if (!(a.max_steps >= 1 && a.max_steps <= limits::max_steps_limit)) {
+    t.fail("max_steps", fmt::format("must be in [1, {:g}] (got {})", limits::max_steps_limit, a.max_steps));
+  }
+}
+
+/// Newmark brackets an event inside its step, in the time τ ∈ [0, h] since the step's start;
+/// doubles there are spaced up to 2⁻⁵² h, and a bracket narrower than a few spacings cannot shrink
+/// (the reason 1e-20 s "did not converge"). So event_tolerance ≥ event_tolerance_ulps · 2⁻⁵² · h
+/// for the longest step h of the run. `what` says which step that is.
+void check_event_tolerance(TableReader& analysis, const TimeHistoryOptions& o, double longest_step,
+                           const std::string& what) {
+  const double finest = limits::event_tolerance_ulps * std::numeric_limits<double>::epsilon() * longest_step;
+  if (!(o.event_tolerance >= finest)) {
+    analysis.fail("event_tolerance",
+                  fmt::format("{} s is finer than doubles can resolve within a step of {} s ({}): at least "
+                              "{:.3g} s ({} × 2⁻⁵² × the step)",
+                              o.event_tolerance, longest_step, what, finest, limits::event_tolerance_ulps));
+  }
+}
+
+/// A time history's work: steps and history rows within analysis.max_steps, event times resolvable.
+/// `source` says where the duration comes from when it is not the key itself.
+void check_time_history_work(TableReader& analysis, const AnalysisSettings& a, const std::string& source) {
+  const double steps = std::ceil(a.duration / a.options.dt);
+  // Blamed on the duration when an override set it, else on dt (the duration may be a record's).
+  const char* key = analysis.has("duration") && analysis.overridden("duration") ? "duration" : "dt";
+  if (!(steps <= a.max_steps)) {
+    analysis.fail(key, fmt::format("dt = {} s over the duration {} s{} makes {:.4g} steps, more than analysis.max_steps "
+                                    "= {:.4g}: give a longer dt, a shorter duration, or a larger max_steps",
+                                    a.options.dt, a.duration, source, steps, a.max_steps));
+  }
+  const double rows = std::floor(a.duration / a.output_dt);
+  if (!(rows <= a.max_steps)) {
+    analysis.fail("output_dt", fmt::format("{} s over the duration {} s{} makes {:.4g} rows of history.csv, more "
+                                           "than analysis.max_steps = {:.4g}",
+                                           a.output_dt, a.duration, source, rows, a.max_steps));
+  }
+  check_event_tolerance(analysis, a.options, a.options.dt, "analysis.dt");
 }
 
 void read_time_history(TableReader& t, AnalysisSettings& a) {
@@ -623,9 +862,9 @@ void read_time_history(TableReader& t, AnalysisSettings& a) {
 
 /// `threads`: worker threads, 0 for all cores.
 int read_threads(TableReader& t, int fallback) {
-  const int n = t.optional_integer("threads").value_or(fallback);
-  if (n < 0) t.fail("threads", "must be ≥ 0 (0: all cores)");
-  return n;
+  if (!t.has("threads")) return fallback;
+  return bounded_integer(t.require("threads"), 0, limits::threads, "",
+                         [&](const std::string& m) { t.fail("threads", m + "; 0 means all cores"); });
 }
 
 /// `band = [ratio_min, ratio_max]`: the ω̄/ω₁ range that an FRF objective looks at.
@@ -640,7 +879,7 @@ void read_band(TableReader& t, const std::string& each, double& lo, double& hi) 
   hi = band[1];
 }
 
-FrfSettings read_frf(TableReader& t, const Model& model, const AnalysisSettings& a) {
+FrfSettings read_frf(TableReader& t, TableReader& analysis, const Model& model, const AnalysisSettings& a) {
   FrfSettings f;
   f.amplitude_g = t.number("amplitude_g");
   const bool listed = t.has("ratios");
@@ -656,8 +895,7 @@ FrfSettings read_frf(TableReader& t, const Model& model, const AnalysisSettings&
   } else {
     const double lo = t.positive("ratio_min", t.number("ratio_min"));
     const double hi = t.positive("ratio_max", t.number("ratio_max"));
-    const int n = t.integer("points");
-    if (n < 1) t.fail("points", "must be ≥ 1");
+    const int n = t.integer("points", 1, limits::frf_points);
     if (!(hi >= lo) || (n > 1 && hi == lo)) t.fail("ratio_max", "must be larger than ratio_min");
     for (int i = 0; i < n; ++i) f.ratios.push_back(n == 1 ? lo : lo + (hi - lo) * i / (n - 1));
   }
@@ -668,18 +906,15 @@ FrfSettings read_frf(TableReader& t, const Model& model, const AnalysisSettings&
             : sweep == "both" ? SweepMode::both
                               : SweepMode::from_rest;
   SteadyStateOptions& s = f.steady;
-  if (auto n = t.optional_integer("steps_per_period")) s.steps_per_period = *n;
-  if (s.steps_per_period < 8) t.fail("steps_per_period", "must be ≥ 8");
+  s.steps_per_period = t.optional_integer("steps_per_period", 8, limits::periods).value_or(s.steps_per_period);
   s.tolerance = t.number_or("tolerance", s.tolerance);
   if (!(s.tolerance > 0 && s.tolerance < 1)) t.fail("tolerance", "must be in (0, 1)");
-  if (auto n = t.optional_integer("max_periodicity")) s.max_periodicity = *n;
-  if (s.max_periodicity < 1) t.fail("max_periodicity", "must be ≥ 1");
-  if (auto n = t.optional_integer("max_periods")) s.max_periods = *n;
+  s.max_periodicity = t.optional_integer("max_periodicity", 1, limits::periodicity).value_or(s.max_periodicity);
+  s.max_periods = t.optional_integer("max_periods", 1, limits::periods).value_or(s.max_periods);
   if (s.max_periods < 2 * s.max_periodicity + 2) {
     t.fail("max_periods", "must be at least 2 × max_periodicity + 2");
   }
-  if (auto n = t.optional_integer("window_periods")) s.window_periods = *n;
-  if (s.window_periods < 1) t.fail("window_periods", "must be ≥ 1");
+  s.window_periods = t.optional_integer("window_periods", 1, limits::periods).value_or(s.window_periods);
   f.threads = read_threads(t, f.threads);
   // The shortest step: the highest frequency's period over steps_per_period.
   const double shortest = 2 * std::numbers::pi / (f.ratios.back() * reference_frequency(model)) /
@@ -688,6 +923,25 @@ FrfSettings read_frf(TableReader& t, const Model& model, const AnalysisSettings&
     t.fail("steps_per_period", fmt::format("gives steps of {} s at the highest frequency, not longer "
                                            "than analysis.event_tolerance", shortest));
   }
+  // The most work the points may take: every point runs to max_periods without settling.
+  const double branches = f.sweep == SweepMode::both ? 2.0 : 1.0;
+  const double periods = static_cast<double>(s.max_periods) + s.window_periods;
+  const double steps = branches * static_cast<double>(f.ratios.size()) * periods * s.steps_per_period;
+  if (!(steps <= a.max_steps)) {
+    t.fail_table(fmt::format("{} frequencies × {} branch(es) × ({} max_periods + {} window_periods) × {} "
+                             "steps_per_period may take {:.4g} steps, more than analysis.max_steps = {:.4g}: "
+                             "give fewer points, periods or steps, or a larger analysis.max_steps",
+                             f.ratios.size(), branches, s.max_periods, s.window_periods, s.steps_per_period,
+                             steps, a.max_steps));
+  }
+  // The lowest frequency has the longest steps.
+  const double longest = 2 * std::numbers::pi / (f.ratios.front() * reference_frequency(model)) / s.steps_per_period;
+  if (!std::isfinite(longest)) {
+    t.fail(listed ? "ratios" : "ratio_min",
+           fmt::format("{} is so low that the forcing period is not finite", f.ratios.front()));
+  }
+  check_event_tolerance(analysis, a.options, longest,
+                        fmt::format("a forcing period at ω̄/ω₁ = {} over frf.steps_per_period", f.ratios.front()));
   t.finish();
   return f;
 }
@@ -714,20 +968,18 @@ StudySettings read_study(TableReader& t) {
   s.each = t.choice("each", {"frf", "time_history", "ensemble"});
   s.sampling = t.choice("sampling", {"grid", "list", "random"}, std::string("grid"));
   if (s.sampling == "random") {
-    s.samples = t.integer("samples");
-    if (s.samples < 1) t.fail("samples", "must be ≥ 1");
-    if (auto seed = t.optional_integer("seed")) {
-      if (*seed < 0) t.fail("seed", "must be ≥ 0");
-      s.seed = static_cast<unsigned>(*seed);
-    }
+    s.samples = t.integer("samples", 1, limits::study_points);
+    s.seed = t.optional_integer<unsigned>("seed", 0, limits::seed).value_or(s.seed);
   }
   read_band(t, s.each, s.band_min, s.band_max);
   s.baseline = t.boolean_or("baseline", s.baseline);
   s.threads = read_threads(t, s.threads);
   std::size_t list_length = 0;
+  double grid_points = 1;
   for (TableReader& p : t.tables("parameter")) {
     StudyParameter param;
     param.key = p.string("key");
+    param.where = p.where("key");
     if (param.key.empty()) p.fail("key", "must not be empty");
     for (const StudyParameter& seen : s.parameters) {
       if (seen.key == param.key) p.fail("key", fmt::format("'{}' is varied twice", param.key));
@@ -758,10 +1010,17 @@ StudySettings read_study(TableReader& t) {
       if (!(param.max > param.min)) p.fail("max", "must be larger than min");
       param.log = p.choice("scale", {"linear", "log"}, std::string("linear")) == "log";
       if (param.log && !(param.min > 0)) p.fail("min", "must be > 0 on a log scale");
-      if (s.sampling == "grid") {
-        param.points = p.integer("points");
-        if (param.points < 2) p.fail("points", "must be ≥ 2");
+      if (s.sampling == "grid") param.points = p.integer("points", 2, limits::study_points);
+    }
+    // A grid has the product of its axes' points: bounded before study_points() lists them.
+    if (s.sampling == "grid") {
+      grid_points *= static_cast<double>(has_values ? param.values.size() : static_cast<std::size_t>(param.points));
+      if (grid_points > limits::study_points) {
+        p.fail(has_values ? "values" : "points",
+               fmt::format("the grid has {:.4g} points with this parameter: at most {}", grid_points, limits::study_points));
       }
+    } else if (s.sampling == "list" && param.values.size() > static_cast<std::size_t>(limits::study_points)) {
+      p.fail("values", fmt::format("{} values: at most {}", param.values.size(), limits::study_points));
     }
     p.finish();
     s.parameters.push_back(std::move(param));
@@ -783,20 +1042,19 @@ OptimizeSettings read_optimize(TableReader& t) {
   if (o.local_algorithm != "none" && o.local_algorithm.rfind("L", 0) != 0) {
     t.fail("local", fmt::format("\"{}\" is not a local NLopt algorithm (LN_… or LD_…) or \"none\"", o.local_algorithm));
   }
-  if (auto n = t.optional_integer("global_evaluations")) o.global_evaluations = *n;
-  if (auto n = t.optional_integer("local_evaluations")) o.local_evaluations = *n;
-  if (o.global_evaluations < 1) t.fail("global_evaluations", "must be ≥ 1");
-  if (o.local_evaluations < 1) t.fail("local_evaluations", "must be ≥ 1");
+  if (o.global_algorithm == "none" && o.local_algorithm == "none") {
+    t.fail(t.has("local") ? "local" : "global", "both stages are \"none\": nothing would be optimised");
+  }
+  o.global_evaluations = t.optional_integer("global_evaluations", 1, limits::evaluations).value_or(o.global_evaluations);
+  o.local_evaluations = t.optional_integer("local_evaluations", 1, limits::evaluations).value_or(o.local_evaluations);
   o.relative_tolerance = t.number_or("relative_tolerance", o.relative_tolerance);
   if (!(o.relative_tolerance > 0)) t.fail("relative_tolerance", "must be > 0");
-  if (auto seed = t.optional_integer("seed")) {
-    if (*seed < 0) t.fail("seed", "must be ≥ 0");
-    o.seed = static_cast<unsigned>(*seed);
-  }
+  o.seed = t.optional_integer<unsigned>("seed", 0, limits::seed).value_or(o.seed);
   o.threads = read_threads(t, o.threads);
   for (TableReader& v : t.tables("variable")) {
     OptimizeVariable var;
     var.key = v.string("key");
+    var.where = v.where("key");
     for (const OptimizeVariable& seen : o.variables) {
       if (seen.key == var.key) v.fail("key", fmt::format("'{}' is a variable twice", var.key));
     }
@@ -875,7 +1133,7 @@ EnsembleSettings read_ensemble(TableReader& t, const std::filesystem::path& base
 RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::path& base_dir,
                    std::span<const std::string> overrides) {
   for (const std::string& text : overrides) {
-    const std::string path = apply_override(root, text);
+    const std::string path = apply_override(root, text, origin);
     origin.overrides[path] = text;
   }
   RunInput run;
@@ -892,7 +1150,7 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
     TableReader model = top.table("model");
     run.model = read_dimensionless(model, run);
   } else {
-    run.model = read_physical(top);
+    run.model = read_physical(top, run);
   }
   if (auto initial = top.optional_table("initial")) read_initial(*initial, run.model, run.initial);
   TableReader analysis = top.table("analysis");
@@ -938,6 +1196,12 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
       analysis.fail("dt", fmt::format("{} s is longer than the duration {} s", run.analysis.options.dt,
                                       run.analysis.duration));
     }
+    if (run.analysis.duration > 0) {
+      const bool from_record = !analysis.has("duration");
+      check_time_history_work(analysis, run.analysis,
+                              from_record ? fmt::format(" (the length of {})", run.excitation_info.record_file.string())
+                                          : std::string());
+    }
     if (top.has("frf")) top.fail("frf", "only for analysis.kind = \"frf\"");
   } else {
     read_integration(analysis, run.analysis);
@@ -946,7 +1210,7 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
     }
     if (top.has("initial")) top.fail("initial", "a frequency response starts from rest or from the previous point");
     TableReader frf = top.table("frf");
-    run.frf = read_frf(frf, run.model, run.analysis);
+    run.frf = read_frf(frf, analysis, run.model, run.analysis);
     run.excitation_info.kind = "harmonic";
     run.excitation_info.amplitude_g = run.frf->amplitude_g;
     run.excitation_info.omega1 = reference_frequency(run.model);
@@ -1012,12 +1276,34 @@ RunInput read_input_string(std::string_view text, const std::string& name,
 }
 
 RunInput read_input(const std::filesystem::path& file, std::span<const std::string> overrides) {
+  // A directory opens as an empty stream and /dev/zero never ends: only regular files of a
+  // bounded size are read, and never more than that bound.
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::status(file, ec);
+  if (status.type() == std::filesystem::file_type::not_found) {
+    throw InputError(fmt::format("{}: cannot open the model file", file.string()));
+  }
+  if (status.type() != std::filesystem::file_type::regular) {
+    const std::string what = status.type() == std::filesystem::file_type::directory ? "a directory"
+                             : ec ? ec.message()
+                                  : "not a regular file";
+    throw InputError(fmt::format("{}: cannot read the model file: {}", file.string(), what));
+  }
+  const auto too_large = [&] {
+    return InputError(fmt::format("{}: the model file is larger than {} MiB", file.string(),
+                                  limits::model_file_bytes >> 20));
+  };
+  std::uintmax_t size = std::filesystem::file_size(file, ec);
+  if (ec) size = limits::model_file_bytes;
+  if (size > limits::model_file_bytes) throw too_large();
   std::ifstream in(file, std::ios::binary);
   if (!in) throw InputError(fmt::format("{}: cannot open the model file", file.string()));
-  std::stringstream buffer;
-  buffer << in.rdbuf();
+  std::string text(static_cast<std::size_t>(size) + 1, '\0');  // one more, to see it grow
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
   if (in.bad()) throw InputError(fmt::format("{}: read error", file.string()));
-  RunInput run = read_input_string(buffer.str(), file.string(), file.parent_path(), overrides);
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (text.size() > size) throw InputError(fmt::format("{}: the model file grew while it was read", file.string()));
+  RunInput run = read_input_string(text, file.string(), file.parent_path(), overrides);
   run.source = file;
   return run;
 }

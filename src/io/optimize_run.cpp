@@ -157,8 +157,17 @@ json run_optimization(const RunInput& input, const std::filesystem::path& out_di
   Problem problem(input, progress, budget);
   // The starting point is evaluated first, so that a bad key is reported before any search.
   problem(x, "start");
-  if (problem.evaluations().back().status == "rejected") {
-    throw InputError(fmt::format("optimize: the starting point is rejected: {}", problem.evaluations().back().error));
+  if (const Evaluation& first = problem.evaluations().back(); first.status == "rejected") {
+    // Reported where the file defines the variable whose value was rejected, else at the file.
+    std::string where = input.source.string(), values;
+    for (std::size_t i = 0; i < n; ++i) {
+      const OptimizeVariable& v = s.variables[i];
+      values += fmt::format("{}{} = {}", i == 0 ? "" : ", ", v.key, toml_float(x[i]));
+      if (!v.where.empty() && first.error.starts_with(fmt::format("{}: --set {}=", input.source.string(), v.key))) {
+        where = v.where;
+      }
+    }
+    throw InputError(fmt::format("{}: the starting point ({}) is rejected: {}", where, values, first.error));
   }
   nlopt::srand(s.seed);
   json stages = json::array();
@@ -203,7 +212,7 @@ json run_optimization(const RunInput& input, const std::filesystem::path& out_di
     FrequencyResponseOptions o = frequency_response_options(best_point);
     o.threads = s.threads;
     write_frf_table(out.open("optimum_frf.csv"), best_point.model, frequency_response(best_point.model, o));
-    const Model bare = bare_pounding(best_point.model);
+    const Model bare = bare_pounding_model(best_point);
     const std::vector<FrfPoint> bare_response = frequency_response(bare, o);
     write_frf_table(out.open("bare_frf.csv"), bare, bare_response);
     comparison["bare_pounding"] = frf_metrics(bare, bare_response, s.band_min, s.band_max);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cassert>
 #include <limits>
 #include <chrono>
 #include <cmath>
@@ -165,8 +166,18 @@ std::string fingerprint(const RunInput& input) {
   return fnv1a(d.dump());
 }
 
+Model bare_pounding_model(const RunInput& point) {
+  Model bare = bare_pounding(point.model);
+  // An input built in code may leave the joints out: they are then the elements' gaps.
+  if (!point.joint_widths.empty()) {
+    assert(point.joint_widths.size() == bare.gaps.size());
+    for (std::size_t k = 0; k < bare.gaps.size(); ++k) bare.gaps[k].properties.gap = point.joint_widths[k];
+  }
+  return bare;
+}
+
 std::string baseline_key(const RunInput& point) {
-  json d{{"model", describe_model(bare_pounding(point.model))}, {"analysis", describe_analysis(point)}};
+  json d{{"model", describe_model(bare_pounding_model(point))}, {"analysis", describe_analysis(point)}};
   return fnv1a(d.dump());
 }
 
@@ -319,7 +330,7 @@ json point_metrics(const RunInput& point, int threads, const json* baseline) {
 
 json baseline_metrics(const RunInput& point, int threads) {
   RunInput bare = point;
-  bare.model = bare_pounding(point.model);
+  bare.model = bare_pounding_model(point);
   return point_metrics(bare, threads, nullptr);
 }
 
@@ -347,7 +358,8 @@ json run_ensemble(const RunInput& input, const std::filesystem::path& out_dir,
   study.sampling = "list";
   study.baseline = input.ensemble->baseline;
   study.threads = input.ensemble->threads;
-  StudyParameter records{"excitation.file", {}, 0.0, 0.0, 0, false};
+  StudyParameter records;
+  records.key = "excitation.file";
   for (const auto& r : input.ensemble->records) records.values.push_back(json(r.string()).dump());
   study.parameters.push_back(std::move(records));
   as_study.study = study;
@@ -419,8 +431,17 @@ json run_points(const RunInput& input, const std::filesystem::path& out_dir, con
     } catch (const InputError& e) {
       std::string values;
       for (const auto& [k, v] : all[i]) values += fmt::format("{}{} = {}", values.empty() ? "" : ", ", k, v);
-      throw InputError(fmt::format("{} {} ({}): {}", stem == "ensemble" ? "ensemble record" : "study point", id + 1,
-                                   values, e.what()));
+      // An error that a parameter's override caused is reported where the file defines that
+      // parameter; any other names the file.
+      const std::string message = e.what();
+      std::string where = input.source.string();
+      for (const StudyParameter& p : study.parameters) {
+        if (!p.where.empty() && message.starts_with(fmt::format("{}: --set {}=", input.source.string(), p.key))) {
+          where = p.where;
+        }
+      }
+      throw InputError(fmt::format("{}: {} {} ({}): {}", where, stem == "ensemble" ? "ensemble record" : "study point",
+                                   id + 1, values, message));
     }
   }
   OutputTransaction out(out_dir);  // creates the folder for the database too

@@ -317,7 +317,15 @@ json run_time_history(const RunInput& input, const std::filesystem::path& out_di
   };
 
   const double duration = input.analysis.duration, output_dt = input.analysis.output_dt;
-  const auto rows = static_cast<std::int64_t>(std::floor(duration / output_dt + 1e-9));
+  // read_input bounds the rows by analysis.max_steps; an input built otherwise is checked here,
+  // before the count becomes an integer.
+  const double row_count = std::floor(duration / output_dt + 1e-9);
+  if (!(row_count >= 0 && row_count <= input.analysis.max_steps)) {
+    throw InputError(fmt::format("{}: analysis.output_dt: {} s over the duration {} s makes {} rows, more than "
+                                 "analysis.max_steps = {}", input.source.string(), output_dt, duration, row_count,
+                                 input.analysis.max_steps));
+  }
+  const auto rows = static_cast<std::int64_t>(row_count);
   write_row();
   for (std::int64_t k = 1; k <= rows; ++k) {
     sim->advance_to(static_cast<double>(k) * output_dt);

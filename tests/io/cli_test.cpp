@@ -2,11 +2,13 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -216,6 +218,141 @@ TEST_F(Cli, FrequencyResponseWritesTheTable) {
   EXPECT_TRUE(summary["branches"].contains("up"));
   // The free frames' peak over five points 0.2 … 1.6 lies at ω̄/ω₁ = 0.55 or 0.9 …; V/W > 0.
   EXPECT_GT(summary["branches"]["up"]["frames"][0]["peak_free_V_W"].get<double>(), 0.2);
+}
+
+// Defect 6: --max-points 0 printed CLI11's range of a long double (309 digits).
+TEST_F(Cli, MaxPointsMustBeAWholeNumberOfPoints) {
+  const std::string study = example("study_eta_mu.toml") + " --out " + (dir_ / "out").string();
+  for (const char* bad : {"0", "-1", "abc", "1e3", "99999999999999999999"}) {
+    const Result r = run("run " + study + " --max-points " + bad);
+    EXPECT_EQ(r.code, 2) << bad;
+    EXPECT_NE(r.output.find(std::string("--max-points ") + bad + ": expected a whole number of points from 1 to "
+                            "9223372036854775807"), std::string::npos) << r.output;
+    EXPECT_LT(r.output.size(), 200u) << r.output;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "out"));
+}
+
+// Defects 5 and 6: a directory read as an empty model ("dir.toml:1:1: : missing …"), /dev/zero
+// was read without end.
+TEST_F(Cli, ModelMustBeARegularFileOfBoundedSize) {
+  fs::create_directories(dir_ / "dir.toml");
+  const Result directory = run("run " + (dir_ / "dir.toml").string() + " --out " + (dir_ / "out").string());
+  EXPECT_EQ(directory.code, 2);
+  EXPECT_NE(directory.output.find("dir.toml: cannot read the model file: a directory"), std::string::npos)
+      << directory.output;
+  EXPECT_EQ(directory.output.find(": :"), std::string::npos) << directory.output;
+  const Result zero = run("run /dev/zero --out " + (dir_ / "out").string());
+  EXPECT_EQ(zero.code, 2);
+  EXPECT_NE(zero.output.find("/dev/zero: cannot read the model file: not a regular file"), std::string::npos)
+      << zero.output;
+  EXPECT_FALSE(fs::exists(dir_ / "out"));
+}
+
+// Defect 12: bare pounding, the reference of studies and the optimiser, collides at the joint
+// width, not at the gap element's gap: a 20 mm gap with 10 mm of travel in a 40 mm joint.
+TEST_F(Cli, BarePoundingBaselinesCollideAtTheJointWidth) {
+  const std::string frames = R"([[frames]]
+storeys = 2
+mass = 1.0e5
+stiffness = 1.0e8
+damping_ratio = 0.02
+[[frames]]
+storeys = 2
+mass = 1.0e5
+stiffness = 3.0e8
+damping_ratio = 0.02
+[gap_elements]
+gap = 0.02
+shortening = 0.01
+stiffness = 2.0e7
+restitution = 0.5
+joint_width = 0.04
+[excitation]
+kind = "harmonic"
+amplitude_g = 0.6
+ratio = 1.0
+)";
+  const std::string analysis = "[analysis]\nkind = \"time_history\"\nduration = 3.0\ndt = 0.002\n";
+  const fs::path direct = write("direct.toml", frames + analysis);
+  const fs::path study = write("study.toml", frames + R"([analysis]
+kind = "study"
+duration = 3.0
+dt = 0.002
+[study]
+each = "time_history"
+[[study.parameter]]
+key = "gap_elements.damping"
+values = [0.0, 1.0e5]
+)");
+  ASSERT_EQ(run("run " + study.string() + " --quiet --out " + (dir_ / "study").string()).code, 0);
+  const std::string bare_set = " --set gap_elements.stiffness=0.0 --set gap_elements.shortening=0.0 --quiet";
+  ASSERT_EQ(run("run " + direct.string() + bare_set + " --set gap_elements.gap=0.04 --out " + (dir_ / "joint").string()).code, 0);
+  ASSERT_EQ(run("run " + direct.string() + bare_set + " --out " + (dir_ / "gap").string()).code, 0);
+  const auto peak = [&](const std::string& folder, int frame) {
+    return nlohmann::json::parse(slurp(dir_ / folder / "summary.json"))["peaks"]["base_shear"][frame]["over_frame1_weight"]
+        .get<double>();
+  };
+  // The study's CSV: the bare peaks of every point are those of the direct run at 40 mm.
+  std::istringstream csv(slurp(dir_ / "study" / "study.csv"));
+  std::string header, row;
+  std::getline(csv, header);
+  std::vector<std::string> names;
+  for (std::stringstream h(header); std::getline(h, row, ',');) names.push_back(row);
+  int rows = 0;
+  for (std::string line; std::getline(csv, line); ++rows) {
+    std::vector<std::string> cells;
+    for (std::stringstream l(line); std::getline(l, row, ',');) cells.push_back(row);
+    for (int f = 0; f < 2; ++f) {
+      const auto at = std::find(names.begin(), names.end(), "bare_peak_V" + std::to_string(f + 1) + "_W");
+      ASSERT_NE(at, names.end()) << header;
+      EXPECT_EQ(std::stod(cells[static_cast<std::size_t>(at - names.begin())]), peak("joint", f)) << line;
+    }
+  }
+  EXPECT_EQ(rows, 2);
+  EXPECT_GT(nlohmann::json::parse(slurp(dir_ / "joint" / "summary.json"))["impacts"].get<int>(), 0);
+  EXPECT_NE(peak("joint", 0), peak("gap", 0));  // the joint matters: at 20 mm the response differs
+
+  // The optimiser's bare-pounding response is the frequency response of bare pounding at the joint.
+  const std::string model = R"([model]
+storeys = [1, 1]
+[model.dimensionless]
+lambda2 = 200.0
+alpha = 0.25
+beta = 1.0
+gamma = 0.5
+xi = 0.05
+delta = 0.25
+eta = 0.125
+mu = 1.0
+epsilon = 0.5
+restitution = 0.75
+joint_width = 1.0
+[frf]
+amplitude_g = 0.2
+ratio_min = 0.6
+ratio_max = 1.2
+points = 3
+steps_per_period = 32
+max_periods = 100
+)";
+  const fs::path optimize = write("optimize.toml", model + R"([analysis]
+kind = "optimize"
+[optimize]
+each = "frf"
+global = "none"
+local_evaluations = 2
+[[optimize.variable]]
+key = "model.dimensionless.eta"
+min = 0.0
+max = 0.25
+)");
+  const fs::path frf = write("frf.toml", model + "[analysis]\nkind = \"frf\"\n");
+  ASSERT_EQ(run("run " + optimize.string() + " --quiet --out " + (dir_ / "optimize").string()).code, 0);
+  ASSERT_EQ(run("run " + frf.string() + " --quiet --out " + (dir_ / "bare") .string() +
+                " --set model.dimensionless.delta=1.0 --set model.dimensionless.eta=0.0 --set model.dimensionless.mu=0.0"
+                " --set model.dimensionless.epsilon=0.0").code, 0);
+  EXPECT_EQ(slurp(dir_ / "optimize" / "bare_frf.csv"), slurp(dir_ / "bare" / "frf.csv"));
 }
 
 TEST_F(Cli, VerifyPrintsTheTablesAndWritesTheReport) {

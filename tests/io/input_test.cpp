@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <regex>
 
 #include <gtest/gtest.h>
@@ -301,6 +302,218 @@ TEST(InputRecord, ReadsAndScalesARecordBesideTheModel) {
   EXPECT_DOUBLE_EQ(r.acceleration[2], -0.2 * 2.0 * 9.81);
   EXPECT_DOUBLE_EQ(ground_acceleration(in.excitation, 0.015), 0.5 * (0.1 - 0.2) * 2.0 * 9.81);
   std::filesystem::remove_all(dir);
+}
+
+/// `message` contains `part`; a failure shows both.
+::testing::AssertionResult has(const std::string& message, const std::string& part) {
+  if (message.find(part) != std::string::npos) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "\"" << part << "\" not in \"" << message << "\"";
+}
+
+const std::string kTwoStoreys = R"([[frames]]
+storeys = 2
+mass = 1.0e5
+stiffness = 1.0e8
+damping_ratio = 0.05
+[[frames]]
+storeys = 2
+mass = 1.0e5
+stiffness = 2.0e8
+damping_ratio = 0.05
+[gap_elements]
+gap = 0.02
+restitution = 0.5
+[excitation]
+kind = "none"
+[analysis]
+kind = "time_history"
+duration = 1.0
+dt = 0.001
+)";
+
+// Defect 2: TOML integers are 64-bit; every one is range-checked before it is narrowed.
+TEST(InputIntegers, SixtyFourBitValuesAreCheckedBeforeNarrowing) {
+  EXPECT_TRUE(has(error_of(replace(kDimensionless, "storeys = [1, 3]", "storeys = [4294967297, 1]")),
+                  "model.toml:3:11: model.storeys: frame 1: must be ≤ 1000 (got 4294967297)"));
+  EXPECT_TRUE(has(error_of(replace(kDimensionless, "storeys = [1, 3]", "storeys = [2147483648, 1]")),
+                  "model.storeys: frame 1: must be ≤ 1000 (got 2147483648)"));
+  EXPECT_TRUE(has(error_of(replace(kDimensionless, "storeys = [1, 3]", "storeys = [1, -4294967295]")),
+                  "model.storeys: frame 2: must be ≥ 1 (got -4294967295)"));
+  EXPECT_TRUE(has(error_of(replace(kTwoStoreys, "storeys = 2", "storeys = 4294967297")),
+                  "model.toml:2:11: frames[1].storeys: must be ≤ 1000 (got 4294967297)"));
+  EXPECT_TRUE(has(error_of(kTwoStoreys + "[[gap_elements.override]]\nframes = [1, 2]\nfloor = 4294967297\n"),
+                  "gap_elements.override[1].floor: must be ≤ 2 (got 4294967297): frames 1 and 2 share floors 1..2"));
+  EXPECT_TRUE(has(error_of(kTwoStoreys + "[[gap_elements.override]]\nframes = [4294967297, 4294967298]\nfloor = 1\n"),
+                  "gap_elements.override[1].frames: item 1: must be ≤ 2 (got 4294967297)"));
+  EXPECT_TRUE(has(error_of(kFrf, {"frf.points=4294967297"}),
+                  "model.toml: --set frf.points=4294967297: frf.points: must be ≤ 1000000 (got 4294967297)"));
+  EXPECT_TRUE(has(error_of(kFrf, {"frf.steps_per_period=4294967304"}), "frf.steps_per_period: must be ≤ 1000000"));
+  EXPECT_TRUE(has(error_of(kFrf, {"frf.threads=4294967297"}), "frf.threads: must be ≤ 1024 (got 4294967297)"));
+  EXPECT_TRUE(has(error_of(kDimensionless, {"model.storeys=[4294967297, 1]"}),
+                  "--set model.storeys=[4294967297, 1]: model.storeys: frame 1: must be ≤ 1000"));
+  // The values the bounds allow still read exactly.
+  EXPECT_EQ(read(kFrf, {"frf.points=1000000", "analysis.max_steps=1e15"}).frf->ratios.size(), 1000000u);
+  EXPECT_EQ(read(replace(kDimensionless, "storeys = [1, 3]", "storeys = [1, 1000]")).model.frames[1].storeys(), 1000);
+}
+
+// Defect 5: sizes that would allocate without bound are refused, naming the key, before any
+// allocation.
+TEST(InputLimits, SizesAreBoundedBeforeAnythingIsAllocated) {
+  EXPECT_TRUE(has(error_of(replace(kDimensionless, "storeys = [1, 3]", "storeys = [100000, 1]")),
+                  "model.storeys: frame 1: must be ≤ 1000 (got 100000)"));
+  EXPECT_TRUE(has(error_of(replace(kFrf, "points = 5", "points = 2147483647")),
+                  "frf.points: must be ≤ 1000000 (got 2147483647)"));
+  std::string three = replace(replace(kTwoStoreys, "storeys = 2", "storeys = 1000"), "storeys = 2", "storeys = 1000");
+  three = replace(three, "[gap_elements]", "[[frames]]\nstoreys = 1\nmass = 1.0\nstiffness = 1.0\ndamping = 0.0\n[gap_elements]");
+  EXPECT_TRUE(has(error_of(three), "frames[3]: the frames up to this one have 2001 floors: at most 2000 in all"));
+  std::string many;
+  for (int i = 0; i < 101; ++i) many += "[[frames]]\nstoreys = 1\nmass = 1.0\nstiffness = 1.0\ndamping = 0.0\n";
+  EXPECT_TRUE(has(error_of(many + "[gap_elements]\ngap = 0.0\nrestitution = 1.0\n"), "frames: 101 frames: at most 100"));
+  EXPECT_TRUE(has(error_of(kFrf, {"frf.max_periods=2000000000"}), "frf.max_periods: must be ≤ 1000000 (got 2000000000)"));
+}
+
+// Defect 4: a run's steps, and history rows, are bounded by analysis.max_steps (default 1e8).
+TEST(InputWork, StepsBeyondMaxStepsAreRejectedUnlessRaised) {
+  EXPECT_TRUE(has(error_of(kDimensionless, {"analysis.duration=1e300", "analysis.dt=1.0"}),
+                  "model.toml: --set analysis.duration=1e300: analysis.duration: dt = 1 s over the duration 1e+300 s "
+                  "makes 1e+300 steps, more than analysis.max_steps = 1e+08"));
+  EXPECT_TRUE(has(error_of(replace(kDimensionless, "dt = 0.001", "dt = 1e-9"), {"analysis.duration=100.0"}),
+                  "makes 1e+11 steps, more than analysis.max_steps = 1e+08"));
+  // 1e9 steps: refused by default, accepted (only read here) when the file raises the bound.
+  const std::string long_run = replace(kDimensionless, "dt = 0.001", "dt = 1e-7");
+  EXPECT_TRUE(has(error_of(long_run, {"analysis.duration=100.0"}), "more than analysis.max_steps"));
+  EXPECT_DOUBLE_EQ(read(long_run, {"analysis.duration=100.0", "analysis.max_steps=1e9"}).analysis.max_steps, 1e9);
+  EXPECT_TRUE(has(error_of(kDimensionless, {"analysis.max_steps=1000"}), "makes 2000 steps, more than analysis.max_steps = 1000"));
+  EXPECT_TRUE(has(error_of(kDimensionless, {"analysis.max_steps=0"}), "analysis.max_steps: must be in [1, 1e+15] (got 0)"));
+  EXPECT_TRUE(has(error_of(kDimensionless, {"analysis.max_steps=1e300"}), "analysis.max_steps: must be in [1, 1e+15]"));
+  // A frequency response's worst case: 2 branches × 5 points × (600 + 64) periods × 32 steps.
+  EXPECT_TRUE(has(error_of(kFrf, {"analysis.max_steps=212479"}),
+                  "frf: 5 frequencies × 2 branch(es) × (600 max_periods + 64 window_periods) × 32 steps_per_period "
+                  "may take 2.125e+05 steps, more than analysis.max_steps = 2.125e+05"));
+  EXPECT_NO_THROW(read(kFrf, {"analysis.max_steps=212480"}));
+}
+
+// Defect 6: event_tolerance = 1e-20 used to pass and fail at run time; its floor is 64 spacings of
+// doubles within the longest step.
+TEST(InputEventTolerance, HasAFloorOfSixtyFourSpacingsWithinTheStep) {
+  EXPECT_TRUE(has(error_of(kDimensionless, {"analysis.event_tolerance=1e-20"}),
+                  "analysis.event_tolerance: 1e-20 s is finer than doubles can resolve within a step of 0.001 s "
+                  "(analysis.dt): at least 1.42e-17 s"));
+  const double floor = 64 * std::numeric_limits<double>::epsilon() * 0.001;
+  EXPECT_EQ(read(kDimensionless, {"analysis.event_tolerance=" + toml_float(floor)}).analysis.options.event_tolerance, floor);
+  EXPECT_TRUE(has(error_of(kDimensionless, {"analysis.event_tolerance=" + toml_float(std::nextafter(floor, 0.0))}),
+                  "is finer than doubles can resolve"));
+  // A frequency response: the longest step is the lowest frequency's period over steps_per_period.
+  EXPECT_TRUE(has(error_of(kFrf, {"analysis.event_tolerance=1e-20"}), "finer than doubles can resolve within a step of"));
+}
+
+// Defect 6: messages name the place that is wrong, and never an empty key.
+TEST(InputMessages, NameThePlaceThatIsWrong) {
+  const std::string empty = error_of("");
+  EXPECT_EQ(empty.rfind("model.toml: missing the structure: [model]", 0), 0u) << empty;
+  EXPECT_EQ(empty.find(": :"), std::string::npos) << empty;
+  EXPECT_EQ(error_of(kDimensionless, {"a.b=1"}), "model.toml: --set a.b=1: a: unknown key");
+  EXPECT_TRUE(has(error_of(kDimensionless, {"model.x=1e309"}),
+                  "model.toml: --set model.x=1e309: model.x: the value is not valid TOML"));
+  EXPECT_TRUE(has(error_of(kDimensionless, {"model.dimensionless.eta=1e309"}), "the value is not valid TOML"));
+  EXPECT_TRUE(has(error_of(kDimensionless, {"model.storeys=[1,"}), "--set model.storeys=[1,: model.storeys: the value is not valid TOML"));
+  EXPECT_EQ(error_of(kDimensionless, {"analysis.dt=0.01\nanalysis.duration=-1"}),
+            "model.toml: --set analysis.dt=0.01\\nanalysis.duration=-1: the override contains a line break");
+  EXPECT_TRUE(has(error_of(kDimensionless, {std::string("title=a\x01", 8) + "b"}), "the override contains a control character"));
+  EXPECT_TRUE(has(error_of(kPhysical, {"frames[2][3].mass=1.0"}), "'2][3' is not an index"));
+  EXPECT_TRUE(has(error_of(kDimensionless, {"analysis.dt.=1"}), "--set analysis.dt.=1: empty key segment"));
+  // Bare words are strings; quoted strings keep their blanks.
+  EXPECT_EQ(read(kDimensionless, {"analysis.separation=force"}).analysis.options.separation, SeparationCriterion::force);
+  EXPECT_EQ(read(kDimensionless, {"title=\"a b\""}).title, "a b");
+  EXPECT_TRUE(has(error_of(kDimensionless, {"title=a b"}), "--set title=a b: title: the value is not valid TOML"));
+}
+
+// Defect 6: a record scaled beyond the range of a double names excitation.scale.
+TEST(InputRecord, ScaleThatOverflowsNamesTheKey) {
+  const auto dir = std::filesystem::temp_directory_path() / "poundsim_input_scale";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "quake.txt") << "0.0 0.0\n0.01 0.1\n0.02 -0.2\n";
+  const std::string text = replace(kDimensionless, "kind = \"harmonic\"\namplitude_g = 0.2\nratio = 0.8",
+                                   "kind = \"record\"\nfile = \"quake.txt\"\nunits = \"g\"\nscale = 1e308");
+  std::string message;
+  try {
+    read_input_string(text, "model.toml", dir);
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  EXPECT_TRUE(has(message, "model.toml:19:9: excitation.scale:"));
+  EXPECT_TRUE(has(message, "quake.txt"));
+  EXPECT_THROW(read_input_string(replace(text, "scale = 1e308", "scale = 0.0"), "model.toml", dir), InputError);
+  EXPECT_EQ(read_input_string(replace(text, "scale = 1e308", "scale = -2.0"), "model.toml", dir).excitation_info.record_scale, -2.0);
+  std::filesystem::remove_all(dir);
+}
+
+// Defect 5: only a regular model file of at most 16 MiB is read, and never more than that.
+TEST(InputFile, OnlyRegularFilesOfBoundedSizeAreRead) {
+  const auto dir = std::filesystem::temp_directory_path() / "poundsim_input_file";
+  std::filesystem::create_directories(dir / "model.toml");
+  const auto message = [](const std::filesystem::path& p) {
+    try {
+      read_input(p);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  EXPECT_EQ(message(dir / "model.toml"), (dir / "model.toml").string() + ": cannot read the model file: a directory");
+  EXPECT_EQ(message("/dev/zero"), "/dev/zero: cannot read the model file: not a regular file");
+  {
+    std::ofstream big(dir / "big.toml");
+    big << "title = \"" << std::string((16u << 20) - 10, 'x') << "\"\n";
+  }
+  EXPECT_EQ(message(dir / "big.toml"), (dir / "big.toml").string() + ": the model file is larger than 16 MiB");
+  std::filesystem::remove_all(dir);
+}
+
+// Defect 12: the joint between the buildings can be wider than the element's gap.
+TEST(InputJoint, WidthDefaultsToTheGapAndMustHoldTheElement) {
+  const RunInput plain = read(kTwoStoreys);
+  EXPECT_EQ(plain.joint_widths, (std::vector<double>{0.02, 0.02}));  // the gap: results as before
+  const std::string bumper = replace(kTwoStoreys, "restitution = 0.5",
+                                     "restitution = 0.5\nstiffness = 1.0e7\nshortening = 0.01\njoint_width = 0.04");
+  EXPECT_EQ(read(bumper).joint_widths, (std::vector<double>{0.04, 0.04}));
+  EXPECT_EQ(read(bumper).model.gaps[0].properties.gap, 0.02);  // the element itself is unchanged
+  // An override inherits the joint, or gives its own.
+  const RunInput over = read(bumper + "[[gap_elements.override]]\nframes = [1, 2]\nfloor = 2\njoint_width = 0.05\n");
+  EXPECT_EQ(over.joint_widths, (std::vector<double>{0.04, 0.05}));
+  // 0.1 + 0.2 rounds above 0.3: a joint of exactly the stroke written in decimals still fits.
+  const std::string exact = replace(replace(replace(bumper, "gap = 0.02", "gap = 0.1"), "shortening = 0.01", "shortening = 0.2"),
+                                    "joint_width = 0.04", "joint_width = 0.3");
+  EXPECT_EQ(read(exact).joint_widths[0], 0.3);
+  EXPECT_TRUE(has(error_of(replace(bumper, "joint_width = 0.04", "joint_width = 0.025")),
+                  "gap_elements.joint_width: the joint width 0.025 m is narrower than gap + shortening = 0.03 m"));
+  EXPECT_TRUE(has(error_of(bumper + "[[gap_elements.override]]\nframes = [1, 2]\nfloor = 2\nshortening = 0.03\n"),
+                  "gap_elements.override[1].shortening: the joint width 0.04 m is narrower than gap + shortening = 0.05 m"));
+  // Dimensionless: w̄ = w λ²/g like δ̄, at least δ̄ + ε̄.
+  const RunInput d = read(replace(kDimensionless, "restitution = 0.75", "restitution = 0.75\njoint_width = 1.0"));
+  EXPECT_DOUBLE_EQ(d.joint_widths[0], 1.0 * 9.81 / 200);
+  EXPECT_EQ(read(kDimensionless).joint_widths[0], read(kDimensionless).model.gaps[0].properties.gap);
+  EXPECT_TRUE(has(error_of(replace(kDimensionless, "restitution = 0.75", "restitution = 0.75\njoint_width = 0.5")),
+                  "model.dimensionless.joint_width: 0.5 is narrower than delta + epsilon = 0.75"));
+}
+
+// Defect 13: gap elements join floors at the same height; frames whose floors stand at different
+// heights are refused until such contact is modelled.
+TEST(InputHeights, JoinedFloorsMustStandAtTheSameHeight) {
+  const auto heights = [&](const std::string& left, const std::string& right) {
+    std::string text = kTwoStoreys;
+    text = replace(text, "damping_ratio = 0.05\n[[frames]]", "damping_ratio = 0.05\n" + left + "[[frames]]");
+    return replace(text, "damping_ratio = 0.05\n[gap_elements]", "damping_ratio = 0.05\n" + right + "[gap_elements]");
+  };
+  EXPECT_NO_THROW(read(heights("storey_height = 3.0\n", "storey_height = [3.0, 3.0]\n")));
+  EXPECT_NO_THROW(read(heights("storey_height = 3.0\n", "storey_height = 3.000000000001\n")));  // rounding
+  EXPECT_TRUE(has(error_of(heights("storey_height = 3.0\n", "storey_height = 3.5\n")),
+                  "frames[2].storey_height: floor 1 stands 3.5 m above the ground, floor 1 of frame 1 3 m"));
+  EXPECT_TRUE(has(error_of(heights("storey_height = [3.0, 3.0]\n", "storey_height = [3.0, 3.5]\n")),
+                  "floor 2 stands 6.5 m above the ground"));
+  EXPECT_TRUE(has(error_of(heights("storey_height = 3.0\n", "")),
+                  "model.toml:7:1: frames[2]: missing key: storey_height (frame 1 has one)"));
+  EXPECT_NO_THROW(read(heights("", "")));  // no heights: taken as level
 }
 
 }  // namespace

@@ -82,7 +82,11 @@ TEST(StudyPoints, GridListAndRandomSampling) {
   random.sampling = "random";
   random.samples = 50;
   random.seed = 7;
-  random.parameters[0] = StudyParameter{"model.dimensionless.eta", {}, 0.01, 1.0, 0, true};
+  random.parameters[0] = StudyParameter{};
+  random.parameters[0].key = "model.dimensionless.eta";
+  random.parameters[0].min = 0.01;
+  random.parameters[0].max = 1.0;
+  random.parameters[0].log = true;
   const std::vector<PointValues> a = study_points(random), b = study_points(random);
   ASSERT_EQ(a.size(), 50u);
   EXPECT_EQ(a, b);  // the same seed, the same points
@@ -367,7 +371,8 @@ TEST(StudyInput, BandBaselineAndThreadsAreChecked) {
       {"study.band=[1.0, 0.6]", "study.band: expected [ratio_min, ratio_max] with 0 < ratio_min < ratio_max"},
       {"study.band=[0.6]", "study.band: expected [ratio_min, ratio_max]"},
       {"study.baseline=1", "study.baseline: expected true or false, got a integer"},
-      {"study.threads=-1", "study.threads: must be ≥ 0 (0: all cores)"},
+      {"study.threads=-1", "study.threads: must be ≥ 0 (got -1); 0 means all cores"},
+      {"study.threads=4294967297", "study.threads: must be ≤ 1024 (got 4294967297)"},
   };
   for (const auto& [set, message] : cases) {
     const std::string error = study_error({set});

@@ -3,10 +3,12 @@
 /// Reading a model file (TOML). The format is documented key by key in docs/input.md.
 ///
 /// Every problem is an InputError whose message starts with the location — `file:line:column:`
-/// for a key in the file, `--set key=value:` for an override — then names the key and the rule
-/// it broke. Unknown keys are errors. Nothing is guessed.
+/// for a key in the file, `file: --set key=value:` for an override — then names the key and the
+/// rule it broke. Unknown keys are errors. Nothing is guessed. Sizes and amounts of work are
+/// bounded (namespace limits) before anything is allocated or run.
 
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <span>
@@ -20,6 +22,28 @@
 #include "poundsim/simulator.hpp"
 
 namespace poundsim::io {
+
+/// Bounds on the size of an input, checked before anything is allocated or run, so that a typo
+/// (or a hostile file) cannot ask for unbounded memory or time. docs/input.md lists them.
+namespace limits {
+inline constexpr std::uintmax_t model_file_bytes = 16u << 20;  ///< A model file: 16 MiB.
+inline constexpr int storeys = 1000;          ///< Floors of one frame.
+inline constexpr int frames = 100;            ///< Frames in a row.
+inline constexpr int floors = 2000;           ///< Floors of all frames together (degrees of freedom).
+inline constexpr double max_steps = 1e8;      ///< Default of analysis.max_steps.
+inline constexpr double max_steps_limit = 1e15;  ///< analysis.max_steps itself (exact in a double).
+inline constexpr int frf_points = 1'000'000;  ///< frf.points.
+inline constexpr int periods = 1'000'000;     ///< frf.steps_per_period, max_periods, window_periods.
+inline constexpr int periodicity = 1000;      ///< frf.max_periodicity.
+inline constexpr int study_points = 1'000'000;  ///< Points of a study (all parameters together).
+inline constexpr int evaluations = 1'000'000;   ///< Each stage of the optimiser.
+inline constexpr int threads = 1024;          ///< Any `threads` key.
+inline constexpr int column = 10'000;         ///< excitation.column.
+inline constexpr std::int64_t seed = 4294967295;  ///< Seeds are unsigned 32-bit.
+/// An event bracket inside a step of length h cannot close much below the spacing of doubles
+/// there: analysis.event_tolerance ≥ event_tolerance_ulps · 2⁻⁵² · h (h the longest step).
+inline constexpr double event_tolerance_ulps = 64;
+}  // namespace limits
 
 /// How the excitation was described, for reports (the Excitation itself is in SI).
 struct ExcitationInfo {
@@ -53,6 +77,9 @@ struct AnalysisSettings {
   double output_dt = 0.0;       ///< Spacing of history rows [s], a multiple of dt.
   std::string integrator = "newmark";
   TimeHistoryOptions options;   ///< dt, event_tolerance, lock_time, separation, integrator.
+  /// The most integration steps (time history: duration/dt; frequency response: the worst case
+  /// over all points) and history rows the input may ask for.
+  double max_steps = limits::max_steps;
 };
 
 /// [frf] of a frequency-response analysis.
@@ -71,6 +98,7 @@ struct StudyParameter {
   double min = 0.0, max = 0.0;      ///< Range (grid with `points`, or random).
   int points = 0;
   bool log = false;                 ///< Logarithmic spacing / sampling of the range.
+  std::string where;                ///< "file:line:column: study.parameter[i].key", for messages.
 };
 
 /// [study] (analysis.kind = "study").
@@ -90,6 +118,7 @@ struct OptimizeVariable {
   std::string key;
   double min = 0.0, max = 0.0;
   std::optional<double> start;       ///< Default: the middle of [min, max].
+  std::string where;                 ///< "file:line:column: optimize.variable[i].key", for messages.
 };
 
 /// [optimize] (analysis.kind = "optimize").
@@ -115,6 +144,10 @@ struct RunInput {
   std::filesystem::path base_dir;  ///< Folder that relative paths in it start from.
   std::string title;
   Model model;
+  /// Per element of model.gaps: the width w [m] of the joint between the two buildings, where
+  /// their floors would collide without the element (gap + shortening ≤ w). Bare pounding, the
+  /// reference of studies and the optimiser, closes at w. Default: the element's gap.
+  std::vector<double> joint_widths;
   std::optional<DimensionlessParameters> dimensionless;  ///< When given in that form.
   Excitation excitation;
   ExcitationInfo excitation_info;

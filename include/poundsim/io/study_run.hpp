@@ -44,7 +44,11 @@ nlohmann::json point_metrics(const RunInput& point, int threads, const nlohmann:
 nlohmann::json frf_metrics(const Model& model, const std::vector<FrfPoint>& response, double band_min,
                            double band_max);
 
-/// The bare-pounding version of a point (k = c = ε = 0 in every gap element), its metrics.
+/// Bare pounding in the point's joints: every gap element a rigid stop (k = c = ε = 0) at the
+/// width of its joint (RunInput::joint_widths), where the floors collide without the element.
+[[nodiscard]] Model bare_pounding_model(const RunInput& point);
+
+/// The bare-pounding version of a point (bare_pounding_model), its metrics.
 nlohmann::json baseline_metrics(const RunInput& point, int threads);
 
 struct StudyRunOptions {
