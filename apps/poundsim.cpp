@@ -100,7 +100,7 @@ void print_optimization_report(const nlohmann::json& s, const std::string& out_d
   const auto metric = objective["metric"].get<std::string>();
   fmt::print("  objective {}: {} (lower is better)\n", metric, objective["meaning"].get<std::string>());
   fmt::print("  optimum {}: {} = {:.4f}\n", s["optimum"].dump(), metric, objective["optimum"].get<double>());
-  fmt::print("  bare pounding at the same gap and restitution: {} = {:.4f}\n", metric,
+  fmt::print("  bare pounding at the joint width and restitution: {} = {:.4f}\n", metric,
              objective["bare_pounding"].get<double>());
   fmt::print("  wrote {}/optimize.json, evaluations.csv{}\n", out_dir,
              s["analysis"]["each"] == "frf" ? ", optimum_frf.csv, bare_frf.csv" : "");
