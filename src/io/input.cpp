@@ -800,6 +800,10 @@ void read_integration(TableReader& t, AnalysisSettings& a) {
   if (!(o.lock_time >= 10 * o.event_tolerance)) {
     t.fail("lock_time", fmt::format("{} s must be at least 10 × event_tolerance", o.lock_time));
   }
+  o.rest_velocity_ratio = t.number_or("rest_velocity_ratio", o.rest_velocity_ratio);
+  if (!(o.rest_velocity_ratio >= 0 && o.rest_velocity_ratio < 1)) {
+    t.fail("rest_velocity_ratio", fmt::format("{} must be in [0, 1)", o.rest_velocity_ratio));
+  }
   o.separation = t.choice("separation", {"displacement", "force"}, std::string("displacement")) == "force"
                      ? SeparationCriterion::force
                      : SeparationCriterion::displacement;

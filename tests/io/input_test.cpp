@@ -516,5 +516,15 @@ TEST(InputHeights, JoinedFloorsMustStandAtTheSameHeight) {
   EXPECT_NO_THROW(read(heights("", "")));  // no heights: taken as level
 }
 
+
+TEST(InputIntegration, RestVelocityRatioReachesTheSimulatorAndIsBounded) {
+  EXPECT_EQ(read(kPhysical).analysis.options.rest_velocity_ratio, 1e-4);  // the documented default
+  EXPECT_EQ(read(kPhysical, {"analysis.rest_velocity_ratio=0"}).analysis.options.rest_velocity_ratio, 0.0);
+  EXPECT_EQ(read(kPhysical, {"analysis.rest_velocity_ratio=0.01"}).analysis.options.rest_velocity_ratio, 0.01);
+  const std::string message = error_of(kPhysical, {"analysis.rest_velocity_ratio=-1e-3"});
+  EXPECT_NE(message.find("rest_velocity_ratio"), std::string::npos) << message;
+  EXPECT_NE(message.find("must be in [0, 1)"), std::string::npos) << message;
+}
+
 }  // namespace
 }  // namespace poundsim::io
