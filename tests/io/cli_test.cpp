@@ -11,11 +11,14 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include "../test_files.hpp"
 #include <nlohmann/json.hpp>
 
 namespace {
 
 namespace fs = std::filesystem;
+using poundsim::testing::slurp;
 
 struct Result {
   int code;
@@ -32,12 +35,6 @@ Result run(const std::string& arguments) {
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 class Cli : public ::testing::Test {
  protected:

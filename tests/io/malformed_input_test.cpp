@@ -32,11 +32,14 @@
 
 #include <gtest/gtest.h>
 
+#include "../test_files.hpp"
+
 extern char** environ;
 
 namespace {
 
 namespace fs = std::filesystem;
+using poundsim::testing::slurp;
 
 const fs::path kCases = fs::path(POUNDSIM_SOURCE_DIR) / "tests" / "malformed";
 
@@ -105,12 +108,6 @@ std::vector<fs::path> case_files() {
   return files;
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 struct Outcome {
   int code = -1;  ///< Exit code; -1 when killed or crashed.

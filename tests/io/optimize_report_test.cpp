@@ -18,26 +18,18 @@
 #include "poundsim/io/optimize_run.hpp"
 #include "poundsim/io/output_files.hpp"
 #include "poundsim/io/study_run.hpp"
+#include "../test_files.hpp"
 #include "../test_models.hpp"
 
 namespace poundsim::io {
 namespace {
 
 namespace fs = std::filesystem;
+using poundsim::testing::slurp;
 
-fs::path fresh(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("poundsim_optimize_report_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path fresh(const std::string& name) { return poundsim::testing::fresh_folder("optimize_report_" + name); }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+
 
 /// The records of a CSV text read per RFC 4180 (quoted fields, "" for a quote inside one).
 std::vector<std::vector<std::string>> read_csv(const std::string& text) {

@@ -17,12 +17,14 @@
 #include "poundsim/error.hpp"
 #include "poundsim/io/optimize_run.hpp"
 #include "poundsim/io/study_database.hpp"
+#include "../test_files.hpp"
 #include "../test_models.hpp"
 
 namespace poundsim::io {
 namespace {
 
 namespace fs = std::filesystem;
+using poundsim::testing::slurp;
 
 const std::string kStudy = testing::model_toml("[1, 1]", testing::fig2('c')) + R"([analysis]
 kind = "study"
@@ -54,12 +56,6 @@ fs::path fresh(const std::string& name) {
   return dir;
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 TEST(StudyPoints, GridListAndRandomSampling) {
   const RunInput in = read(kStudy);

@@ -19,26 +19,18 @@
 #include <gtest/gtest.h>
 
 #include "poundsim/io/study_database.hpp"
+#include "../test_files.hpp"
 #include "../test_models.hpp"
 
 namespace poundsim::io {
 namespace {
 
 namespace fs = std::filesystem;
+using poundsim::testing::slurp;
 
-fs::path fresh(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("poundsim_termination_" + name);
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
+fs::path fresh(const std::string& name) { return poundsim::testing::fresh_folder("termination_" + name); }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+
 
 std::set<std::string> names(const fs::path& dir) {
   std::set<std::string> out;
