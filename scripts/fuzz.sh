@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs the fuzz targets built by the `fuzz` preset (fuzz/README.md).
 #
-#   scripts/fuzz.sh [--time SECONDS] [--build DIR] [TARGET...]   fuzz each target for SECONDS
+#   scripts/fuzz.sh [--time SECONDS] [--runs N] [--build DIR] [--keep-going] [TARGET...]
+#                                           fuzz each target for SECONDS (or N executions)
 #   scripts/fuzz.sh --corpus [--build DIR] [TARGET...]            only replay the committed corpus
 #   scripts/fuzz.sh --findings [--build DIR] [TARGET...]          replay fuzz/findings/ (known defects)
 #
@@ -10,17 +11,23 @@
 # runs (DIR/fuzz-work/<target>/, kept between runs; the committed corpus is never written). A crash,
 # sanitizer report, timeout or escaping exception stops the target; its reproducer is written to
 # DIR/fuzz-artifacts/<target>/ and the script exits non-zero after the remaining targets.
-# Targets default to all five; DIR defaults to build/fuzz.
+# --keep-going (long runs): a finding does not stop the target; libFuzzer runs the inputs in a
+# child process (-fork=1) and collects every reproducer. Targets default to all five; DIR defaults
+# to build/fuzz.
 set -uo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 build=$root/build/fuzz
 mode=fuzz
 seconds=60
+keep_going=()
+runs=()
 targets=()
 while [ $# -gt 0 ]; do
   case "$1" in
     --time) seconds=$2; shift 2 ;;
+    --runs) runs=(-runs="$2"); shift 2 ;;
     --build) build=$2; shift 2 ;;
+    --keep-going) keep_going=(-fork=1 -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1); shift ;;
     --corpus) mode=corpus; shift ;;
     --findings) mode=findings; shift ;;
     -h|--help) sed -n '2,/^set -u/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
@@ -75,10 +82,10 @@ for t in "${targets[@]}"; do
       echo "== $t: replaying the committed corpus, then fuzzing for $seconds s"
       "$binary" "${limits[@]}" -runs=0 "$corpus" >"$build/fuzz-$t.log" 2>&1 || {
         cat "$build/fuzz-$t.log"; echo "== $t: a committed corpus input fails"; status=1; continue; }
-      if "$binary" "${limits[@]}" -max_total_time="$seconds" -print_final_stats=1 \
+      if "$binary" "${limits[@]}" "${keep_going[@]}" "${runs[@]}" -max_total_time="$seconds" -print_final_stats=1 \
           -dict="$root/fuzz/dict/$t.dict" -artifact_prefix="$artifacts" "$work" "$corpus" \
           >"$build/fuzz-$t.log" 2>&1; then
-        grep -E '^#[0-9]+.*(DONE|pulse)' "$build/fuzz-$t.log" | tail -1
+        grep -E '^#[0-9]+.*(DONE|pulse|NEW)' "$build/fuzz-$t.log" | tail -1
         grep -E '^stat::(number_of_executed_units|average_exec_per_sec|peak_rss_mb)' "$build/fuzz-$t.log" | tr '\n' ' '
         echo
       else
