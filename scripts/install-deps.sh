@@ -9,6 +9,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libsqlite3-dev libsqlitecpp-dev libnlopt-dev libnlopt-cxx-dev
   python3 python3-matplotlib
+  clang-14 libclang-rt-14-dev
 )
 
 missing=()
