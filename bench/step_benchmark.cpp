@@ -2,6 +2,8 @@
 // frames of 1, 20 and 100 storeys. Cost per step must grow linearly with the storeys (banded
 // matrices, interleaved DOFs) and a 2 × 1 step must stay well under 1 µs.
 
+#include <cmath>
+
 #include <benchmark/benchmark.h>
 
 #include "poundsim/dimensionless.hpp"
@@ -75,3 +77,22 @@ void BM_WholeRunExact(benchmark::State& state) {
 BENCHMARK(BM_WholeRunExact)->Arg(1)->Arg(3)->Arg(10)->Unit(benchmark::kMillisecond);
 
 }  // namespace
+
+/// 1 s of the harmonic response of a frame beside a neighbour `range(0)` times its frequency
+/// (ratio 10⁶: a wall), exact integrator, no contact. The cost must not grow with the ratio
+/// (issue 8, defect 9: 6.9 s at 8·10⁴ with energy quadrature).
+void BM_ExactBesideAWall(benchmark::State& state) {
+  const double ratio = static_cast<double>(state.range(0));
+  const double k = 200.0;
+  const Model m = make_model({make_uniform_frame(1, 1.0, k, 1.4, "frame"),
+                              make_uniform_frame(1, 1.0, k * ratio * ratio, 0.0, "wall")},
+                             GapProperties{.gap = 0.1, .restitution = 0.5});
+  for (auto _ : state) {
+    Simulator sim(m, HarmonicExcitation{.amplitude = 2.0, .omega = 0.8 * std::sqrt(k)},
+                  TimeHistoryOptions{.dt = 1e-3, .integrator = Integrator::exact});
+    sim.advance_to(1.0);
+    benchmark::DoNotOptimize(sim.state().u(0));
+  }
+}
+BENCHMARK(BM_ExactBesideAWall)->Arg(1)->Arg(100)->Arg(10000)->Arg(80000)->Arg(1000000)
+    ->Unit(benchmark::kMillisecond);

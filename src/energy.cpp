@@ -100,6 +100,34 @@ EnergyMeter::Powers EnergyMeter::powers(const KinematicState& x,
   return p;
 }
 
+PowerForms EnergyMeter::power_forms(const ContactConfiguration& config,
+                                    std::span<const int> group_of, Eigen::Index groups) const {
+  PowerForms forms{.storey_damping = Eigen::MatrixXd::Zero(groups, groups),
+                   .gap_damping = Eigen::MatrixXd::Zero(groups, groups),
+                   .mass = Eigen::VectorXd::Zero(groups)};
+  const auto g = [&](int dof) { return static_cast<Eigen::Index>(group_of[static_cast<std::size_t>(dof)]); };
+  // c (u̇_a − u̇_b)² with u̇ = T q̇ adds c to (a,a) and (b,b) and −c to (a,b), (b,a) of the groups;
+  // floors of one group cancel.
+  const auto add = [](Eigen::MatrixXd& form, Eigen::Index a, Eigen::Index b, double c) {
+    form(a, a) += c;
+    if (b < 0) return;
+    form(b, b) += c;
+    form(a, b) -= c;
+    form(b, a) -= c;
+  };
+  for (Eigen::Index i = 0; i < mass_.size(); ++i) {
+    forms.mass(g(static_cast<int>(i))) += mass_(i);
+    const int b = below_[static_cast<std::size_t>(i)];
+    add(forms.storey_damping, g(static_cast<int>(i)), b >= 0 ? g(b) : -1, storey_c_(i));
+  }
+  for (std::size_t e = 0; e < config.size(); ++e) {
+    if (config[e] == GapMode::open) continue;
+    add(forms.gap_damping, g(layout_->gap_left(e)), g(layout_->gap_right(e)),
+        model_->gaps[e].properties.damping);
+  }
+  return forms;
+}
+
 void EnergyMeter::step_with(const KinematicState& x0, const KinematicState& x1,
                             const Powers& integrals, const ContactConfiguration& config,
                             std::span<const GapMemory> memory) {

@@ -68,7 +68,9 @@ Eigen::VectorXcd ExactPhase::modal_coordinates(const Eigen::VectorXd& r) const {
 const Eigen::VectorXcd& ExactPhase::harmonic_response(double omega) const {
   using Complex = std::complex<double>;
   if (omega == harmonic_omega_) return harmonic_response_;
-  Eigen::MatrixXcd m = -a_.cast<Complex>();
+  // Solved balanced, D⁻¹(iωI − A)D ĥ = D⁻¹e, h = D ĥ: unbalanced, a stiff neighbour (‖A‖ ~ 10¹⁴
+  // for a wall) makes rcond ~ ω/‖A‖ and would pass for a resonance.
+  Eigen::MatrixXcd m = -(scale_.cwiseInverse().asDiagonal() * a_ * scale_.asDiagonal()).cast<Complex>();
   m.diagonal().array() += Complex(0.0, omega);
   const Eigen::PartialPivLU<Eigen::MatrixXcd> lu(m);
   if (!(lu.rcond() > 1e-13)) {
@@ -79,7 +81,7 @@ const Eigen::VectorXcd& ExactPhase::harmonic_response(double omega) const {
   }
   Eigen::VectorXcd e = Eigen::VectorXcd::Zero(2 * n_);
   e.tail(n_).setConstant(-1.0);
-  harmonic_response_ = lu.solve(e);
+  harmonic_response_ = scale_.cast<Complex>().cwiseProduct(lu.solve(e.cwiseQuotient(scale_.cast<Complex>())));
   harmonic_omega_ = omega;
   return harmonic_response_;
 }

@@ -192,6 +192,7 @@ void Simulator::restart(Excitation excitation, double dt) {
   grid_index_ = 0;
   phases_.clear();  // factorised for the old step
   exact_phases_.clear();
+  segment_powers_ = nullptr;
   settle_state();
   reset_statistics();
 }
@@ -244,6 +245,7 @@ void Simulator::activate_phase() {
     if (phases_.size() >= options_.phase_cache_size) {
       phases_.clear();
       exact_phases_.clear();
+      segment_powers_ = nullptr;
     }
     auto phase = std::make_unique<LinearPhase>(model_, layout_, config_, options_.dt);
     ++stats_.phases_factorised;

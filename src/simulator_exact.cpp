@@ -113,6 +113,10 @@ void Simulator::start_exact_segment() {
     ExactData data;
     data.phase = std::make_unique<ExactPhase>(*phase_);
     data.guard_rows = guard_rows(*data.phase);
+    if (data.phase->modal()) {
+      data.powers = std::make_unique<ExactPowerIntegrals>(
+          *data.phase, energy_.power_forms(config_, phase_->group_of(), data.phase->groups()));
+    }
     it = exact_phases_.emplace(config_, std::move(data)).first;
   }
   const ExactPhase& exact = *it->second.phase;
@@ -122,6 +126,8 @@ void Simulator::start_exact_segment() {
   phase_->gather(state_.v, x_work_.tail(n));
   trajectory_.start(exact, phase_->mass(), phase_->constant_load(), state_.t, x_work_,
                     forcing_piece(excitation_, state_.t));
+  segment_powers_ = it->second.powers.get();
+  if (segment_powers_ != nullptr) segment_powers_->start(trajectory_);
   for (std::size_t p = 0; p < config_.size(); ++p) {
     const GapProperties& gp = model_.gaps[p].properties;
     const bool relaxing = config_[p] == GapMode::open && memory_[p].released_shortening != 0.0 &&
@@ -145,11 +151,20 @@ void Simulator::exact_state(double s, KinematicState& out) {
 }
 
 void Simulator::accept_exact(KinematicState& next) {
-  // Integrate the powers on the exact trajectory by Gauss–Legendre quadrature: sub-intervals over
-  // which the fastest product of two modes turns by at most one radian, and enough nodes that the
-  // rule's error is far below round-off.
   const double t0 = trajectory_.start_time();
   const double a = state_.t - t0, b = next.t - t0;
+  const EnergyMeter::Powers integral =
+      segment_powers_ != nullptr ? segment_powers_->integrate(a, b) : quadrature_powers(a, b);
+  energy_.step_with(state_, next, integral, config_, memory_);
+  refine_exact_peaks(next);
+  evaluate_guards(next, g_lo_, dg_lo_);
+  after_accept(next);
+}
+
+EnergyMeter::Powers Simulator::quadrature_powers(double a, double b) {
+  // The matrix-exponential path has no modes to integrate in closed form: Gauss–Legendre
+  // quadrature on sub-intervals over which the fastest product of two modes turns by at most one
+  // radian, and enough nodes that the rule's error is far below round-off.
   const double rate = 2 * std::max(trajectory_.phase().spectral_radius(), trajectory_.omega());
   const int pieces = std::max(1, static_cast<int>(std::ceil((b - a) * rate)));
   EnergyMeter::Powers integral;
@@ -166,10 +181,7 @@ void Simulator::accept_exact(KinematicState& next) {
       integral.gap_damping += w * p.gap_damping;
     }
   }
-  energy_.step_with(state_, next, integral, config_, memory_);
-  refine_exact_peaks(next);
-  evaluate_guards(next, g_lo_, dg_lo_);
-  after_accept(next);
+  return integral;
 }
 
 void Simulator::refine_exact_peaks(const KinematicState& next) {

@@ -166,5 +166,28 @@ TEST(ExactPhase, AStiffNeighbourKeepsTheModalSolution) {
   EXPECT_LT(sim.energy_meter().max_relative_residual(), 1e-12);
 }
 
+TEST(ExactPhase, AWallBesideAFrameLeavesItsForcedResponseAndEnergyUnchanged) {
+  // Without contact frame 1 does not feel its neighbour: beside a wall (frame 2 up to 10⁶ times
+  // its frequency) its forced response must be the one beside a twin. Before the balanced
+  // harmonic solve, ratio 10⁶ was refused as a resonance (rcond ~ ω̄/‖A‖); before the closed-form
+  // energy integrals, the quadrature cost grew with the ratio (issue 8, defect 9).
+  const double m = 1.0, k = 200.0, c = 1.4;
+  const HarmonicExcitation forcing{.amplitude = 2.0, .omega = 0.8 * std::sqrt(k / m)};
+  const auto run = [&](double ratio) {
+    const Model model = testing::two_oscillators(m, k, c, m, k * ratio * ratio, 0.0,
+                                                 GapProperties{.gap = 1.0, .restitution = 0.5});
+    Simulator sim(model, forcing, exact_options(1e-3));
+    sim.advance_to(2.0);
+    EXPECT_LT(sim.energy_meter().max_relative_residual(), 1e-12) << ratio;
+    return std::pair{sim.state().u(0), sim.energy_meter().balance()};
+  };
+  const auto [twin_u, twin_energy] = run(1.0);
+  for (const double ratio : {1e2, 1e4, 8e4, 1e6}) {
+    const auto [u, energy] = run(ratio);
+    EXPECT_NEAR(u, twin_u, 1e-13) << ratio;  // m: |u| ~ 1e-2
+    EXPECT_NEAR(energy.storey_damping, twin_energy.storey_damping, 1e-12 * twin_energy.storey_damping) << ratio;
+  }
+}
+
 }  // namespace
 }  // namespace poundsim

@@ -41,6 +41,14 @@ struct EnergyBalance {
   [[nodiscard]] double residual() const { return supplied() - accounted(); }
 };
 
+/// The integrated powers of a phase as forms in its reduced velocities q̇ (one per group of floors
+/// moving as one, linear_phase.hpp), for integrating them in closed form (exact_energy.hpp).
+struct PowerForms {
+  Eigen::MatrixXd storey_damping;  ///< C_s: Σ_i C_i (u̇_i − u̇_below)² = q̇ᵀ C_s q̇
+  Eigen::MatrixXd gap_damping;     ///< C_g: Σ c ṡ² over the elements in contact or locked = q̇ᵀ C_g q̇
+  Eigen::VectorXd mass;            ///< m_r = TᵀM1: the ground input is −a_g m_rᵀ q̇
+};
+
 /// Accumulates the balance step by step.
 class EnergyMeter {
  public:
@@ -64,8 +72,13 @@ class EnergyMeter {
   };
   [[nodiscard]] Powers powers(const KinematicState& x, const ContactConfiguration& config) const;
 
+  /// The forms of powers() in the reduced velocities of a phase whose floor DOF i moves with group
+  /// group_of[i] (of `groups`).
+  [[nodiscard]] PowerForms power_forms(const ContactConfiguration& config,
+                                       std::span<const int> group_of, Eigen::Index groups) const;
+
   /// Adds a segment from x0 to x1 whose integrals of the powers were computed elsewhere (the
-  /// exact integrator integrates them by Gauss–Legendre quadrature on its exact trajectory).
+  /// exact integrator integrates them on its exact trajectory, exact_energy.hpp).
   void step_with(const KinematicState& x0, const KinematicState& x1, const Powers& integrals,
                  const ContactConfiguration& config, std::span<const GapMemory> memory);
 

@@ -46,6 +46,7 @@
 
 #include "poundsim/contact_state.hpp"
 #include "poundsim/energy.hpp"
+#include "poundsim/exact_energy.hpp"
 #include "poundsim/exact_phase.hpp"
 #include "poundsim/guard_expansion.hpp"
 #include "poundsim/event.hpp"
@@ -215,6 +216,7 @@ class Simulator {
   struct ExactData {
     std::unique_ptr<ExactPhase> phase;
     Eigen::MatrixXd guard_rows;  ///< R: guards as affine functions of the phase state
+    std::unique_ptr<ExactPowerIntegrals> powers;  ///< closed-form energy integrals (modal phases)
   };
 
   /// Makes the phase of config_ current, with the link lengths of its locked elements.
@@ -224,6 +226,8 @@ class Simulator {
   void start_exact_segment();
   void exact_state(double s, KinematicState& out);
   void accept_exact(KinematicState& next);
+  /// ∫ of the powers over [a, b] of the segment by quadrature (phases without modes).
+  EnergyMeter::Powers quadrature_powers(double a, double b);
   void refine_exact_peaks(const KinematicState& next);
   void refine_step_peaks(const KinematicState& next);
   void settle_state();
@@ -275,6 +279,7 @@ class Simulator {
   std::map<ContactConfiguration, std::unique_ptr<LinearPhase>> phases_;
   LinearPhase* phase_ = nullptr;
   std::map<ContactConfiguration, ExactData> exact_phases_;
+  ExactPowerIntegrals* segment_powers_ = nullptr;  ///< of the current segment's phase, or null
   ExactTrajectory trajectory_;
   GuardExpansion expansion_;
   bool segment_valid_ = false;

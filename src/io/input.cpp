@@ -1,5 +1,6 @@
 #include "poundsim/io/input.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <cstdint>
@@ -607,6 +608,16 @@ Model read_physical(TableReader& top, RunInput& run) {
       if (!(ratio >= 0 && ratio < 1)) f.fail("damping_ratio", fmt::format("must be in [0, 1) (got {})", ratio));
       frame.damping.assign(mass.size(), 0.0);
       frame.damping = stiffness_proportional_damping(frame, ratio);
+      if (!std::all_of(frame.damping.begin(), frame.damping.end(), [](double c) { return std::isfinite(c); })) {
+        // Storey stiffnesses spanning ~16 orders of magnitude leave the lowest eigenvalue below the
+        // round-off of the largest: ω₁ comes out 0.
+        const auto [low, high] = std::minmax_element(frame.stiffness.begin(), frame.stiffness.end());
+        f.fail("damping_ratio",
+               fmt::format("the frame's fundamental frequency cannot be resolved in double precision "
+                           "(storey stiffnesses from {} to {} N/m), so stiffness-proportional dampers "
+                           "are not finite; give damping per storey instead",
+                           *low, *high));
+      }
     }
     f.finish();
     frames.push_back(std::move(frame));
@@ -1150,11 +1161,17 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
   if (!dimensionless && !physical) {
     top.fail_table("missing the structure: [model] with [model.dimensionless], or [[frames]] and [gap_elements]");
   }
-  if (dimensionless) {
-    TableReader model = top.table("model");
-    run.model = read_dimensionless(model, run);
-  } else {
-    run.model = read_physical(top, run);
+  // The readers check every key; a model they let through that the model's own validation still
+  // refuses (a rule they miss) must stay an input error naming the file, never escape as a crash.
+  try {
+    if (dimensionless) {
+      TableReader model = top.table("model");
+      run.model = read_dimensionless(model, run);
+    } else {
+      run.model = read_physical(top, run);
+    }
+  } catch (const std::invalid_argument& e) {
+    throw InputError(fmt::format("{}: {}", origin.file, e.what()));
   }
   if (auto initial = top.optional_table("initial")) read_initial(*initial, run.model, run.initial);
   TableReader analysis = top.table("analysis");
