@@ -20,33 +20,46 @@ constexpr std::array<double, 32> inverse_factorials = [] {
   return out;
 }();
 
-/// φ₁(z), φ₂(z), φ₃(z) from e^z. Near z = 0 the differences e^z − 1 − … cancel, so there the
-/// Taylor series is summed instead (enough terms that the first left out is below 1e-17 of φ).
+/// Taylor terms of φ_k beyond which the first left out is below 1e-17 of φ_k, for |z| < 2, by
+/// |z|² (std::abs would cost a hypot per pair, a quarter of a step).
+int series_terms(double r2) {
+  return r2 < 1e-6 ? 4 : r2 < 1e-4 ? 6 : r2 < 1e-2 ? 9 : r2 < 0.0625 ? 12 : r2 < 0.25 ? 14 : r2 < 1.0 ? 17 : 22;
+}
+
+/// φ₁(z) = (e^z − 1)/z from e^z; near z = 0, where e^z − 1 cancels, by its Taylor series.
+Complex phi1(Complex z, Complex exp_z) {
+  const double r2 = std::norm(z);
+  if (r2 >= 4.0) return (exp_z - 1.0) / z;
+  const int terms = series_terms(r2);
+  Complex sum = inverse_factorials[static_cast<std::size_t>(terms + 1)];
+  for (int j = terms - 1; j >= 0; --j) sum = sum * z + inverse_factorials[static_cast<std::size_t>(j + 1)];
+  return sum;
+}
+
+/// φ₁(z), φ₂(z), φ₃(z) from e^z, by the same rule.
 std::array<Complex, 3> phi(Complex z, Complex exp_z) {
-  const double r = std::abs(z);
-  if (r >= 2.0) {
-    const Complex phi1 = (exp_z - 1.0) / z;
-    const Complex phi2 = (phi1 - 1.0) / z;
-    return {phi1, phi2, (phi2 - 0.5) / z};
+  const double r2 = std::norm(z);
+  if (r2 >= 4.0) {
+    const Complex p1 = (exp_z - 1.0) / z;
+    const Complex p2 = (p1 - 1.0) / z;
+    return {p1, p2, (p2 - 0.5) / z};
   }
-  const int terms = r < 0.01 ? 6 : r < 0.25 ? 12 : 22;
-  Complex phi3 = inverse_factorials[static_cast<std::size_t>(terms + 3)];
-  for (int j = terms - 1; j >= 0; --j) phi3 = phi3 * z + inverse_factorials[static_cast<std::size_t>(j + 3)];
-  const Complex phi2 = 0.5 + z * phi3;
-  return {1.0 + z * phi2, phi2, phi3};
+  const int terms = series_terms(r2);
+  Complex p3 = inverse_factorials[static_cast<std::size_t>(terms + 3)];
+  for (int j = terms - 1; j >= 0; --j) p3 = p3 * z + inverse_factorials[static_cast<std::size_t>(j + 3)];
+  const Complex p2 = 0.5 + z * p3;
+  return {1.0 + z * p2, p2, p3};
 }
 
 /// ∫_a^{a+h} s^d e^{μs} ds given e^{μa} and e^{μh}. With s = b − σ, b = a + h, and
 /// ∫_0^h σ^l e^{μ(h−σ)} dσ = l! h^{l+1} φ_{l+1}(μh):
 ///     ∫_a^b s^d e^{μs} ds = e^{μa} Σ_{l≤d} C(d,l) (−1)^l b^{d−l} l! h^{l+1} φ_{l+1}(μh).
 Complex moment(int degree, Complex mu, double a, double h, Complex exp_mu_a, Complex exp_mu_h) {
-  const auto [phi1, phi2, phi3] = phi(mu * h, exp_mu_h);
+  if (degree == 0) return exp_mu_a * (h * phi1(mu * h, exp_mu_h));
+  const auto [p1, p2, p3] = phi(mu * h, exp_mu_h);
   const double b = a + h;
-  switch (degree) {
-    case 0: return exp_mu_a * (h * phi1);
-    case 1: return exp_mu_a * (b * h * phi1 - h * h * phi2);
-    default: return exp_mu_a * (b * b * h * phi1 - 2 * b * h * h * phi2 + 2 * h * h * h * phi3);
-  }
+  if (degree == 1) return exp_mu_a * (b * h * p1 - h * h * p2);
+  return exp_mu_a * (b * b * h * p1 - 2 * b * h * h * p2 + 2 * h * h * h * p3);
 }
 
 }  // namespace
@@ -62,97 +75,188 @@ ExactPowerIntegrals::ExactPowerIntegrals(const ExactPhase& phase, PowerForms for
   modal_storey_ = w.transpose() * forms_.storey_damping * w;
   modal_gap_ = w.transpose() * forms_.gap_damping * w;
   modal_mass_ = forms_.mass.transpose() * w;
+  gap_active_ = forms_.gap_damping.cwiseAbs().maxCoeff() > 0.0;
 }
 
 void ExactPowerIntegrals::start(const ExactTrajectory& trajectory) {
   const Eigen::Index n = phase_->groups(), modes = 2 * n;
+  const Eigen::VectorXcd& lambda = phase_->eigenvalues();
   const ForcingPiece& piece = trajectory.piece();
   const bool harmonic = piece.kind == ForcingPiece::Kind::harmonic;
-  const Eigen::VectorXcd& c = trajectory.modal_coefficients();
+  const double omega = harmonic ? piece.omega : 0.0;
+  c_ = trajectory.modal_coefficients();
 
   // The terms of q̇ that are not modes: u₀, s u₁ and, on a harmonic piece, Im(z e^{iω̄s}) =
   // (z e^{iω̄s} − z̄ e^{−iω̄s}) / 2i with z = h_v e^{iω̄t₀}.
   const Eigen::Index extras = harmonic ? 4 : 2;
+  const int one = static_cast<int>(modes), plus = one + 1, minus = one + 2;  // factor ids
   Eigen::MatrixXcd& x = extra_terms_;
   x.resize(n, extras);
   x.col(0) = trajectory.constant_part().tail(n).cast<Complex>();
   x.col(1) = trajectory.linear_part().tail(n).cast<Complex>();
-  const Eigen::Index terms = modes + extras;
-  mu_.assign(static_cast<std::size_t>(terms), Complex(0.0));
-  degree_.assign(static_cast<std::size_t>(terms), 0);
-  for (Eigen::Index k = 0; k < modes; ++k) mu_[static_cast<std::size_t>(k)] = phase_->eigenvalues()(k);
-  degree_[static_cast<std::size_t>(modes + 1)] = 1;
+  extra_mu_.assign(static_cast<std::size_t>(extras), Complex(0.0));
+  extra_degree_.assign(static_cast<std::size_t>(extras), 0);
+  extra_factor_.assign(static_cast<std::size_t>(extras), one);
+  extra_degree_[1] = 1;
   if (harmonic) {
-    const Complex rotation = std::exp(Complex(0.0, piece.omega * trajectory.start_time()));
+    const Complex rotation = std::exp(Complex(0.0, omega * trajectory.start_time()));
     x.col(2) = trajectory.harmonic_part().tail(n) * (rotation / Complex(0.0, 2.0));
     x.col(3) = x.col(2).conjugate();
-    mu_[static_cast<std::size_t>(modes + 2)] = Complex(0.0, piece.omega);
-    mu_[static_cast<std::size_t>(modes + 3)] = Complex(0.0, -piece.omega);
+    extra_mu_[2] = Complex(0.0, omega);
+    extra_mu_[3] = Complex(0.0, -omega);
+    extra_factor_[2] = plus;
+    extra_factor_[3] = minus;
   }
 
-  // Pair coefficients g_iᵀ C g_j of each quadratic form, i ≤ j, doubled for i < j.
   const auto w = phase_->modes().bottomRows(n);
-  const auto pairs = [&](const Eigen::MatrixXd& form, const Eigen::MatrixXcd& modal, Eigen::MatrixXcd& out) {
-    out.setZero(terms, terms);
-    for (Eigen::Index j = 0; j < modes; ++j) {
-      for (Eigen::Index i = 0; i <= j; ++i) out(i, j) = (i == j ? 1.0 : 2.0) * c(i) * c(j) * modal(i, j);
-    }
+  const auto cross = [&](const Eigen::MatrixXd& form, Eigen::MatrixXcd& with_modes, Eigen::MatrixXcd& among) {
     form_x_.noalias() = form * x;
-    cross_.noalias() = form_x_.transpose() * w;  // x_eᵀ C W_k
-    extra_.noalias() = x.transpose() * form_x_;  // x_eᵀ C x_f
-    for (Eigen::Index e = 0; e < extras; ++e) {
-      for (Eigen::Index k = 0; k < modes; ++k) out(k, modes + e) = 2.0 * cross_(e, k) * c(k);
-      for (Eigen::Index f = 0; f <= e; ++f) out(modes + f, modes + e) = (e == f ? 1.0 : 2.0) * extra_(f, e);
-    }
+    with_modes.noalias() = form_x_.transpose() * w;  // x_eᵀ C W_k
+    among.noalias() = x.transpose() * form_x_;       // x_eᵀ C x_f
   };
-  pairs(forms_.storey_damping, modal_storey_, pair_storey_);
-  pairs(forms_.gap_damping, modal_gap_, pair_gap_);
-
-  // Input −a_g m_rᵀq̇: a_g = α₀ + α₁ s on a linear piece, or A sin ω̄(t₀ + s) = Im(w e^{iω̄s}),
-  // w = A e^{iω̄t₀}, as two exponentials.
-  std::array<InputTerm, 2> ground{};
-  if (harmonic) {
-    const Complex half = piece.amplitude * std::exp(Complex(0.0, piece.omega * trajectory.start_time())) /
-                         Complex(0.0, 2.0);
-    ground = {InputTerm{half, Complex(0.0, piece.omega), 0}, InputTerm{std::conj(half), Complex(0.0, -piece.omega), 0}};
-  } else {
-    ground = {InputTerm{piece.at(trajectory.start_time()), 0.0, 0}, InputTerm{piece.slope, 0.0, 1}};
-  }
+  cross(forms_.storey_damping, cross_storey_, among_storey_);
+  cross(forms_.gap_damping, cross_gap_, among_gap_);
   extra_mass_.noalias() = forms_.mass.transpose().cast<Complex>() * x;
-  input_.clear();
-  for (const InputTerm& a : ground) {
-    for (Eigen::Index k = 0; k < terms; ++k) {
-      const Complex m = k < modes ? modal_mass_(k) * c(k) : extra_mass_(k - modes);
-      input_.push_back({-a.coefficient * m, a.mu + mu_[static_cast<std::size_t>(k)],
-                        a.degree + degree_[static_cast<std::size_t>(k)]});
+
+  terms_.clear();
+  for (Eigen::Index e = 0; e < extras; ++e) {
+    const auto ue = static_cast<std::size_t>(e);
+    for (Eigen::Index k = 0; k < modes; ++k) {
+      terms_.push_back({lambda(k) + extra_mu_[ue], extra_degree_[ue], static_cast<int>(k), extra_factor_[ue],
+                        2.0 * cross_storey_(e, k) * c_(k), 2.0 * cross_gap_(e, k) * c_(k), 0.0});
+    }
+    for (Eigen::Index f = 0; f <= e; ++f) {
+      const auto uf = static_cast<std::size_t>(f);
+      const double twice = e == f ? 1.0 : 2.0;
+      terms_.push_back({extra_mu_[ue] + extra_mu_[uf], extra_degree_[ue] + extra_degree_[uf], extra_factor_[ue],
+                        extra_factor_[uf], twice * among_storey_(f, e), twice * among_gap_(f, e), 0.0});
     }
   }
-  start_factor_.resize(static_cast<std::size_t>(terms));
-  step_factor_.resize(static_cast<std::size_t>(terms));
+  // Input −a_g m_rᵀq̇: a_g = α₀ + α₁ s on a linear piece, or A sin ω̄(t₀ + s) = Im(w e^{iω̄s}),
+  // w = A e^{iω̄t₀}, as two exponentials; times each term of m_rᵀq̇.
+  struct Ground {
+    Complex coefficient, mu;
+    int degree, factor;
+  };
+  std::array<Ground, 2> ground{};
+  if (harmonic) {
+    const Complex half = piece.amplitude * std::exp(Complex(0.0, omega * trajectory.start_time())) /
+                         Complex(0.0, 2.0);
+    ground = {Ground{half, Complex(0.0, omega), 0, plus}, Ground{std::conj(half), Complex(0.0, -omega), 0, minus}};
+  } else {
+    ground = {Ground{piece.at(trajectory.start_time()), 0.0, 0, one}, Ground{piece.slope, 0.0, 1, one}};
+  }
+  for (const Ground& a : ground) {
+    for (Eigen::Index k = 0; k < modes; ++k) {
+      terms_.push_back({a.mu + lambda(k), a.degree, a.factor, static_cast<int>(k), 0.0, 0.0,
+                        -a.coefficient * modal_mass_(k) * c_(k)});
+    }
+    for (Eigen::Index e = 0; e < extras; ++e) {
+      const auto ue = static_cast<std::size_t>(e);
+      terms_.push_back({a.mu + extra_mu_[ue], a.degree + extra_degree_[ue], a.factor, extra_factor_[ue], 0.0,
+                        0.0, -a.coefficient * extra_mass_(e)});
+    }
+  }
+  const std::pair<double, std::size_t> signature{omega, terms_.size()};
+  if (signature != signature_) cached_step_ = -1.0;  // other exponents: the kept weights are stale
+  signature_ = signature;
+  start_factor_.resize(modes + 3);
+  step_factor_.resize(modes + 3);
+  advanced_.resize(modes);
+  product_.resize(modes);
+}
+
+void ExactPowerIntegrals::factors(double a, double h) const {
+  const Eigen::VectorXcd& lambda = phase_->eigenvalues();
+  const Eigen::Index modes = lambda.size();
+  for (Eigen::Index k = 0; k < modes; ++k) {
+    start_factor_(k) = std::exp(lambda(k) * a);
+    step_factor_(k) = std::exp(lambda(k) * h);
+  }
+  const Complex start = std::polar(1.0, signature_.first * a), step = std::polar(1.0, signature_.first * h);
+  start_factor_.tail(3) << 1.0, start, std::conj(start);
+  step_factor_.tail(3) << 1.0, step, std::conj(step);
+}
+
+namespace {
+/// p_l = l! h^{l+1} φ_{l+1}(μh), l = 0 … degree (the rest 0).
+std::array<Complex, 3> step_weights(int degree, Complex mu, double h, Complex exp_mu_h) {
+  if (degree == 0) return {h * phi1(mu * h, exp_mu_h), 0.0, 0.0};
+  const auto [p1, p2, p3] = phi(mu * h, exp_mu_h);
+  return {h * p1, h * h * p2, 2 * h * h * h * p3};
+}
+
+/// ∫_a^b s^d e^{μs} ds from e^{μa} and the step weights (moment() above, with b = a + h).
+Complex from_weights(int degree, double b, Complex exp_mu_a, const std::array<Complex, 3>& p) {
+  if (degree == 0) return exp_mu_a * p[0];
+  if (degree == 1) return exp_mu_a * (b * p[0] - p[1]);
+  return exp_mu_a * (b * b * p[0] - 2 * b * p[1] + p[2]);
+}
+}  // namespace
+
+void ExactPowerIntegrals::weigh(double h) const {
+  const Eigen::Index modes = c_.size();
+  weighted_storey_.resize(modes, modes);
+  weighted_gap_.resize(modes, modes);
+  const Eigen::VectorXcd& lambda = phase_->eigenvalues();
+  for (Eigen::Index j = 0; j < modes; ++j) {
+    for (Eigen::Index i = 0; i <= j; ++i) {
+      const Complex weight = h * phi1((lambda(i) + lambda(j)) * h, step_factor_(i) * step_factor_(j));
+      weighted_storey_(i, j) = weighted_storey_(j, i) = modal_storey_(i, j) * weight;
+      weighted_gap_(i, j) = weighted_gap_(j, i) = modal_gap_(i, j) * weight;
+    }
+  }
+  term_weights_.resize(terms_.size());
+  for (std::size_t t = 0; t < terms_.size(); ++t) {
+    const Term& term = terms_[t];
+    term_weights_[t] = step_weights(term.degree, term.mu, h, step_factor_(term.first) * step_factor_(term.second));
+  }
+  cached_step_ = h;
 }
 
 EnergyMeter::Powers ExactPowerIntegrals::integrate(double a, double b) const {
   const double h = b - a;
-  const std::size_t terms = mu_.size();
-  for (std::size_t i = 0; i < terms; ++i) {
-    start_factor_[i] = std::exp(mu_[i] * a);
-    step_factor_[i] = std::exp(mu_[i] * h);
-  }
+  const Eigen::VectorXcd& lambda = phase_->eigenvalues();
+  const Eigen::Index modes = c_.size();
+  factors(a, h);
+  advanced_ = start_factor_.head(modes).cwiseProduct(c_);  // e^{Λa} c
+
+  // A step within 1e-13 of the kept length (the grid step, up to the round-off of b − a) uses the
+  // kept weights; a length seen twice in a row becomes the kept one.
+  const auto same = [h](double other) { return std::abs(h - other) <= 1e-13 * h; };
+  if (!same(cached_step_) && same(last_step_)) weigh(h);
+  last_step_ = h;
+  const bool cached = same(cached_step_);
+
+  // Modal block: Σ_ij (e^{λ_i a} c_i) C_ij h φ₁((λ_i+λ_j)h) (e^{λ_j a} c_j).
   Complex storey = 0.0, gap = 0.0, input = 0.0;
-  for (std::size_t j = 0; j < terms; ++j) {
-    for (std::size_t i = 0; i <= j; ++i) {
-      const auto ii = static_cast<Eigen::Index>(i), jj = static_cast<Eigen::Index>(j);
-      const Complex ps = pair_storey_(ii, jj), pg = pair_gap_(ii, jj);
-      if (ps == 0.0 && pg == 0.0) continue;
-      const Complex m = moment(degree_[i] + degree_[j], mu_[i] + mu_[j], a, h,
-                               start_factor_[i] * start_factor_[j], step_factor_[i] * step_factor_[j]);
-      storey += ps * m;
-      gap += pg * m;
+  if (cached) {
+    product_.noalias() = weighted_storey_ * advanced_;
+    storey = advanced_.transpose() * product_;
+    if (gap_active_) {
+      product_.noalias() = weighted_gap_ * advanced_;
+      gap = advanced_.transpose() * product_;
+    }
+  } else {
+    for (Eigen::Index j = 0; j < modes; ++j) {
+      for (Eigen::Index i = 0; i <= j; ++i) {
+        const Complex weight = (i == j ? h : 2 * h) * advanced_(i) * advanced_(j) *
+                               phi1((lambda(i) + lambda(j)) * h, step_factor_(i) * step_factor_(j));
+        storey += modal_storey_(i, j) * weight;
+        if (gap_active_) gap += modal_gap_(i, j) * weight;
+      }
     }
   }
-  for (const InputTerm& t : input_) {
-    if (t.coefficient == 0.0) continue;
-    input += t.coefficient * moment(t.degree, t.mu, a, h, std::exp(t.mu * a), std::exp(t.mu * h));
+  for (std::size_t t = 0; t < terms_.size(); ++t) {
+    const Term& term = terms_[t];
+    if (term.storey == 0.0 && term.gap == 0.0 && term.input == 0.0) continue;
+    const Complex exp_mu_a = start_factor_(term.first) * start_factor_(term.second);
+    const Complex m =
+        cached ? from_weights(term.degree, b, exp_mu_a, term_weights_[t])
+               : moment(term.degree, term.mu, a, h, exp_mu_a, step_factor_(term.first) * step_factor_(term.second));
+    storey += term.storey * m;
+    gap += term.gap * m;
+    input += term.input * m;
   }
   return {.input = input.real(), .storey_damping = storey.real(), .gap_damping = gap.real()};
 }

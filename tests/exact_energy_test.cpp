@@ -116,8 +116,10 @@ TEST(ExactEnergy, ClosedFormMatchesQuadratureOnLinearAndHarmonicPieces) {
     ExactTrajectory trajectory;
     trajectory.start(exact, phase.mass(), phase.constant_load(), 0.7, x0, piece);
     closed.start(trajectory);
-    // A short step, a step far into the segment and a long one over many periods.
-    for (const auto& [a, b] : {std::pair{0.0, 1e-3}, std::pair{2.5, 2.5 + 2e-3}, std::pair{0.1, 3.1}}) {
+    // A short step, a step far into the segment, a long one over many periods, then three grid
+    // steps of one length (the second and third use the weights kept for that length).
+    for (const auto& [a, b] : {std::pair{0.0, 1e-3}, std::pair{2.5, 2.5 + 2e-3}, std::pair{0.1, 3.1},
+                               std::pair{1.0, 1.004}, std::pair{1.004, 1.008}, std::pair{1.008, 1.012}}) {
       const EnergyMeter::Powers got = closed.integrate(a, b);
       const EnergyMeter::Powers want = quadrature(trajectory, phase, meter, config, a, b, 400);
       const double scale = std::abs(want.input) + want.storey_damping + want.gap_damping;

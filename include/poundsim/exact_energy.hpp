@@ -23,7 +23,9 @@
 ///
 /// Only for the modal path (ExactPhase::modal()); the matrix-exponential path keeps quadrature.
 
+#include <array>
 #include <complex>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -55,21 +57,42 @@ class ExactPowerIntegrals {
   Eigen::MatrixXcd modal_storey_, modal_gap_;  ///< W_jᵀ C W_k, W the velocity rows of V
   Eigen::RowVectorXcd modal_mass_;             ///< m_rᵀ W
 
-  // The segment: terms y_i = g_i s^{d_i} e^{μ_i s} of q̇; pair coefficients of the two quadratic
-  // forms (upper triangle, off-diagonal pairs doubled); the input's products of a_g and m_rᵀq̇.
-  std::vector<Complex> mu_;
-  std::vector<int> degree_;
-  Eigen::MatrixXcd pair_storey_, pair_gap_;
-  struct InputTerm {
-    Complex coefficient;
+  /// s^degree e^{μs} with e^{μs} = f[first]·f[second] of the exponential factors of a step
+  /// (modes 0…2n−1, then 1, e^{iω̄s}, e^{−iω̄s}; a step evaluates 2n + 1 complex exponentials in
+  /// all), and its coefficient in each integral.
+  struct Term {
     Complex mu;
     int degree;
+    int first, second;
+    Complex storey, gap, input;
   };
-  std::vector<InputTerm> input_;
-  mutable std::vector<Complex> start_factor_, step_factor_;
+  /// Fills start_factor_ = e^{μa} and step_factor_ = e^{μh} for every factor.
+  void factors(double a, double h) const;
+
+  // The segment. Modes: c (q̇'s modal part is W e^{Λs} c), integrated as a block. Every other
+  // product — the extras x_e s^{d_e} e^{μ_e s} of q̇ (u₀, s u₁ and the two halves of the harmonic
+  // part) with the modes and with each other, and the input −a_g m_rᵀ q̇ — is one Term.
+  Eigen::VectorXcd c_;
+  std::vector<Term> terms_;
+  bool gap_active_ = false;
+
+  // ∫_a^{a+h} s^d e^{μs} ds = e^{μa} (polynomial in b of p_l = l! h^{l+1} φ_{l+1}(μh)), and the
+  // p_l depend on h only: they are kept for the step length that repeats (the grid step) — for the
+  // modal block as the weighted matrices (C_ij p₁), for the terms as p₁…p₃ — so that a grid step
+  // costs two matrix–vector products and no φ. The terms' exponents are the same for every
+  // segment of the phase with the same ω̄ and kind of piece (`signature_`).
+  void weigh(double h) const;
+  mutable double cached_step_ = -1.0, last_step_ = -1.0;
+  mutable Eigen::MatrixXcd weighted_storey_, weighted_gap_;
+  mutable std::vector<std::array<Complex, 3>> term_weights_;
+  std::pair<double, std::size_t> signature_{-1.0, 0};
+
+  mutable Eigen::VectorXcd start_factor_, step_factor_, advanced_, product_;
   // Work space of start(), kept so that a new segment of the same phase allocates nothing.
-  Eigen::MatrixXcd extra_terms_, form_x_, cross_, extra_;
+  Eigen::MatrixXcd extra_terms_, form_x_, cross_storey_, cross_gap_, among_storey_, among_gap_;
   Eigen::RowVectorXcd extra_mass_;
+  std::vector<Complex> extra_mu_;
+  std::vector<int> extra_degree_, extra_factor_;
 };
 
 }  // namespace poundsim
