@@ -1,12 +1,14 @@
 #include "poundsim/guard_expansion.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "hermite_cubic.hpp"
+#include "poundsim/error.hpp"
 
 namespace poundsim {
 
@@ -165,13 +167,23 @@ std::optional<Crossing> search(const GuardExpansion& guards, int j, double a, do
   struct Interval {
     double a, b, ga, da, gb, db;
   };
-  std::vector<Interval> stack;
+  // Depth-first bisection: each level halves the interval and pushes at most two, and the
+  // resolution (16 ulps of the time) is reached within log₂(1/(16ε)) ≈ 48 levels, so a fixed stack
+  // of 128 suffices — and a step allocates nothing.
+  std::array<Interval, 128> stack;
+  std::size_t depth = 0;
+  const auto push = [&](const Interval& in) {
+    if (depth == stack.size())
+      throw SimulationError(
+          "event location: the guard search went deeper than its stack (a resolution below 2^-60 "
+          "of the step)");
+    stack[depth++] = in;
+  };
   const auto [ga, da] = guards.value_and_rate(j, a);
   const auto [gb, db] = guards.value_and_rate(j, b);
-  stack.push_back({a, b, ga, da, gb, db});
-  while (!stack.empty()) {
-    const Interval in = stack.back();
-    stack.pop_back();
+  push({a, b, ga, da, gb, db});
+  while (depth > 0) {
+    const Interval in = stack[--depth];
     const double h = in.b - in.a;
     if (in.ga > 0) return Crossing{j, in.a, in.a};  // already past zero at the start
     const detail::HermiteCubic cubic(in.ga, in.da, in.gb, in.db, h);
@@ -192,8 +204,8 @@ std::optional<Crossing> search(const GuardExpansion& guards, int j, double a, do
     }
     const double m = 0.5 * (in.a + in.b);
     const auto [gm, dm] = guards.value_and_rate(j, m);
-    if (gm <= 0) stack.push_back({m, in.b, gm, dm, in.gb, in.db});
-    stack.push_back({in.a, m, in.ga, in.da, gm, dm});
+    if (gm <= 0) push({m, in.b, gm, dm, in.gb, in.db});
+    push({in.a, m, in.ga, in.da, gm, dm});
   }
   return std::nullopt;
 }

@@ -84,6 +84,21 @@ TEST(Allocation, StepsWithoutEventsAllocateNothing) {
   EXPECT_EQ(n, 0);
 }
 
+TEST(Allocation, ExactStepsWithoutEventsAllocateNothing) {
+  // Sampling the exact trajectory, its peaks and its closed-form energy integrals.
+  DimensionlessParameters p = testing::fig2('c');
+  p.delta = 1e6;
+  const Model model = make_model(p, {5, 5});
+  Simulator sim(model, testing::harmonic(model, 0.2, 0.8),
+                TimeHistoryOptions{.dt = 1e-3, .integrator = Integrator::exact});
+  sim.advance_to(0.1);
+  const long n = allocations_during([&] {
+    for (int k = 0; k < 2000; ++k) sim.step();
+  });
+  EXPECT_EQ(sim.statistics().events, 0);
+  EXPECT_EQ(n, 0);
+}
+
 TEST(Allocation, StepsInALockedPhaseAllocateNothing) {
   // Reduced coordinates, stop reactions and their guards are evaluated every step.
   const Model model =

@@ -69,6 +69,8 @@ struct Crossing {
 };
 
 /// Every active guard must be ≤ 0 at a. Returns nothing when no guard crosses in (a, b].
+/// resolution ≥ (b − a)·2⁻⁶⁰ (the simulator's 16 ulps of the time are far coarser): the search keeps
+/// a fixed stack of that depth, and throws SimulationError if asked to go deeper. Allocation-free.
 std::optional<Crossing> first_crossing(const GuardExpansion& guards, double a, double b,
                                        double resolution);
 
