@@ -28,7 +28,7 @@
 #include "poundsim/io/study_database.hpp"
 #include "poundsim/io/study_run.hpp"
 #include "poundsim/io/time_history_run.hpp"
-#include "poundsim/verification.hpp"
+#include "poundsim/analysis/verification.hpp"
 
 namespace {
 

@@ -4,8 +4,8 @@
 
 #include <benchmark/benchmark.h>
 
-#include "poundsim/dimensionless.hpp"
-#include "poundsim/frequency_response.hpp"
+#include "poundsim/model/dimensionless.hpp"
+#include "poundsim/analysis/frequency_response.hpp"
 #include "poundsim/units.hpp"
 
 namespace {

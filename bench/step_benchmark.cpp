@@ -6,8 +6,8 @@
 
 #include <benchmark/benchmark.h>
 
-#include "poundsim/dimensionless.hpp"
-#include "poundsim/simulator.hpp"
+#include "poundsim/model/dimensionless.hpp"
+#include "poundsim/integrate/simulator.hpp"
 #include "poundsim/units.hpp"
 
 namespace {

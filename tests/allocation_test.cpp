@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "poundsim/simulator.hpp"
+#include "poundsim/integrate/simulator.hpp"
 #include "test_models.hpp"
 
 extern "C" {

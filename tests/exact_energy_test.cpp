@@ -1,6 +1,6 @@
 // The exact integrator's closed-form energy integrals against closed forms and quadrature.
 
-#include "poundsim/exact_energy.hpp"
+#include "poundsim/integrate/exact_energy.hpp"
 
 #include <cmath>
 #include <complex>
@@ -8,9 +8,9 @@
 #include <Eigen/Eigenvalues>
 #include <gtest/gtest.h>
 
-#include "poundsim/energy.hpp"
-#include "poundsim/linear_phase.hpp"
-#include "poundsim/simulator.hpp"
+#include "poundsim/dynamics/energy.hpp"
+#include "poundsim/dynamics/linear_phase.hpp"
+#include "poundsim/integrate/simulator.hpp"
 #include "test_models.hpp"
 
 namespace poundsim {

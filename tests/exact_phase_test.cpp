@@ -1,6 +1,6 @@
 // The exact integrator against closed-form solutions.
 
-#include "poundsim/exact_phase.hpp"
+#include "poundsim/integrate/exact_phase.hpp"
 
 #include <cmath>
 
@@ -8,7 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "poundsim/error.hpp"
-#include "poundsim/simulator.hpp"
+#include "poundsim/integrate/simulator.hpp"
 #include "test_models.hpp"
 
 namespace poundsim {

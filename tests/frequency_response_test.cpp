@@ -1,7 +1,7 @@
 // Frequency responses: steady-state detection against known answers, coexisting branches,
 // determinism whatever the thread count.
 
-#include "poundsim/frequency_response.hpp"
+#include "poundsim/analysis/frequency_response.hpp"
 
 #include <cmath>
 #include <cstring>

@@ -1,13 +1,13 @@
 // Exact guard functions and the proven search for their first crossing.
 
-#include "poundsim/guard_expansion.hpp"
+#include "poundsim/integrate/guard_expansion.hpp"
 
 #include <cmath>
 #include <numbers>
 
 #include <gtest/gtest.h>
 
-#include "poundsim/simulator.hpp"
+#include "poundsim/integrate/simulator.hpp"
 #include "test_models.hpp"
 
 namespace poundsim {

@@ -1,4 +1,4 @@
-#include "poundsim/model.hpp"
+#include "poundsim/model/model.hpp"
 
 #include <gtest/gtest.h>
 

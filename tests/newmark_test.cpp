@@ -1,6 +1,6 @@
 // Newmark on linear phases (no contact): closed-form free vibration and steady state.
 
-#include "poundsim/newmark.hpp"
+#include "poundsim/integrate/newmark.hpp"
 
 #include <cmath>
 #include <complex>
@@ -9,7 +9,7 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
-#include "poundsim/simulator.hpp"
+#include "poundsim/integrate/simulator.hpp"
 #include "test_models.hpp"
 
 namespace poundsim {

@@ -8,8 +8,8 @@
 #include <gtest/gtest.h>
 
 #include "poundsim/io/ground_motion.hpp"
-#include "poundsim/response_metrics.hpp"
-#include "poundsim/simulator.hpp"
+#include "poundsim/analysis/response_metrics.hpp"
+#include "poundsim/integrate/simulator.hpp"
 #include "test_models.hpp"
 
 namespace poundsim {

@@ -15,7 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "poundsim/error.hpp"
-#include "poundsim/simulator.hpp"
+#include "poundsim/integrate/simulator.hpp"
 #include "poundsim/units.hpp"
 
 namespace poundsim {

@@ -1,6 +1,6 @@
 // The event-driven simulator: impacts, contact times, locking, convergence, the paper's systems.
 
-#include "poundsim/simulator.hpp"
+#include "poundsim/integrate/simulator.hpp"
 
 #include <cmath>
 #include <numbers>

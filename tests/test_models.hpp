@@ -8,10 +8,10 @@
 
 #include <fmt/format.h>
 
-#include "poundsim/dimensionless.hpp"
+#include "poundsim/model/dimensionless.hpp"
 #include "poundsim/io/input.hpp"
-#include "poundsim/model.hpp"
-#include "poundsim/simulator.hpp"
+#include "poundsim/model/model.hpp"
+#include "poundsim/integrate/simulator.hpp"
 
 namespace poundsim::testing {
 

@@ -2,7 +2,7 @@
 // order on the paper's pounding systems, event times follow, and the exact integrator matches a
 // closed form to round-off.
 
-#include "poundsim/verification.hpp"
+#include "poundsim/analysis/verification.hpp"
 
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "poundsim/frequency_response.hpp"
+#include "poundsim/analysis/frequency_response.hpp"
 
 #include <algorithm>
 #include <atomic>
@@ -15,7 +15,7 @@
 #include <Eigen/Dense>
 #include <fmt/format.h>
 
-#include "poundsim/parallel.hpp"
+#include "poundsim/analysis/parallel.hpp"
 
 namespace poundsim {
 

@@ -1,4 +1,4 @@
-#include "poundsim/parallel.hpp"
+#include "poundsim/analysis/parallel.hpp"
 
 #include <algorithm>
 #include <atomic>

@@ -1,4 +1,4 @@
-#include "poundsim/response_metrics.hpp"
+#include "poundsim/analysis/response_metrics.hpp"
 
 
 namespace poundsim {

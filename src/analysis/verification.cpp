@@ -1,4 +1,4 @@
-#include "poundsim/verification.hpp"
+#include "poundsim/analysis/verification.hpp"
 
 #include <array>
 #include <chrono>
@@ -11,8 +11,8 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include "poundsim/dimensionless.hpp"
-#include "poundsim/frequency_response.hpp"
+#include "poundsim/model/dimensionless.hpp"
+#include "poundsim/analysis/frequency_response.hpp"
 #include "poundsim/units.hpp"
 
 namespace poundsim {

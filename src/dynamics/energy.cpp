@@ -1,4 +1,4 @@
-#include "poundsim/energy.hpp"
+#include "poundsim/dynamics/energy.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "poundsim/linear_phase.hpp"
+#include "poundsim/dynamics/linear_phase.hpp"
 
 #include <fmt/format.h>
 

@@ -1,4 +1,4 @@
-#include "poundsim/event_location.hpp"
+#include "poundsim/integrate/event_location.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "poundsim/exact_energy.hpp"
+#include "poundsim/integrate/exact_energy.hpp"
 
 #include <array>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "poundsim/exact_phase.hpp"
+#include "poundsim/integrate/exact_phase.hpp"
 
 #include <cmath>
 

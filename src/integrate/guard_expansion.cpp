@@ -1,4 +1,4 @@
-#include "poundsim/guard_expansion.hpp"
+#include "poundsim/integrate/guard_expansion.hpp"
 
 #include <algorithm>
 #include <array>

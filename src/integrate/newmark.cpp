@@ -1,4 +1,4 @@
-#include "poundsim/newmark.hpp"
+#include "poundsim/integrate/newmark.hpp"
 
 namespace poundsim {
 

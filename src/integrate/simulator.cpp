@@ -1,4 +1,4 @@
-#include "poundsim/simulator.hpp"
+#include "poundsim/integrate/simulator.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 
 #include "hermite_cubic.hpp"
 #include "poundsim/error.hpp"
-#include "poundsim/impact.hpp"
+#include "poundsim/model/impact.hpp"
 
 namespace poundsim {
 

@@ -8,7 +8,7 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "poundsim/simulator.hpp"
+#include "poundsim/integrate/simulator.hpp"
 
 namespace poundsim {
 

@@ -6,7 +6,7 @@
 #include <fmt/format.h>
 
 #include "poundsim/error.hpp"
-#include "poundsim/response_metrics.hpp"
+#include "poundsim/analysis/response_metrics.hpp"
 #include "poundsim/units.hpp"
 
 namespace poundsim::io {

@@ -11,11 +11,11 @@
 #include <nlopt.hpp>
 
 #include "poundsim/error.hpp"
-#include "poundsim/frequency_response.hpp"
+#include "poundsim/analysis/frequency_response.hpp"
 #include "poundsim/io/frequency_response_run.hpp"
 #include "poundsim/io/output_files.hpp"
 #include "poundsim/io/study_run.hpp"
-#include "poundsim/response_metrics.hpp"
+#include "poundsim/analysis/response_metrics.hpp"
 
 namespace poundsim::io {
 

@@ -14,13 +14,13 @@
 #include <fmt/format.h>
 
 #include "poundsim/error.hpp"
-#include "poundsim/frequency_response.hpp"
+#include "poundsim/analysis/frequency_response.hpp"
 #include "poundsim/io/frequency_response_run.hpp"
 #include "poundsim/io/output_files.hpp"
 #include "poundsim/io/study_database.hpp"
-#include "poundsim/parallel.hpp"
-#include "poundsim/response_metrics.hpp"
-#include "poundsim/simulator.hpp"
+#include "poundsim/analysis/parallel.hpp"
+#include "poundsim/analysis/response_metrics.hpp"
+#include "poundsim/integrate/simulator.hpp"
 #include "poundsim/units.hpp"
 
 namespace poundsim::io {

@@ -9,7 +9,7 @@
 
 #include "poundsim/error.hpp"
 #include "poundsim/io/output_files.hpp"
-#include "poundsim/response_metrics.hpp"
+#include "poundsim/analysis/response_metrics.hpp"
 #include "poundsim/units.hpp"
 
 namespace poundsim::io {

@@ -1,4 +1,4 @@
-#include "poundsim/contact_state.hpp"
+#include "poundsim/model/contact_state.hpp"
 
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "poundsim/dimensionless.hpp"
+#include "poundsim/model/dimensionless.hpp"
 
 #include <cmath>
 #include <stdexcept>

@@ -1,4 +1,4 @@
-#include "poundsim/excitation.hpp"
+#include "poundsim/model/excitation.hpp"
 
 #include <algorithm>
 #include <cmath>

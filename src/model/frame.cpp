@@ -1,4 +1,4 @@
-#include "poundsim/frame.hpp"
+#include "poundsim/model/frame.hpp"
 
 #include <cmath>
 #include <complex>

@@ -1,4 +1,4 @@
-#include "poundsim/gap_element.hpp"
+#include "poundsim/model/gap_element.hpp"
 
 #include <cmath>
 #include <stdexcept>

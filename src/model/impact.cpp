@@ -1,4 +1,4 @@
-#include "poundsim/impact.hpp"
+#include "poundsim/model/impact.hpp"
 
 namespace poundsim {
 

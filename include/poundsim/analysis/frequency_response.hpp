@@ -21,8 +21,8 @@
 #include <string>
 #include <vector>
 
-#include "poundsim/model.hpp"
-#include "poundsim/simulator.hpp"
+#include "poundsim/model/model.hpp"
+#include "poundsim/integrate/simulator.hpp"
 
 namespace poundsim {
 

@@ -7,8 +7,8 @@
 
 #include <vector>
 
-#include "poundsim/frequency_response.hpp"
-#include "poundsim/model.hpp"
+#include "poundsim/analysis/frequency_response.hpp"
+#include "poundsim/model/model.hpp"
 
 namespace poundsim {
 

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "poundsim/excitation.hpp"
-#include "poundsim/model.hpp"
-#include "poundsim/simulator.hpp"
+#include "poundsim/model/excitation.hpp"
+#include "poundsim/model/model.hpp"
+#include "poundsim/integrate/simulator.hpp"
 
 namespace poundsim {
 

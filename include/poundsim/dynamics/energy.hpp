@@ -16,9 +16,9 @@
 
 #include <span>
 
-#include "poundsim/contact_state.hpp"
-#include "poundsim/model.hpp"
-#include "poundsim/newmark.hpp"
+#include "poundsim/dynamics/state.hpp"
+#include "poundsim/model/contact_state.hpp"
+#include "poundsim/model/model.hpp"
 
 namespace poundsim {
 

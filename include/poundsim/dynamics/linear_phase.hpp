@@ -31,8 +31,8 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
-#include "poundsim/contact_state.hpp"
-#include "poundsim/model.hpp"
+#include "poundsim/model/contact_state.hpp"
+#include "poundsim/model/model.hpp"
 
 namespace poundsim {
 

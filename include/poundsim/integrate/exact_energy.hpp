@@ -30,8 +30,8 @@
 
 #include <Eigen/Core>
 
-#include "poundsim/energy.hpp"
-#include "poundsim/exact_phase.hpp"
+#include "poundsim/dynamics/energy.hpp"
+#include "poundsim/integrate/exact_phase.hpp"
 
 namespace poundsim {
 

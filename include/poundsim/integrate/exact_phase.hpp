@@ -31,8 +31,8 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 
-#include "poundsim/excitation.hpp"
-#include "poundsim/linear_phase.hpp"
+#include "poundsim/model/excitation.hpp"
+#include "poundsim/dynamics/linear_phase.hpp"
 
 namespace poundsim {
 

@@ -24,7 +24,7 @@
 
 #include <Eigen/Core>
 
-#include "poundsim/exact_phase.hpp"
+#include "poundsim/integrate/exact_phase.hpp"
 
 namespace poundsim {
 

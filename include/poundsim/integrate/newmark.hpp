@@ -16,23 +16,10 @@
 
 #include <Eigen/Core>
 
-#include "poundsim/linear_phase.hpp"
+#include "poundsim/dynamics/linear_phase.hpp"
+#include "poundsim/dynamics/state.hpp"
 
 namespace poundsim {
-
-/// Displacements [m], velocities [m/s] and accelerations [m/s²] of every floor relative to the
-/// ground, in the DofLayout numbering, at time t [s].
-struct KinematicState {
-  double t = 0.0;
-  double ground = 0.0;  ///< a_g(t) [m/s²] that the accelerations balance.
-  Eigen::VectorXd u, v, a;
-
-  void resize(Eigen::Index n) {
-    u.setZero(n);
-    v.setZero(n);
-    a.setZero(n);
-  }
-};
 
 class NewmarkIntegrator {
  public:

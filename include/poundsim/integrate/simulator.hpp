@@ -44,17 +44,17 @@
 #include <memory>
 #include <vector>
 
-#include "poundsim/contact_state.hpp"
-#include "poundsim/energy.hpp"
-#include "poundsim/exact_energy.hpp"
-#include "poundsim/exact_phase.hpp"
-#include "poundsim/guard_expansion.hpp"
-#include "poundsim/event.hpp"
-#include "poundsim/event_location.hpp"
-#include "poundsim/excitation.hpp"
-#include "poundsim/linear_phase.hpp"
-#include "poundsim/model.hpp"
-#include "poundsim/newmark.hpp"
+#include "poundsim/model/contact_state.hpp"
+#include "poundsim/dynamics/energy.hpp"
+#include "poundsim/integrate/exact_energy.hpp"
+#include "poundsim/integrate/exact_phase.hpp"
+#include "poundsim/integrate/guard_expansion.hpp"
+#include "poundsim/dynamics/event.hpp"
+#include "poundsim/integrate/event_location.hpp"
+#include "poundsim/model/excitation.hpp"
+#include "poundsim/dynamics/linear_phase.hpp"
+#include "poundsim/model/model.hpp"
+#include "poundsim/integrate/newmark.hpp"
 
 namespace poundsim {
 

@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "poundsim/frequency_response.hpp"
+#include "poundsim/analysis/frequency_response.hpp"
 #include "poundsim/io/input.hpp"
 #include "poundsim/io/output_files.hpp"
 

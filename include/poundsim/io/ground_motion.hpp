@@ -22,7 +22,7 @@
 #include <string>
 
 #include "poundsim/error.hpp"
-#include "poundsim/excitation.hpp"
+#include "poundsim/model/excitation.hpp"
 
 namespace poundsim::io {
 

@@ -15,11 +15,11 @@
 #include <string>
 #include <vector>
 
-#include "poundsim/dimensionless.hpp"
-#include "poundsim/excitation.hpp"
-#include "poundsim/frequency_response.hpp"
-#include "poundsim/model.hpp"
-#include "poundsim/simulator.hpp"
+#include "poundsim/model/dimensionless.hpp"
+#include "poundsim/model/excitation.hpp"
+#include "poundsim/analysis/frequency_response.hpp"
+#include "poundsim/model/model.hpp"
+#include "poundsim/integrate/simulator.hpp"
 
 namespace poundsim::io {
 

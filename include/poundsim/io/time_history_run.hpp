@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "poundsim/io/input.hpp"
-#include "poundsim/simulator.hpp"
+#include "poundsim/integrate/simulator.hpp"
 
 namespace poundsim::io {
 

@@ -19,7 +19,7 @@
 
 #include <array>
 
-#include "poundsim/model.hpp"
+#include "poundsim/model/model.hpp"
 
 namespace poundsim {
 

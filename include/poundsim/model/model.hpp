@@ -18,8 +18,8 @@
 #include <span>
 #include <vector>
 
-#include "poundsim/frame.hpp"
-#include "poundsim/gap_element.hpp"
+#include "poundsim/model/frame.hpp"
+#include "poundsim/model/gap_element.hpp"
 
 namespace poundsim {
 
