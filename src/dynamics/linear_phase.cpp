@@ -1,5 +1,7 @@
 #include "poundsim/dynamics/linear_phase.hpp"
 
+#include <optional>
+
 #include <fmt/format.h>
 
 #include "poundsim/error.hpp"
@@ -25,43 +27,38 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
     : configuration_(std::move(configuration)), step_(step) {
   const int n = layout.size();
 
-  // Full system.
+  // Full system: every link's linear form in its mode, F = k d + c ḋ + f₀ with d = u_a − u_b,
+  // adds k and c to the matrices and moves −f₀ to floor a's load, +f₀ to floor b's.
   mass_full_.resize(n);
-  std::vector<Triplet> k_triplets, c_triplets;
-  for (int f = 0; f < model.frame_count(); ++f) {
-    const Frame& frame = model.frames[f];
-    for (int i = 0; i < frame.storeys(); ++i) {
-      const int dof = layout.dof(f, i);
-      const int below = i > 0 ? layout.dof(f, i - 1) : -1;
-      mass_full_(dof) = frame.mass[i];
-      add_link(k_triplets, dof, below, frame.stiffness[i]);
-      add_link(c_triplets, dof, below, frame.damping[i]);
-    }
+  for (int i = 0; i < n; ++i) {
+    mass_full_(i) = model.frames[layout.frame_of(i)].mass[layout.floor_of(i)];
   }
+  std::vector<Triplet> k_triplets, c_triplets;
   load_full_ = Eigen::VectorXd::Zero(n);
-  for (int p = 0; p < model.gap_count(); ++p) {
-    if (configuration_[p] == GapMode::open) continue;
-    const GapElement& g = model.gaps[p];
-    const int left = layout.gap_left(p), right = layout.gap_right(p);
-    add_link(k_triplets, left, right, g.properties.stiffness);
-    add_link(c_triplets, left, right, g.properties.damping);
-    load_full_(left) += g.properties.stiffness * g.properties.gap;
-    load_full_(right) -= g.properties.stiffness * g.properties.gap;
+  // Groups of floors joined by rigid links. Gap elements are ordered by frame pair, so a left
+  // floor's group is known before its right neighbour's.
+  std::vector<int> leader(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) leader[i] = i;
+  for (const Link& link : make_links(model, layout)) {
+    const std::optional<LinearForm> form = link.linear_form(mode_of(link, configuration_));
+    if (!form) continue;  // the link transmits nothing in this mode (an open gap element)
+    add_link(k_triplets, link.a, link.b, form->stiffness);
+    add_link(c_triplets, link.a, link.b, form->damping);
+    if (form->force_at_zero != 0.0) {
+      load_full_(link.a) -= form->force_at_zero;
+      if (link.b >= 0) load_full_(link.b) += form->force_at_zero;
+    }
+    if (form->rigid) {
+      leader[static_cast<std::size_t>(link.b)] = leader[static_cast<std::size_t>(link.a)];
+      rigid_links_.push_back({link.a, link.b, link.element});
+      unreduced_ = false;
+    }
   }
   stiffness_full_.resize(n, n);
   stiffness_full_.setFromTriplets(k_triplets.begin(), k_triplets.end());
   damping_full_.resize(n, n);
   damping_full_.setFromTriplets(c_triplets.begin(), c_triplets.end());
 
-  // Groups of floors joined by locked elements. Elements are ordered by frame pair, so a left
-  // floor's group is known before its right neighbour's.
-  std::vector<int> leader(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) leader[i] = i;
-  for (int p = 0; p < model.gap_count(); ++p) {
-    if (configuration_[p] != GapMode::locked) continue;
-    leader[layout.gap_right(p)] = leader[layout.gap_left(p)];
-    unreduced_ = false;
-  }
   group_of_.assign(static_cast<std::size_t>(n), -1);
   for (int i = 0; i < n; ++i) {
     if (leader[i] == i) {
@@ -93,7 +90,7 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
     for (int p = 0; p < model.gap_count(); ++p) {
       nominal[p] = model.gaps[p].properties.gap + model.gaps[p].properties.shortening;
     }
-    set_link_lengths(layout, nominal);
+    set_link_lengths(nominal);
   }
 
   // Effective-matrix pattern: the union of K_r, C_r and the diagonal, upper triangle.
@@ -132,12 +129,11 @@ const LinearPhase::Solver& LinearPhase::step_solver() const {
   return step_solver_;
 }
 
-void LinearPhase::set_link_lengths(const DofLayout& layout, std::span<const double> length) {
+void LinearPhase::set_link_lengths(std::span<const double> length) {
   if (unreduced_) return;
   offset_.setZero();
-  for (std::size_t p = 0; p < configuration_.size(); ++p) {
-    if (configuration_[p] != GapMode::locked) continue;
-    offset_(layout.gap_right(p)) = offset_(layout.gap_left(p)) - length[p];
+  for (const RigidLink& link : rigid_links_) {
+    offset_(link.b) = offset_(link.a) - length[static_cast<std::size_t>(link.element)];
   }
   load_work_ = load_full_;
   load_work_.noalias() -= stiffness_full_ * offset_;

@@ -252,7 +252,7 @@ void Simulator::activate_phase() {
     it = phases_.emplace(config_, std::move(phase)).first;
   }
   phase_ = it->second.get();
-  if (!phase_->is_unreduced()) phase_->set_link_lengths(layout_, link_length_);
+  if (!phase_->is_unreduced()) phase_->set_link_lengths(link_length_);
 }
 
 void Simulator::step() { advance_to(grid_origin_ + static_cast<double>(grid_index_ + 1) * options_.dt); }

@@ -74,4 +74,24 @@ DofLayout::DofLayout(const Model& model) {
   }
 }
 
+std::vector<Link> make_links(const Model& model, const DofLayout& layout) {
+  std::vector<Link> links;
+  links.reserve(static_cast<std::size_t>(layout.size() + model.gap_count()));
+  for (int i = 0; i < layout.size(); ++i) {
+    const Frame& frame = model.frames[layout.frame_of(i)];
+    const int floor = layout.floor_of(i);
+    links.push_back({.a = i,
+                     .b = layout.below(i),
+                     .law = LinearStorey{.stiffness = frame.stiffness[floor],
+                                         .damping = frame.damping[floor]}});
+  }
+  for (int p = 0; p < model.gap_count(); ++p) {
+    links.push_back({.a = layout.gap_left(p),
+                     .b = layout.gap_right(p),
+                     .law = PaperGap{model.gaps[p].properties},
+                     .element = p});
+  }
+  return links;
+}
+
 }  // namespace poundsim

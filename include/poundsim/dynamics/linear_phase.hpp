@@ -58,9 +58,9 @@ class LinearPhase {
   [[nodiscard]] std::span<const int> group_of() const { return group_of_; }
   /// o: floor displacement minus its group coordinate [m].
   [[nodiscard]] const Eigen::VectorXd& offset() const { return offset_; }
-  /// Sets the link lengths ℓ of the locked elements (by element; others ignored), which fix the
+  /// Sets the lengths ℓ of the rigid links (by gap element; others ignored), which fix the
   /// offsets o and the constant load b_r. Construction uses ℓ = δ + ε. Allocation-free.
-  void set_link_lengths(const DofLayout& layout, std::span<const double> length);
+  void set_link_lengths(std::span<const double> length);
 
   // Both take views, so that parts of work buffers can be passed without copies; sizes must
   // match (reduced_size() and the layout's size). Allocation-free.
@@ -96,6 +96,10 @@ class LinearPhase {
 
   ContactConfiguration configuration_;
   bool unreduced_ = true;
+  struct RigidLink {
+    int a, b, element;
+  };
+  std::vector<RigidLink> rigid_links_;  ///< In link order: each b joins a's group.
   std::vector<int> group_of_;
   std::vector<int> representative_;
   Eigen::VectorXd offset_;

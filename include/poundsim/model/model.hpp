@@ -20,6 +20,7 @@
 
 #include "poundsim/model/frame.hpp"
 #include "poundsim/model/gap_element.hpp"
+#include "poundsim/model/law.hpp"
 
 namespace poundsim {
 
@@ -80,5 +81,16 @@ class DofLayout {
   std::vector<int> floor_of_;
   std::vector<int> gap_left_, gap_right_;
 };
+
+/// Every storey and gap element of `model` as a link with its law: the storeys first, one per
+/// DOF in the layout's numbering (the storey below that floor, LinearStorey), then the gap
+/// elements in Model::gaps order (PaperGap). Assembly and energy sums follow this order.
+std::vector<Link> make_links(const Model& model, const DofLayout& layout);
+
+/// The mode of `link` in the contact configuration `config` (storeys have one mode, 0).
+[[nodiscard]] inline LinkMode mode_of(const Link& link, const ContactConfiguration& config) {
+  return link.element < 0 ? LinkMode{0}
+                          : PaperGap::link_mode(config[static_cast<std::size_t>(link.element)]);
+}
 
 }  // namespace poundsim

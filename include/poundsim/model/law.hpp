@@ -1,0 +1,50 @@
+#pragma once
+/// @file
+/// Links and their laws. Every storey and every gap element is a one-dimensional link between two
+/// floors a and b (b the ground for a first storey) whose force follows a law from a closed set.
+///
+/// Sign convention, for every law: the deformation is d = u_a − u_b [m] (u relative to the
+/// ground, positive to the right), and the link exerts −F on floor a and +F on floor b [N]. A
+/// storey runs from a floor to the floor below, so F > 0 is its shear resisting a drift to the
+/// right; a gap element runs from the left floor to the right one, so F > 0 is compression.
+///
+/// A piecewise-linear law (traits.piecewise_linear) is linear in each of its modes,
+/// F = k d + c ḋ + f₀ (LinearForm); the phase system (dynamics/linear_phase.hpp) and the exact
+/// integrator are assembled from these forms. A mode may make the link rigid (a locked gap
+/// element): d is then held constant and the floors move as one group.
+///
+/// Adding a law: its header and source in model/laws/, its test, and its name in the Law
+/// variant below (docs/architecture.md).
+
+#include <optional>
+#include <variant>
+#include <vector>
+
+#include "poundsim/model/laws/linear_storey.hpp"
+#include "poundsim/model/laws/paper_gap.hpp"
+
+namespace poundsim {
+
+/// The closed set of laws.
+using Law = std::variant<LinearStorey, PaperGap>;
+
+/// A link between two degrees of freedom (DofLayout numbering) carrying a law.
+struct Link {
+  int a = 0;        ///< DOF of floor a.
+  int b = -1;       ///< DOF of floor b, or −1 for the ground.
+  Law law;
+  /// Which gap element of Model::gaps the link stands for, −1 for a storey: the simulator still
+  /// keeps each gap element's mode and memory by this index.
+  int element = -1;
+
+  [[nodiscard]] const LawTraits& traits() const {
+    return std::visit([](const auto& l) -> const LawTraits& { return l.traits; }, law);
+  }
+  /// F = k d + c ḋ + f₀ in `mode`; nothing when the link transmits no force in that mode.
+  [[nodiscard]] std::optional<LinearForm> linear_form(LinkMode mode) const {
+    return std::visit(
+        [mode](const auto& l) -> std::optional<LinearForm> { return l.linear_form(mode); }, law);
+  }
+};
+
+}  // namespace poundsim

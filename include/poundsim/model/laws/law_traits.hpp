@@ -1,0 +1,30 @@
+#pragma once
+/// @file
+/// What every law declares besides its force: its modes, its linear form in each, and traits.
+/// See model/law.hpp for the sign convention.
+
+#include <cstdint>
+
+namespace poundsim {
+
+/// A law's mode (its linear phase), law-defined; a law with one mode uses 0.
+using LinkMode = std::uint8_t;
+
+/// F = stiffness·d + damping·ḋ + force_at_zero in one mode of a piecewise-linear law.
+struct LinearForm {
+  double stiffness = 0.0;      ///< ∂F/∂d [N/m]
+  double damping = 0.0;        ///< ∂F/∂ḋ [N·s/m]
+  double force_at_zero = 0.0;  ///< f₀ [N]: F at d = ḋ = 0
+  bool rigid = false;          ///< The link holds d fixed (its floors move as one group).
+};
+
+/// Which term of the energy balance a law's stored and dissipated energy belongs to.
+enum class EnergyGroup : std::uint8_t { storey, gap_element };
+
+struct LawTraits {
+  bool piecewise_linear = true;  ///< Linear in each mode: Newmark and the exact integrator apply.
+  bool has_stop = false;         ///< Has a rigid stop: impacts with restitution, locking.
+  EnergyGroup energy = EnergyGroup::storey;
+};
+
+}  // namespace poundsim

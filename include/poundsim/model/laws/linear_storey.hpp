@@ -1,0 +1,33 @@
+#pragma once
+/// @file
+/// The linear storey of a shear frame (Pasquino, Santini & Caliò, Fig. 1): a spring K and a
+/// dashpot C in parallel between a floor and the floor below (or the ground),
+///
+///     F = K d + C ḋ,   d = u_i − u_{i−1} (the drift)           [N]
+///
+/// with stored energy ½ K d² and dissipated power C ḋ². One mode, no events. Its parameters are
+/// validated with the frame's (validate(const Frame&)).
+
+#include "poundsim/model/laws/law_traits.hpp"
+
+namespace poundsim {
+
+struct LinearStorey {
+  double stiffness = 0.0;  ///< K [N/m], > 0.
+  double damping = 0.0;    ///< C [N·s/m], ≥ 0.
+
+  static constexpr LawTraits traits{
+      .piecewise_linear = true, .has_stop = false, .energy = EnergyGroup::storey};
+
+  [[nodiscard]] LinearForm linear_form(LinkMode /*mode*/) const {
+    return {.stiffness = stiffness, .damping = damping};
+  }
+  /// F [N].
+  [[nodiscard]] double force(double d, double rate) const { return stiffness * d + damping * rate; }
+  /// ½ K d² [J].
+  [[nodiscard]] double stored_energy(double d) const { return 0.5 * (stiffness * d * d); }
+  /// C ḋ² [W].
+  [[nodiscard]] double dissipated_power(double rate) const { return damping * rate * rate; }
+};
+
+}  // namespace poundsim
