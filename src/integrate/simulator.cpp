@@ -1,17 +1,22 @@
 #include "poundsim/integrate/simulator.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
 #include <fmt/format.h>
 
+#include "contact_links.hpp"
 #include "hermite_cubic.hpp"
 #include "poundsim/error.hpp"
 #include "poundsim/model/impact.hpp"
 
 namespace poundsim {
+
+using detail::kinematics;
+using detail::with_contact_law;
 
 namespace {
 constexpr double kInactive = -std::numeric_limits<double>::infinity();
@@ -125,20 +130,22 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
   load(initial.displacement, state_.u, "displacement");
   load(initial.velocity, state_.v, "velocity");
 
+  for (Link& link : make_links(model_, layout_)) {
+    if (link.element >= 0) contact_links_.push_back(std::move(link));
+  }
   config_.assign(ng, GapMode::open);
   for (int p = 0; p < gaps; ++p) {
-    const GapProperties& gp = model_.gaps[p].properties;
-    const double s =
-        poundsim::shortening(gp, state_.u(layout_.gap_left(p)), state_.u(layout_.gap_right(p)));
-    if (s <= 0) continue;
-    if (s >= gp.shortening) {
+    const Link& link = contact_links_[static_cast<std::size_t>(p)];
+    const double d = state_.u(link.a) - state_.u(link.b);
+    try {
+      config_[p] = PaperGap::gap_mode(
+          with_contact_law<LinkMode>(link, [&](const auto& law) { return law.initial_mode(d); }));
+    } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(fmt::format(
-          "initial displacements compress the gap element between frames {} and {} at floor {} "
-          "by {} m, beyond its allowable shortening {} m",
+          "initial displacements compress the gap element between frames {} and {} at floor {} {}",
           model_.gaps[p].left_frame + 1, model_.gaps[p].left_frame + 2, model_.gaps[p].floor + 1,
-          s, gp.shortening));
+          e.what()));
     }
-    config_[p] = GapMode::contact;
   }
   memory_.assign(ng, GapMemory{});
   bias_.assign(ng, 0.0);
@@ -214,19 +221,26 @@ double Simulator::ground_acceleration_now() const {
   return ground_acceleration(excitation_, state_.t);
 }
 
-bool Simulator::is_rigid(int p) const { return model_.gaps[p].properties.is_rigid_stop(); }
+LinkMode Simulator::mode(std::size_t p) const { return PaperGap::link_mode(config_[p]); }
+
+bool Simulator::is_rigid(std::size_t p) const {
+  const LinearForm form = contact_links_[p].linear_form(mode(p)).value_or(LinearForm{});
+  return form.rigid;
+}
 
 double Simulator::shortening(int p) const {
-  return poundsim::shortening(model_.gaps[p].properties, state_.u(layout_.gap_left(p)),
-                              state_.u(layout_.gap_right(p)));
+  const Link& link = contact_links_[static_cast<std::size_t>(p)];
+  const LinkKinematics k = kinematics(state_, link);
+  return with_contact_law<double>(link, [&](const auto& law) { return law.shortening(k); });
 }
 
 double Simulator::gap_force(int p) const {
-  if (config_[p] == GapMode::open) return 0.0;
-  const GapProperties& gp = model_.gaps[p].properties;
-  const double rate = state_.v(layout_.gap_left(p)) - state_.v(layout_.gap_right(p));
-  const double force = contact_force(gp, shortening(p), rate);
-  return config_[p] == GapMode::locked ? force + stop_reaction_[static_cast<std::size_t>(p)] : force;
+  const auto e = static_cast<std::size_t>(p);
+  const Link& link = contact_links_[e];
+  const LinkKinematics k = kinematics(state_, link);
+  const double force =
+      with_contact_law<double>(link, [&](const auto& law) { return law.force(k, mode(e)); });
+  return is_rigid(e) ? force + stop_reaction_[e] : force;
 }
 
 double Simulator::base_shear(int f) const {
@@ -337,49 +351,29 @@ bool Simulator::find_grazing(double tau) {
 
 void Simulator::evaluate_guards(const KinematicState& x, std::span<double> g,
                                 std::span<double> dg) {
-  // Each guard is its value minus its round-off level: a guard within a few ulps of zero is zero,
-  // and zero does not fire. Without this floor, a guard that stays at zero for a while (a pair
-  // released with ṡ = 0 at the stop) would flicker in the last bit and stall event location.
-  constexpr double kNoise = 8 * std::numeric_limits<double>::epsilon();
+  // Each guard is its value minus its round-off level (the law's): a guard within a few ulps of
+  // zero is zero, and zero does not fire.
   compute_stop_reactions(x);
-  const bool force_criterion = options_.separation == SeparationCriterion::force;
+  std::array<GuardValue, 2> values;
   for (std::size_t p = 0; p < config_.size(); ++p) {
-    const GapProperties& gp = model_.gaps[p].properties;
-    const int l = layout_.gap_left(p), r = layout_.gap_right(p);
-    const double s = x.u(l) - x.u(r) - gp.gap;
-    const double rate = x.v(l) - x.v(r);
-    const double s_noise = kNoise * (std::abs(x.u(l)) + std::abs(x.u(r)) + gp.gap + gp.shortening);
-    const std::size_t j = 2 * p;
-    switch (config_[p]) {
-      case GapMode::open: {
-        const double se = memory_[p].free_end_shortening(x.t, gp.stiffness, gp.damping);
-        const double se_rate = gp.damping > 0 ? -gp.stiffness / gp.damping * se : 0.0;
-        g[j] = s - se - bias_[p] - s_noise;
-        dg[j] = rate - se_rate;
-        g[j + 1] = kInactive;
-        dg[j + 1] = 0.0;
-        break;
+    const Link& link = contact_links_[p];
+    const LinkKinematics k = kinematics(x, link);
+    const GuardContext context{.separation = options_.separation,
+                               .reaction = stop_reaction_[p],
+                               .reaction_noise = stop_noise_[p]};
+    with_contact_law<void>(link, [&](const auto& law) {
+      law.guards(k, mode(p), memory_[p], context, values);
+    });
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      const GuardValue& v = values[i];
+      const std::size_t j = 2 * p + i;
+      if (!v.active) {
+        g[j] = kInactive;
+        dg[j] = 0.0;
+        continue;
       }
-      case GapMode::contact:
-        g[j] = s - gp.shortening - bias_[p] - s_noise;
-        dg[j] = rate;
-        if (force_criterion) {
-          const double accel = x.a(l) - x.a(r);
-          const double f_noise =
-              kNoise * (gp.damping * (std::abs(x.v(l)) + std::abs(x.v(r))) + gp.stiffness * s_noise / kNoise);
-          g[j + 1] = -contact_force(gp, s, rate) - f_noise;
-          dg[j + 1] = -(gp.damping * accel + gp.stiffness * rate);
-        } else {
-          g[j + 1] = -s - s_noise;
-          dg[j + 1] = -rate;
-        }
-        break;
-      case GapMode::locked:
-        g[j] = -stop_reaction_[p] - stop_noise_[p];
-        dg[j] = std::numeric_limits<double>::quiet_NaN();
-        g[j + 1] = kInactive;
-        dg[j + 1] = 0.0;
-        break;
+      g[j] = (v.hysteresis ? v.value - bias_[p] : v.value) - v.noise;
+      dg[j] = v.rate;
     }
   }
 }
@@ -394,8 +388,8 @@ void Simulator::compute_stop_reactions(const KinematicState& x) {
   const LinearPhase::SparseMatrix& c = phase_->full_damping();
   const LinearPhase::SparseMatrix& k = phase_->full_stiffness();
   for (std::size_t p = 0; p < config_.size(); ++p) {
-    if (config_[p] != GapMode::locked) continue;
-    const int l = layout_.gap_left(p);
+    if (!is_rigid(p)) continue;
+    const int l = contact_links_[p].a;
     const double load = phase_->full_constant_load()(l);
     double f = load - m(l) * (ground + x.a(l));
     double magnitude = std::abs(load) + m(l) * (std::abs(ground) + std::abs(x.a(l)));
@@ -409,10 +403,10 @@ void Simulator::compute_stop_reactions(const KinematicState& x) {
     }
     stop_reaction_[p] = f + link_in_[l];
     stop_noise_[p] = kNoise * (magnitude + std::abs(link_in_[l]));
-    link_in_[layout_.gap_right(p)] = stop_reaction_[p];
+    link_in_[contact_links_[p].b] = stop_reaction_[p];
   }
   for (std::size_t p = 0; p < config_.size(); ++p) {
-    if (config_[p] == GapMode::locked) link_in_[layout_.gap_right(p)] = 0.0;
+    if (is_rigid(p)) link_in_[contact_links_[p].b] = 0.0;
   }
 }
 
@@ -427,7 +421,7 @@ void Simulator::accept(KinematicState& next) {
 void Simulator::after_accept(KinematicState& next) {
   const double h = next.t - state_.t;
   for (std::size_t p = 0; p < config_.size(); ++p) {
-    if (config_[p] == GapMode::locked) stats_.gaps[p].locked_time += h;
+    if (is_rigid(p)) stats_.gaps[p].locked_time += h;
   }
   std::swap(state_, next);
   ++stats_.substeps;
@@ -538,13 +532,12 @@ void Simulator::record_statistics() {
     stats_.neighbours[k].update(state_.u(neighbour_left_[k]) - state_.u(neighbour_right_[k]), t);
   }
   for (std::size_t p = 0; p < config_.size(); ++p) {
-    if (config_[p] == GapMode::open) continue;
-    const GapProperties& gp = model_.gaps[p].properties;
-    const int l = layout_.gap_left(p), r = layout_.gap_right(p);
-    const double s = state_.u(l) - state_.u(r) - gp.gap;
-    double force = contact_force(gp, s, state_.v(l) - state_.v(r));
-    if (config_[p] == GapMode::locked) force += stop_reaction_[p];
-    stats_.gaps[p].force.update(force, t);
+    const Link& link = contact_links_[p];
+    if (!link.linear_form(mode(p))) continue;  // transmits nothing
+    const LinkKinematics k = kinematics(state_, link);
+    const auto [force, s] = with_contact_law<std::pair<double, double>>(
+        link, [&](const auto& law) { return std::pair{law.force(k, mode(p)), law.shortening(k)}; });
+    stats_.gaps[p].force.update(is_rigid(p) ? force + stop_reaction_[p] : force, t);
     if (s > 0) stats_.gaps[p].shortening.update(s, t);
   }
 }
@@ -552,8 +545,8 @@ void Simulator::record_statistics() {
 void Simulator::emit(int gap, EventKind kind, double left_before, double right_before,
                      double impulse) {
   const auto p = static_cast<std::size_t>(gap);
-  const double left_after = state_.v(layout_.gap_left(p));
-  const double right_after = state_.v(layout_.gap_right(p));
+  const double left_after = state_.v(contact_links_[p].a);
+  const double right_after = state_.v(contact_links_[p].b);
   const double before = left_before - right_before, after = left_after - right_after;
   ++stats_.events;
   if (++events_this_step_ > options_.max_events_per_step) {
@@ -599,32 +592,25 @@ void Simulator::apply_events(std::span<const double> fired) {
     if (!(fired[j] > 0)) continue;
     const std::size_t p = j / 2;
     const int pi = static_cast<int>(p);
-    const double vl = state_.v(layout_.gap_left(p)), vr = state_.v(layout_.gap_right(p));
-    if (j % 2 == 1) {  // separation from contact
-      config_[p] = GapMode::open;
-      bias_[p] = 0.0;
-      const double s = shortening(pi);
-      memory_[p] = options_.separation == SeparationCriterion::force && s > 0
-                       ? GapMemory{s, state_.t}
-                       : GapMemory{};
-      emit(pi, EventKind::separation, vl, vr, 0.0);
-      continue;
-    }
-    switch (config_[p]) {
-      case GapMode::open:
-        if (is_rigid(pi)) {
-          impacts_.push_back(pi);
-        } else {
-          config_[p] = GapMode::contact;
-          memory_[p] = GapMemory{};
-          bias_[p] = 0.0;
-          emit(pi, EventKind::contact, vl, vr, 0.0);
-        }
+    const Link& link = contact_links_[p];
+    const double vl = state_.v(link.a), vr = state_.v(link.b);
+    const LinkKinematics k = kinematics(state_, link);
+    LinkMode m = mode(p);
+    const Transition transition = with_contact_law<Transition>(link, [&](const auto& law) {
+      return law.on_guard(static_cast<int>(j % 2), k, m, memory_[p], options_.separation);
+    });
+    config_[p] = PaperGap::gap_mode(m);
+    switch (transition) {
+      case Transition::impact: impacts_.push_back(pi); break;
+      case Transition::contact:
+        bias_[p] = 0.0;
+        emit(pi, EventKind::contact, vl, vr, 0.0);
         break;
-      case GapMode::contact: impacts_.push_back(pi); break;
-      case GapMode::locked:
-        config_[p] = is_rigid(pi) ? GapMode::open : GapMode::contact;
-        memory_[p] = GapMemory{};
+      case Transition::separation:
+        bias_[p] = 0.0;
+        emit(pi, EventKind::separation, vl, vr, 0.0);
+        break;
+      case Transition::unlock:
         bias_[p] = 0.0;
         emit(pi, EventKind::unlock, vl, vr, 0.0);
         break;
@@ -636,10 +622,16 @@ void Simulator::apply_events(std::span<const double> fired) {
 }
 
 double Simulator::stop_guard(std::size_t p) const {
-  const GapProperties& gp = model_.gaps[p].properties;
-  const double s = shortening(static_cast<int>(p));
-  if (config_[p] == GapMode::contact) return s - gp.shortening - bias_[p];
-  return s - memory_[p].free_end_shortening(state_.t, gp.stiffness, gp.damping) - bias_[p];
+  const Link& link = contact_links_[p];
+  const LinkKinematics k = kinematics(state_, link);
+  const double distance = with_contact_law<double>(
+      link, [&](const auto& law) { return law.stop_distance(k, mode(p), memory_[p]); });
+  return distance - bias_[p];
+}
+
+bool Simulator::stop_guard_is_active(std::size_t p) const {
+  return with_contact_law<bool>(contact_links_[p],
+                                [&](const auto& law) { return law.stop_guard_is_active(mode(p)); });
 }
 
 void Simulator::resolve_impacts(const std::vector<int>& fired) {
@@ -651,12 +643,12 @@ void Simulator::resolve_impacts(const std::vector<int>& fired) {
   std::vector<double> left_before(elements), right_before(elements), impulse(elements, 0.0);
   std::vector<char> involved(elements, 0);
   for (std::size_t p = 0; p < elements; ++p) {
-    left_before[p] = v(layout_.gap_left(p));
-    right_before[p] = v(layout_.gap_right(p));
+    left_before[p] = v(contact_links_[p].a);
+    right_before[p] = v(contact_links_[p].b);
   }
   for (const int p : fired) involved[static_cast<std::size_t>(p)] = 1;
   const auto closing_speed = [&](std::size_t p) {
-    const double vl = v(layout_.gap_left(p)), vr = v(layout_.gap_right(p));
+    const double vl = v(contact_links_[p].a), vr = v(contact_links_[p].b);
     return closes(vl, vr) ? vl - vr : 0.0;
   };
   struct Lock {
@@ -682,12 +674,12 @@ void Simulator::resolve_impacts(const std::vector<int>& fired) {
     const auto group = phase_->group_of();
     const Eigen::VectorXd& group_mass = phase_->mass();
     const auto shares_a_body = [&](std::size_t p) {
-      const int gl = group[static_cast<std::size_t>(layout_.gap_left(p))];
-      const int gr = group[static_cast<std::size_t>(layout_.gap_right(p))];
+      const int gl = group[static_cast<std::size_t>(contact_links_[p].a)];
+      const int gr = group[static_cast<std::size_t>(contact_links_[p].b)];
       for (std::size_t q = 0; q < elements; ++q) {
         if (!involved[q]) continue;
-        const int ql = group[static_cast<std::size_t>(layout_.gap_left(q))];
-        const int qr = group[static_cast<std::size_t>(layout_.gap_right(q))];
+        const int ql = group[static_cast<std::size_t>(contact_links_[q].a)];
+        const int qr = group[static_cast<std::size_t>(contact_links_[q].b)];
         if (gl == ql || gl == qr || gr == ql || gr == qr) return true;
       }
       return false;
@@ -697,7 +689,7 @@ void Simulator::resolve_impacts(const std::vector<int>& fired) {
         std::size_t worst = elements;
         double closing = 0.0;
         for (std::size_t p = 0; p < elements; ++p) {
-          if (!involved[p] || config_[p] == GapMode::locked) continue;
+          if (!involved[p] || is_rigid(p)) continue;
           const double w = closing_speed(p);
           if (w > closing) {
             closing = w;
@@ -705,12 +697,15 @@ void Simulator::resolve_impacts(const std::vector<int>& fired) {
           }
         }
         if (worst == elements) break;
-        const int l = layout_.gap_left(worst), r = layout_.gap_right(worst);
+        const int l = contact_links_[worst].a, r = contact_links_[worst].b;
         const int gl = group[static_cast<std::size_t>(l)];
         const int gr = group[static_cast<std::size_t>(r)];
         const double rest = options_.rest_velocity_ratio * (std::abs(v(l)) + std::abs(v(r)));
         const double restitution =
-            closing <= rest ? 0.0 : model_.gaps[worst].properties.restitution;
+            closing <= rest ? 0.0
+                            : with_contact_law<double>(contact_links_[worst], [](const auto& law) {
+                                return law.restitution();
+                              });
         const ImpactOutcome o =
             restitution_impact(group_mass(gl), group_mass(gr), v(l), v(r), restitution);
         for (Eigen::Index i = 0; i < v.size(); ++i) {
@@ -723,16 +718,12 @@ void Simulator::resolve_impacts(const std::vector<int>& fired) {
       bool joined = false;
       for (std::size_t p = 0; p < elements; ++p) {
         if (involved[p]) continue;
-        const bool stop = config_[p] == GapMode::contact ||
-                          (config_[p] == GapMode::open && is_rigid(static_cast<int>(p)));
-        if (!stop) continue;
+        if (!stop_guard_is_active(p)) continue;
         const double w = closing_speed(p);
         if (!(w > 0) || !shares_a_body(p)) continue;
-        const int l = layout_.gap_left(p), r = layout_.gap_right(p);
-        const GapProperties& gp = model_.gaps[p].properties;
-        const double s_noise =
-            8 * std::numeric_limits<double>::epsilon() *
-            (std::abs(state_.u(l)) + std::abs(state_.u(r)) + gp.gap + gp.shortening);
+        const LinkKinematics k = kinematics(state_, contact_links_[p]);
+        const double s_noise = with_contact_law<double>(
+            contact_links_[p], [&](const auto& law) { return law.position_noise(k); });
         if (stop_guard(p) < -(w * options_.event_tolerance + s_noise)) continue;
         involved[p] = 1;
         joined = true;
@@ -743,8 +734,8 @@ void Simulator::resolve_impacts(const std::vector<int>& fired) {
     newmark_.equilibrate(*phase_, ground, state_);
     std::vector<int> locking;
     for (std::size_t p = 0; p < elements; ++p) {
-      if (!involved[p] || config_[p] == GapMode::locked) continue;
-      const int l = layout_.gap_left(p), r = layout_.gap_right(p);
+      if (!involved[p] || is_rigid(p)) continue;
+      const int l = contact_links_[p].a, r = contact_links_[p].b;
       const int gl = group[static_cast<std::size_t>(l)], gr = group[static_cast<std::size_t>(r)];
       if (gl == gr) continue;  // already held together through other locked links
       const double pressing = state_.a(l) - state_.a(r);
@@ -757,10 +748,11 @@ void Simulator::resolve_impacts(const std::vector<int>& fired) {
     }
     if (locking.empty()) break;
     for (const int p : locking) {
-      config_[static_cast<std::size_t>(p)] = GapMode::locked;
+      const auto e = static_cast<std::size_t>(p);
+      config_[e] = PaperGap::gap_mode(with_contact_law<LinkMode>(
+          contact_links_[e], [](const auto& law) { return law.locked_mode(); }));
       // The link keeps the floors where they are (on the stop, to the event tolerance).
-      link_length_[static_cast<std::size_t>(p)] =
-          state_.u(layout_.gap_left(p)) - state_.u(layout_.gap_right(p));
+      link_length_[e] = state_.u(contact_links_[e].a) - state_.u(contact_links_[e].b);
     }
     activate_phase();
     // Plastic merge: each new group moves with the velocity of its centre of mass.
@@ -798,12 +790,10 @@ void Simulator::set_impact_biases() {
   // (by at most |ṡ| × tolerance). The element now moves away from the stop; offset its guard by
   // that hair so that the next impact is detected when the stop is reached again.
   for (std::size_t p = 0; p < config_.size(); ++p) {
-    const bool stop_guard =
-        config_[p] == GapMode::contact || (config_[p] == GapMode::open && is_rigid(static_cast<int>(p)));
     const std::size_t j = 2 * p;
-    if (!stop_guard || !(g_lo_[j] > 0)) continue;
+    if (!stop_guard_is_active(p) || !(g_lo_[j] > 0)) continue;
     // Still closing: a genuine impact, applied by the caller.
-    if (closes(state_.v(layout_.gap_left(p)), state_.v(layout_.gap_right(p)))) continue;
+    if (closes(state_.v(contact_links_[p].a), state_.v(contact_links_[p].b))) continue;
     bias_[p] += g_lo_[j];
     g_lo_[j] = 0.0;
   }

@@ -10,7 +10,12 @@
 
 #include "poundsim/integrate/simulator.hpp"
 
+#include "contact_links.hpp"
+
 namespace poundsim {
+
+using detail::kinematics;
+using detail::with_contact_law;
 
 namespace {
 
@@ -59,7 +64,6 @@ Eigen::MatrixXd Simulator::guard_rows(const ExactPhase& exact) const {
   const Eigen::Index n = exact.groups();
   const auto group = phase_->group_of();
   const auto g = [&](int dof) { return static_cast<Eigen::Index>(group[static_cast<std::size_t>(dof)]); };
-  const bool force_criterion = options_.separation == SeparationCriterion::force;
   Eigen::MatrixXd rows = Eigen::MatrixXd::Zero(2 * model_.gap_count(), 2 * n);
   // Stop reactions: λ_out = f_L + λ_in along each chain, f_L = f_S − m(a_g + ü) − C u̇ − K u;
   // the ground acceleration cancels between m a_g and m ü.
@@ -67,40 +71,36 @@ Eigen::MatrixXd Simulator::guard_rows(const ExactPhase& exact) const {
   const LinearPhase::SparseMatrix& c = phase_->full_damping();
   const LinearPhase::SparseMatrix& k = phase_->full_stiffness();
   for (std::size_t p = 0; p < config_.size(); ++p) {
-    const GapProperties& gp = model_.gaps[p].properties;
-    const int l = layout_.gap_left(p), r = layout_.gap_right(p);
-    const Eigen::Index j = 2 * static_cast<Eigen::Index>(p);
-    switch (config_[p]) {
-      case GapMode::open:
-        rows(j, g(l)) += 1.0;
-        rows(j, g(r)) -= 1.0;
-        break;
-      case GapMode::contact:
-        rows(j, g(l)) += 1.0;
-        rows(j, g(r)) -= 1.0;
-        if (force_criterion) {
-          rows(j + 1, g(l)) -= gp.stiffness;
-          rows(j + 1, g(r)) += gp.stiffness;
-          rows(j + 1, n + g(l)) -= gp.damping;
-          rows(j + 1, n + g(r)) += gp.damping;
-        } else {
-          rows(j + 1, g(l)) -= 1.0;
-          rows(j + 1, g(r)) += 1.0;
+    const Link& link = contact_links_[p];
+    const int l = link.a, r = link.b;
+    for (int i = 0; i < 2; ++i) {
+      const Eigen::Index j = 2 * static_cast<Eigen::Index>(p) + i;
+      const GuardForm form = with_contact_law<GuardForm>(
+          link, [&](const auto& law) { return law.guard_form(i, mode(p), options_.separation); });
+      switch (form.kind) {
+        case GuardForm::Kind::inactive: break;
+        case GuardForm::Kind::affine:
+          rows(j, g(l)) += form.d_coefficient;
+          rows(j, g(r)) -= form.d_coefficient;
+          if (form.rate_coefficient != 0.0) {
+            rows(j, n + g(l)) += form.rate_coefficient;
+            rows(j, n + g(r)) -= form.rate_coefficient;
+          }
+          break;
+        case GuardForm::Kind::reaction: {
+          Eigen::RowVectorXd f = -phase_->full_mass()(l) * exact.matrix().row(n + g(l));
+          for (LinearPhase::SparseMatrix::InnerIterator it(c, l); it; ++it) {
+            f(n + g(static_cast<int>(it.row()))) -= it.value();
+          }
+          for (LinearPhase::SparseMatrix::InnerIterator it(k, l); it; ++it) {
+            f(g(static_cast<int>(it.row()))) -= it.value();
+          }
+          auto& in = link_in[static_cast<std::size_t>(l)];
+          if (in.size() > 0) f += in;
+          rows.row(j) = -f;
+          link_in[static_cast<std::size_t>(r)] = f;
+          break;
         }
-        break;
-      case GapMode::locked: {
-        Eigen::RowVectorXd f = -phase_->full_mass()(l) * exact.matrix().row(n + g(l));
-        for (LinearPhase::SparseMatrix::InnerIterator it(c, l); it; ++it) {
-          f(n + g(static_cast<int>(it.row()))) -= it.value();
-        }
-        for (LinearPhase::SparseMatrix::InnerIterator it(k, l); it; ++it) {
-          f(g(static_cast<int>(it.row()))) -= it.value();
-        }
-        auto& in = link_in[static_cast<std::size_t>(l)];
-        if (in.size() > 0) f += in;
-        rows.row(j) = -f;
-        link_in[static_cast<std::size_t>(r)] = f;
-        break;
       }
     }
   }
@@ -129,12 +129,10 @@ void Simulator::start_exact_segment() {
   segment_powers_ = it->second.powers.get();
   if (segment_powers_ != nullptr) segment_powers_->start(trajectory_);
   for (std::size_t p = 0; p < config_.size(); ++p) {
-    const GapProperties& gp = model_.gaps[p].properties;
-    const bool relaxing = config_[p] == GapMode::open && memory_[p].released_shortening != 0.0 &&
-                          gp.damping > 0;
-    memory_amplitude_[2 * p] =
-        relaxing ? memory_[p].free_end_shortening(state_.t, gp.stiffness, gp.damping) : 0.0;
-    memory_rate_[2 * p] = relaxing ? gp.stiffness / gp.damping : 0.0;
+    const Relaxation relaxation = with_contact_law<Relaxation>(
+        contact_links_[p], [&](const auto& law) { return law.relaxation(mode(p), memory_[p], state_.t); });
+    memory_amplitude_[2 * p] = relaxation.amplitude;
+    memory_rate_[2 * p] = relaxation.rate;
   }
   expansion_.build(trajectory_, it->second.guard_rows, g_lo_, memory_amplitude_, memory_rate_);
   segment_valid_ = true;

@@ -259,13 +259,21 @@ class Simulator {
   /// is no longer finite.
   void check_finite() const;
   void set_impact_biases();
-  [[nodiscard]] bool is_rigid(int p) const;
+  /// The mode of element p's link.
+  [[nodiscard]] LinkMode mode(std::size_t p) const;
+  /// True when element p's link is rigid in its mode (a locked element).
+  [[nodiscard]] bool is_rigid(std::size_t p) const;
+  /// True when element p's approach guard is its stop (its firing is an impact).
+  [[nodiscard]] bool stop_guard_is_active(std::size_t p) const;
 
   Model model_;
   DofLayout layout_;
   Excitation excitation_;
   TimeHistoryOptions options_;
 
+  /// The links of the gap elements, in Model::gaps order; their laws are contact laws
+  /// (model/laws/contact_law.hpp), asked for guards, events and forces.
+  std::vector<Link> contact_links_;
   std::vector<int> neighbour_left_, neighbour_right_;  ///< DOFs of every NeighbourResponse
   ContactConfiguration config_;
   std::vector<GapMemory> memory_;

@@ -17,9 +17,11 @@
 /// contact and locked, and the relaxation's release; impact losses are booked at the impact.
 
 #include <optional>
+#include <span>
 
 #include "poundsim/model/contact_state.hpp"
 #include "poundsim/model/gap_element.hpp"
+#include "poundsim/model/laws/contact_law.hpp"
 #include "poundsim/model/laws/law_traits.hpp"
 
 namespace poundsim {
@@ -48,13 +50,51 @@ struct PaperGap {
                                      double t) const {
     const double s = gap_mode(mode) == GapMode::open
                          ? memory.free_end_shortening(t, parameters.stiffness, parameters.damping)
-                         : shortening(parameters, d, 0.0);
+                         : poundsim::shortening(parameters, d, 0.0);
     return 0.5 * (parameters.stiffness * s * s);
   }
   /// c ṡ² in contact and locked, 0 open [W] (the relaxation is booked apart).
   [[nodiscard]] double dashpot(LinkMode mode) const {
     return gap_mode(mode) == GapMode::open ? 0.0 : parameters.damping;
   }
+
+  // The contact law (contact_law.hpp). Guard 0 is the approach guard: contact (open, s reaches
+  // the free end s_e), impact (contact, s reaches ε; open with ε = 0) or unlock (locked, λ
+  // returns to 0). Guard 1 is separation in contact: s or F returns to 0.
+
+  /// The mode at rest with d = u_L − u_R: open, or contact when 0 < s < ε. Throws
+  /// std::invalid_argument ("by … m, beyond its allowable shortening … m") when s ≥ ε.
+  [[nodiscard]] LinkMode initial_mode(double d) const;
+  void guards(const LinkKinematics& k, LinkMode mode, const GapMemory& memory,
+              const GuardContext& context, std::span<GuardValue, 2> out) const;
+  [[nodiscard]] GuardForm guard_form(int guard, LinkMode mode, SeparationCriterion separation) const;
+  [[nodiscard]] Relaxation relaxation(LinkMode mode, const GapMemory& memory, double t) const;
+  /// Applies guard `guard` fired at `k`: changes the mode and the memory, or asks for an impact.
+  [[nodiscard]] Transition on_guard(int guard, const LinkKinematics& k, LinkMode& mode,
+                                    GapMemory& memory, SeparationCriterion separation) const;
+  /// F = c ṡ + k s in contact and locked (without the stop reaction), 0 open [N].
+  [[nodiscard]] double force(const LinkKinematics& k, LinkMode mode) const {
+    if (gap_mode(mode) == GapMode::open) return 0.0;
+    return contact_force(parameters, k.ua - k.ub - parameters.gap, k.va - k.vb);
+  }
+  /// s = u_L − u_R − δ [m].
+  [[nodiscard]] double shortening(const LinkKinematics& k) const {
+    return k.ua - k.ub - parameters.gap;
+  }
+  /// The approach guard's value without hysteresis: s − ε in contact, s − s_e open [m].
+  [[nodiscard]] double stop_distance(const LinkKinematics& k, LinkMode mode,
+                                     const GapMemory& memory) const;
+  /// True when guard 0 is the stop (an impact when it fires): in contact, or open with ε = 0.
+  [[nodiscard]] bool stop_guard_is_active(LinkMode mode) const {
+    return gap_mode(mode) == GapMode::contact ||
+           (gap_mode(mode) == GapMode::open && parameters.is_rigid_stop());
+  }
+  /// Round-off level of s [m].
+  [[nodiscard]] double position_noise(const LinkKinematics& k) const;
+  [[nodiscard]] double restitution() const { return parameters.restitution; }
+  [[nodiscard]] static LinkMode locked_mode() { return link_mode(GapMode::locked); }
 };
+
+static_assert(ContactLaw<PaperGap>);
 
 }  // namespace poundsim

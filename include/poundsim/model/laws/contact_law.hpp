@@ -1,0 +1,94 @@
+#pragma once
+/// @file
+/// What a contact law (a law between the floors of neighbouring buildings, with modes and events)
+/// declares to the simulator, besides LawTraits and its linear form: its guards (witness
+/// functions whose crossing of zero from below is an event), their affine form for the exact
+/// integrator, and what happens at each event. The system keeps the algorithms that act on
+/// several links at once — the stop reactions of rigid links, impacts with restitution and the
+/// locking of pairs pressed together — and asks the laws whose traits say has_stop for their
+/// part (stop guard, restitution, the mode a lock and an unlock lead to).
+///
+/// The law's state is its mode (in the contact configuration, which selects the phase) and its
+/// relaxation memory (GapMemory: the free end of a spring and dashpot that separated
+/// compressed). The guard hysteresis after an impact is the event locator's, not the law's: the
+/// simulator subtracts it from the guards the law marks `hysteresis`.
+
+#include <concepts>
+#include <cstdint>
+#include <span>
+
+#include "poundsim/model/contact_state.hpp"
+#include "poundsim/model/laws/law_traits.hpp"
+
+namespace poundsim {
+
+/// The two floors of a link at a state: displacements [m], velocities [m/s], accelerations
+/// [m/s²], all relative to the ground, and the time [s].
+struct LinkKinematics {
+  double ua = 0.0, ub = 0.0;
+  double va = 0.0, vb = 0.0;
+  double aa = 0.0, ab = 0.0;
+  double t = 0.0;
+};
+
+/// What the system supplies to the guards.
+struct GuardContext {
+  SeparationCriterion separation = SeparationCriterion::displacement;
+  double reaction = 0.0;        ///< λ of a rigid link (the stop reaction, compression positive) [N]
+  double reaction_noise = 0.0;  ///< its round-off level [N]
+};
+
+/// One guard at a state: it fires when value − hysteresis − noise > 0.
+struct GuardValue {
+  bool active = false;
+  double value = 0.0;  ///< in the guard's unit (m or N)
+  double rate = 0.0;   ///< its time derivative (NaN when unknown: event location bisects)
+  double noise = 0.0;  ///< its round-off level: within it, the guard is zero
+  bool hysteresis = false;  ///< the simulator subtracts the element's impact hysteresis
+};
+
+/// A guard as an affine function of the link, for the exact integrator:
+/// g = d_coefficient·d + rate_coefficient·ḋ + constant (the constant is taken from the guard's
+/// value at the start of each segment), or λ of the rigid link (reaction), or inactive.
+struct GuardForm {
+  enum class Kind : std::uint8_t { inactive, affine, reaction } kind = Kind::inactive;
+  double d_coefficient = 0.0;
+  double rate_coefficient = 0.0;
+};
+
+/// A relaxing free end in a guard, g = … − amplitude·exp(−rate (t − t₀)), for the exact integrator.
+struct Relaxation {
+  double amplitude = 0.0;  ///< [m] at the segment's start
+  double rate = 0.0;       ///< [1/s]
+};
+
+/// What a fired guard does to its link.
+enum class Transition : std::uint8_t {
+  contact,     ///< the mode changed to contact (event "contact")
+  separation,  ///< the mode changed to open (event "separation")
+  unlock,      ///< a rigid link released (event "unlock")
+  impact,      ///< the stop was reached: the system resolves the impact
+};
+
+/// The interface the simulator uses; PaperGap is the first model of it.
+template <class L>
+concept ContactLaw = requires(const L& law, const LinkKinematics& k, LinkMode mode,
+                              const GapMemory& memory, const GuardContext& context,
+                              std::span<GuardValue, 2> out, LinkMode& mode_out,
+                              GapMemory& memory_out) {
+  { law.initial_mode(0.0) } -> std::same_as<LinkMode>;
+  law.guards(k, mode, memory, context, out);
+  { law.guard_form(0, mode, SeparationCriterion::displacement) } -> std::same_as<GuardForm>;
+  { law.relaxation(mode, memory, 0.0) } -> std::same_as<Relaxation>;
+  { law.on_guard(0, k, mode_out, memory_out, SeparationCriterion::displacement) }
+      -> std::same_as<Transition>;
+  { law.force(k, mode) } -> std::same_as<double>;
+  { law.shortening(k) } -> std::same_as<double>;
+  { law.stop_distance(k, mode, memory) } -> std::same_as<double>;
+  { law.stop_guard_is_active(mode) } -> std::same_as<bool>;
+  { law.position_noise(k) } -> std::same_as<double>;
+  { law.restitution() } -> std::same_as<double>;
+  { law.locked_mode() } -> std::same_as<LinkMode>;
+};
+
+}  // namespace poundsim

@@ -1,0 +1,127 @@
+#include "poundsim/model/laws/paper_gap.hpp"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace poundsim {
+
+namespace {
+// A guard within a few ulps of zero is zero, and zero does not fire: without this floor, a guard
+// that stays at zero for a while (a pair released with ṡ = 0 at the stop) would flicker in the
+// last bit and stall event location.
+constexpr double kNoise = 8 * std::numeric_limits<double>::epsilon();
+}  // namespace
+
+LinkMode PaperGap::initial_mode(double d) const {
+  const double s = d - parameters.gap;
+  if (s <= 0) return link_mode(GapMode::open);
+  if (s >= parameters.shortening) {
+    throw std::invalid_argument(fmt::format("by {} m, beyond its allowable shortening {} m", s,
+                                            parameters.shortening));
+  }
+  return link_mode(GapMode::contact);
+}
+
+double PaperGap::position_noise(const LinkKinematics& k) const {
+  return kNoise * (std::abs(k.ua) + std::abs(k.ub) + parameters.gap + parameters.shortening);
+}
+
+void PaperGap::guards(const LinkKinematics& k, LinkMode mode, const GapMemory& memory,
+                      const GuardContext& context, std::span<GuardValue, 2> out) const {
+  const GapProperties& gp = parameters;
+  const double s = shortening(k);
+  const double rate = k.va - k.vb;
+  const double s_noise = position_noise(k);
+  switch (gap_mode(mode)) {
+    case GapMode::open: {
+      const double se = memory.free_end_shortening(k.t, gp.stiffness, gp.damping);
+      const double se_rate = gp.damping > 0 ? -gp.stiffness / gp.damping * se : 0.0;
+      out[0] = {.active = true, .value = s - se, .rate = rate - se_rate, .noise = s_noise,
+                .hysteresis = true};
+      out[1] = {};
+      return;
+    }
+    case GapMode::contact:
+      out[0] = {.active = true, .value = s - gp.shortening, .rate = rate, .noise = s_noise,
+                .hysteresis = true};
+      if (context.separation == SeparationCriterion::force) {
+        const double accel = k.aa - k.ab;
+        const double f_noise = kNoise * (gp.damping * (std::abs(k.va) + std::abs(k.vb)) +
+                                         gp.stiffness * s_noise / kNoise);
+        out[1] = {.active = true, .value = -contact_force(gp, s, rate),
+                  .rate = -(gp.damping * accel + gp.stiffness * rate), .noise = f_noise};
+      } else {
+        out[1] = {.active = true, .value = -s, .rate = -rate, .noise = s_noise};
+      }
+      return;
+    case GapMode::locked:
+      out[0] = {.active = true, .value = -context.reaction,
+                .rate = std::numeric_limits<double>::quiet_NaN(), .noise = context.reaction_noise};
+      out[1] = {};
+      return;
+  }
+}
+
+GuardForm PaperGap::guard_form(int guard, LinkMode mode, SeparationCriterion separation) const {
+  using Kind = GuardForm::Kind;
+  switch (gap_mode(mode)) {
+    case GapMode::open:
+      if (guard == 0) return {.kind = Kind::affine, .d_coefficient = 1.0};
+      return {};
+    case GapMode::contact:
+      if (guard == 0) return {.kind = Kind::affine, .d_coefficient = 1.0};
+      if (separation == SeparationCriterion::force) {
+        return {.kind = Kind::affine, .d_coefficient = -parameters.stiffness,
+                .rate_coefficient = -parameters.damping};
+      }
+      return {.kind = Kind::affine, .d_coefficient = -1.0};
+    case GapMode::locked:
+      if (guard == 0) return {.kind = Kind::reaction};
+      return {};
+  }
+  return {};
+}
+
+Relaxation PaperGap::relaxation(LinkMode mode, const GapMemory& memory, double t) const {
+  const GapProperties& gp = parameters;
+  const bool relaxing =
+      gap_mode(mode) == GapMode::open && memory.released_shortening != 0.0 && gp.damping > 0;
+  if (!relaxing) return {};
+  return {.amplitude = memory.free_end_shortening(t, gp.stiffness, gp.damping),
+          .rate = gp.stiffness / gp.damping};
+}
+
+Transition PaperGap::on_guard(int guard, const LinkKinematics& k, LinkMode& mode,
+                              GapMemory& memory, SeparationCriterion separation) const {
+  if (guard == 1) {  // separation from contact
+    mode = link_mode(GapMode::open);
+    const double s = shortening(k);
+    memory = separation == SeparationCriterion::force && s > 0 ? GapMemory{s, k.t} : GapMemory{};
+    return Transition::separation;
+  }
+  switch (gap_mode(mode)) {
+    case GapMode::open:
+      if (parameters.is_rigid_stop()) return Transition::impact;
+      mode = link_mode(GapMode::contact);
+      memory = GapMemory{};
+      return Transition::contact;
+    case GapMode::contact: return Transition::impact;
+    case GapMode::locked:
+      mode = link_mode(parameters.is_rigid_stop() ? GapMode::open : GapMode::contact);
+      memory = GapMemory{};
+      return Transition::unlock;
+  }
+  return Transition::impact;
+}
+
+double PaperGap::stop_distance(const LinkKinematics& k, LinkMode mode,
+                               const GapMemory& memory) const {
+  const double s = shortening(k);
+  if (gap_mode(mode) == GapMode::contact) return s - parameters.shortening;
+  return s - memory.free_end_shortening(k.t, parameters.stiffness, parameters.damping);
+}
+
+}  // namespace poundsim
