@@ -68,7 +68,7 @@ EnergyMeter::Powers quadrature(const ExactTrajectory& trajectory, const LinearPh
   EnergyMeter::Powers sum;
   Eigen::VectorXd x, rate;
   KinematicState state;
-  state.u.resize(n);
+  state.u.setZero(n);
   state.v.resize(n);
   const double width = (b - a) / pieces;
   for (int p = 0; p < pieces; ++p) {

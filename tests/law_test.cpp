@@ -42,14 +42,23 @@ TEST(PaperGapLaw, OpenTransmitsNothingContactIsTheSpringAndDashpotLockedIsRigid)
   EXPECT_TRUE(locked.rigid);
   EXPECT_EQ(locked.stiffness, contact.stiffness);
   const PaperGap gap{p};
-  EXPECT_DOUBLE_EQ(gap.stored_energy(0.012, PaperGap::link_mode(GapMode::contact), {}, 0.0),
+  const LinkKinematics pressed{.ua = 0.015, .ub = 0.003, .va = 0.5, .vb = 0.2};
+  EXPECT_DOUBLE_EQ(gap.stored_energy(pressed, PaperGap::link_mode(GapMode::contact), {}),
                    0.5 * 2e5 * 0.002 * 0.002);
+  EXPECT_DOUBLE_EQ(gap.dissipated_power(pressed, PaperGap::link_mode(GapMode::contact)),
+                   300.0 * 0.3 * 0.3);
+  EXPECT_EQ(gap.dissipated_power(pressed, PaperGap::link_mode(GapMode::open)), 0.0);
   // Open and relaxing after a force separation: the free end's shortening s_e(t).
   const GapMemory relaxing{.released_shortening = 0.001, .release_time = 1.0};
   const double se = 0.001 * std::exp(-2e5 / 300.0 * 0.001);
-  EXPECT_NEAR(gap.stored_energy(0.0, PaperGap::link_mode(GapMode::open), relaxing, 1.001),
+  EXPECT_NEAR(gap.stored_energy(LinkKinematics{.t = 1.001}, PaperGap::link_mode(GapMode::open),
+                                relaxing),
               0.5 * 2e5 * se * se, 1e-12 * 0.5 * 2e5 * se * se);  // 1.001 − 1 is not 0.001 exactly
   EXPECT_EQ(gap.dashpot(PaperGap::link_mode(GapMode::open)), 0.0);
+  // What the relaxing spring releases into its dashpot: ½ k (s_e(t0)² − s_e(t1)²).
+  const double se2 = 0.001 * std::exp(-2e5 / 300.0 * 0.002);
+  EXPECT_NEAR(gap.relaxation_release(PaperGap::link_mode(GapMode::open), relaxing, 1.001, 1.002),
+              0.5 * 2e5 * (se * se - se2 * se2), 1e-12 * 0.5 * 2e5 * se * se);
   EXPECT_TRUE(PaperGap::traits.has_stop);
   EXPECT_EQ(PaperGap::traits.energy, EnergyGroup::gap_element);
 }

@@ -2,24 +2,45 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 namespace poundsim {
 
+namespace {
+
+/// The link's floors at `x` (the ground for b = −1); energies need no accelerations.
+template <class L>
+LinkKinematics kinematics_of(const TypedLink<L>& link, const KinematicState& x) {
+  return {.ua = x.u(link.a), .ub = link.b >= 0 ? x.u(link.b) : 0.0,
+          .va = x.v(link.a), .vb = link.b >= 0 ? x.v(link.b) : 0.0, .t = x.t};
+}
+
+template <class L>
+LinkMode mode_in(const TypedLink<L>& link, const ContactConfiguration& config) {
+  return link.element < 0 ? LinkMode{0}
+                          : PaperGap::link_mode(config[static_cast<std::size_t>(link.element)]);
+}
+
+const GapMemory kNoMemory{};
+
+template <class L>
+const GapMemory& memory_of(const TypedLink<L>& link, std::span<const GapMemory> memory) {
+  return link.element < 0 ? kNoMemory : memory[static_cast<std::size_t>(link.element)];
+}
+
+/// The balance term of a law's energy group: storeys or gap elements.
+template <class L>
+double& term(EnergyGroup group, double& storey, double& gap_element) {
+  return group == EnergyGroup::storey ? storey : gap_element;
+}
+
+}  // namespace
+
 EnergyMeter::EnergyMeter(const Model& model, const DofLayout& layout)
-    : model_(&model), layout_(&layout) {
+    : links_(make_links(model, layout)) {
   const int n = layout.size();
   mass_.resize(n);
-  storey_k_.resize(n);
-  storey_c_.resize(n);
-  below_.resize(static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) {
-    const Frame& f = model.frames[layout.frame_of(i)];
-    const int floor = layout.floor_of(i);
-    mass_(i) = f.mass[floor];
-    storey_k_(i) = f.stiffness[floor];
-    storey_c_(i) = f.damping[floor];
-    below_[i] = layout.below(i);
-  }
+  for (int i = 0; i < n; ++i) mass_(i) = model.frames[layout.frame_of(i)].mass[layout.floor_of(i)];
 }
 
 double EnergyMeter::kinetic_energy(const Eigen::VectorXd& v) const {
@@ -29,25 +50,16 @@ double EnergyMeter::kinetic_energy(const Eigen::VectorXd& v) const {
 void EnergyMeter::update_stored(const KinematicState& x, const ContactConfiguration& config,
                                 std::span<const GapMemory> memory) {
   balance_.kinetic = kinetic_energy(x.v);
-  double storey = 0.0;
-  for (Eigen::Index i = 0; i < x.u.size(); ++i) {
-    const int b = below_[static_cast<std::size_t>(i)];
-    const double drift = x.u(i) - (b >= 0 ? x.u(b) : 0.0);
-    storey += storey_k_(i) * drift * drift;
-  }
-  balance_.storey_strain = 0.5 * storey;
-  double gap = 0.0;
-  for (std::size_t p = 0; p < config.size(); ++p) {
-    const GapProperties& g = model_->gaps[p].properties;
-    if (config[p] == GapMode::open) {
-      const double se = memory[p].free_end_shortening(x.t, g.stiffness, g.damping);
-      gap += g.stiffness * se * se;
-    } else {
-      const double s = shortening(g, x.u(layout_->gap_left(p)), x.u(layout_->gap_right(p)));
-      gap += g.stiffness * s * s;
+  double storey = 0.0, gap = 0.0;
+  links_.for_each_law([&](auto links) {
+    for (const auto& link : links) {
+      double& sum = term<decltype(link.law)>(link.law.traits.energy, storey, gap);
+      sum += link.law.stored_energy(kinematics_of(link, x), mode_in(link, config),
+                                    memory_of(link, memory));
     }
-  }
-  balance_.gap_strain = 0.5 * gap;
+  });
+  balance_.storey_strain = storey;
+  balance_.gap_strain = gap;
 }
 
 void EnergyMeter::start(const KinematicState& x, const ContactConfiguration& config,
@@ -64,20 +76,15 @@ void EnergyMeter::step(const KinematicState& x0, const KinematicState& x1,
   const double h = x1.t - x0.t;
   // Trapezoidal work of the ground motion: −Δuᵀ M 1 (a_g0 + a_g1)/2.
   balance_.input -= 0.5 * (x0.ground + x1.ground) * (x1.u - x0.u).dot(mass_);
-  double storey = 0.0;
-  for (Eigen::Index i = 0; i < x1.u.size(); ++i) {
-    const int b = below_[static_cast<std::size_t>(i)];
-    const double rate = 0.5 * (x0.v(i) + x1.v(i) - (b >= 0 ? x0.v(b) + x1.v(b) : 0.0));
-    storey += storey_c_(i) * rate * rate;
-  }
+  double storey = 0.0, gap = 0.0;
+  links_.for_each_law([&](auto links) {
+    for (const auto& link : links) {
+      double& sum = term<decltype(link.law)>(link.law.traits.energy, storey, gap);
+      sum += link.law.trapezoidal_power(kinematics_of(link, x0), kinematics_of(link, x1),
+                                        mode_in(link, config));
+    }
+  });
   balance_.storey_damping += h * storey;
-  double gap = 0.0;
-  for (std::size_t p = 0; p < config.size(); ++p) {
-    if (config[p] == GapMode::open) continue;
-    const int l = layout_->gap_left(p), r = layout_->gap_right(p);
-    const double rate = 0.5 * (x0.v(l) + x1.v(l) - x0.v(r) - x1.v(r));
-    gap += model_->gaps[p].properties.damping * rate * rate;
-  }
   balance_.gap_damping += h * gap;
   add_relaxation(x0, x1, config, memory);
   finish_step(x1, config, memory);
@@ -87,16 +94,13 @@ EnergyMeter::Powers EnergyMeter::powers(const KinematicState& x,
                                         const ContactConfiguration& config) const {
   Powers p;
   p.input = -x.ground * x.v.dot(mass_);
-  for (Eigen::Index i = 0; i < x.v.size(); ++i) {
-    const int b = below_[static_cast<std::size_t>(i)];
-    const double rate = x.v(i) - (b >= 0 ? x.v(b) : 0.0);
-    p.storey_damping += storey_c_(i) * rate * rate;
-  }
-  for (std::size_t e = 0; e < config.size(); ++e) {
-    if (config[e] == GapMode::open) continue;
-    const double rate = x.v(layout_->gap_left(e)) - x.v(layout_->gap_right(e));
-    p.gap_damping += model_->gaps[e].properties.damping * rate * rate;
-  }
+  links_.for_each_law([&](auto links) {
+    for (const auto& link : links) {
+      double& sum =
+          term<decltype(link.law)>(link.law.traits.energy, p.storey_damping, p.gap_damping);
+      sum += link.law.dissipated_power(kinematics_of(link, x), mode_in(link, config));
+    }
+  });
   return p;
 }
 
@@ -115,16 +119,17 @@ PowerForms EnergyMeter::power_forms(const ContactConfiguration& config,
     form(a, b) -= c;
     form(b, a) -= c;
   };
-  for (Eigen::Index i = 0; i < mass_.size(); ++i) {
-    forms.mass(g(static_cast<int>(i))) += mass_(i);
-    const int b = below_[static_cast<std::size_t>(i)];
-    add(forms.storey_damping, g(static_cast<int>(i)), b >= 0 ? g(b) : -1, storey_c_(i));
-  }
-  for (std::size_t e = 0; e < config.size(); ++e) {
-    if (config[e] == GapMode::open) continue;
-    add(forms.gap_damping, g(layout_->gap_left(e)), g(layout_->gap_right(e)),
-        model_->gaps[e].properties.damping);
-  }
+  for (Eigen::Index i = 0; i < mass_.size(); ++i) forms.mass(g(static_cast<int>(i))) += mass_(i);
+  links_.for_each_law([&](auto links) {
+    for (const auto& link : links) {
+      const std::optional<LinearForm> form = link.law.linear_form(mode_in(link, config));
+      if (!form) continue;  // transmits nothing
+      Eigen::MatrixXd& target = link.law.traits.energy == EnergyGroup::storey
+                                    ? forms.storey_damping
+                                    : forms.gap_damping;
+      add(target, g(link.a), link.b >= 0 ? g(link.b) : -1, form->damping);
+    }
+  });
   return forms;
 }
 
@@ -142,13 +147,15 @@ void EnergyMeter::add_relaxation(const KinematicState& x0, const KinematicState&
                                  const ContactConfiguration& config,
                                  std::span<const GapMemory> memory) {
   // A relaxing element dissipates exactly what its spring releases.
-  for (std::size_t p = 0; p < config.size(); ++p) {
-    if (config[p] != GapMode::open || memory[p].released_shortening == 0.0) continue;
-    const GapProperties& g = model_->gaps[p].properties;
-    const double s0 = memory[p].free_end_shortening(x0.t, g.stiffness, g.damping);
-    const double s1 = memory[p].free_end_shortening(x1.t, g.stiffness, g.damping);
-    balance_.gap_damping += 0.5 * g.stiffness * (s0 * s0 - s1 * s1);
-  }
+  links_.for_each_law([&](auto links) {
+    for (const auto& link : links) {
+      const double released = link.law.relaxation_release(
+          mode_in(link, config), memory_of(link, memory), x0.t, x1.t);
+      if (released == 0.0) continue;
+      term<decltype(link.law)>(link.law.traits.energy, balance_.storey_damping,
+                               balance_.gap_damping) += released;
+    }
+  });
 }
 
 void EnergyMeter::finish_step(const KinematicState& x1, const ContactConfiguration& config,

@@ -52,7 +52,7 @@ struct PowerForms {
 /// Accumulates the balance step by step.
 class EnergyMeter {
  public:
-  /// Keeps references to `model` and `layout`, which must outlive the meter.
+  /// Takes the masses and the links (make_links) of `model`.
   EnergyMeter(const Model& model, const DofLayout& layout);
 
   /// Sets E₀ and the stored terms from the initial state.
@@ -109,10 +109,9 @@ class EnergyMeter {
   void finish_step(const KinematicState& x1, const ContactConfiguration& config,
                    std::span<const GapMemory> memory);
 
-  const Model* model_;
-  const DofLayout* layout_;
-  Eigen::VectorXd mass_, storey_k_, storey_c_;
-  std::vector<int> below_;
+  /// The links by law: every sum below asks each link's law (in link order within each law).
+  LinkTable links_;
+  Eigen::VectorXd mass_;
   EnergyBalance balance_;
   double scale_ = 0.0;
   double max_residual_ = 0.0;  ///< [J]

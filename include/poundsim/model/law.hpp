@@ -17,6 +17,9 @@
 /// variant below (docs/architecture.md).
 
 #include <optional>
+#include <span>
+#include <tuple>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
@@ -45,6 +48,48 @@ struct Link {
     return std::visit(
         [mode](const auto& l) -> std::optional<LinearForm> { return l.linear_form(mode); }, law);
   }
+};
+
+/// A link whose law is known at compile time: the entries of a LinkTable.
+template <class L>
+struct TypedLink {
+  int a = 0;
+  int b = -1;
+  int element = -1;
+  L law;
+};
+
+/// The links sorted by law, one array per law of the Law variant (in its order), each in link
+/// order: loops over many links (energy, every step) call each law's functions directly, with no
+/// dispatch per link.
+class LinkTable {
+ public:
+  LinkTable() = default;
+  explicit LinkTable(std::span<const Link> links) {
+    for (const Link& link : links) {
+      std::visit(
+          [&](const auto& law) {
+            using L = std::decay_t<decltype(law)>;
+            std::get<std::vector<TypedLink<L>>>(tables_).push_back(
+                {link.a, link.b, link.element, law});
+          },
+          link.law);
+    }
+  }
+  /// Calls f(links) with the array of each law in turn (std::span<const TypedLink<L>>).
+  template <class F>
+  void for_each_law(F&& f) const {
+    std::apply([&](const auto&... table) { (f(std::span(table)), ...); }, tables_);
+  }
+
+ private:
+  template <class V>
+  struct TablesOf;
+  template <class... L>
+  struct TablesOf<std::variant<L...>> {
+    using type = std::tuple<std::vector<TypedLink<L>>...>;
+  };
+  TablesOf<Law>::type tables_;
 };
 
 }  // namespace poundsim

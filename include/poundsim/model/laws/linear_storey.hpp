@@ -8,6 +8,7 @@
 /// with stored energy ½ K d² and dissipated power C ḋ². One mode, no events. Its parameters are
 /// validated with the frame's (validate(const Frame&)).
 
+#include "poundsim/model/laws/contact_law.hpp"
 #include "poundsim/model/laws/law_traits.hpp"
 
 namespace poundsim {
@@ -28,6 +29,27 @@ struct LinearStorey {
   [[nodiscard]] double stored_energy(double d) const { return 0.5 * (stiffness * d * d); }
   /// C ḋ² [W].
   [[nodiscard]] double dissipated_power(double rate) const { return damping * rate * rate; }
+
+  // The energy interface every law has (dynamics/energy.hpp asks it).
+  [[nodiscard]] double stored_energy(const LinkKinematics& k, LinkMode /*mode*/,
+                                     const GapMemory& /*memory*/) const {
+    return stored_energy(k.ua - k.ub);
+  }
+  [[nodiscard]] double dissipated_power(const LinkKinematics& k, LinkMode /*mode*/) const {
+    return dissipated_power(k.va - k.vb);
+  }
+  /// C ḋ̄² with ḋ̄ the mean of the rates at both ends of a step: the trapezoidal rule, which
+  /// Newmark's average-acceleration scheme satisfies exactly.
+  [[nodiscard]] double trapezoidal_power(const LinkKinematics& k0, const LinkKinematics& k1,
+                                         LinkMode /*mode*/) const {
+    const double rate = 0.5 * (k0.va + k1.va - (k0.vb + k1.vb));
+    return dissipated_power(rate);
+  }
+  /// No relaxing part: 0 [J].
+  [[nodiscard]] double relaxation_release(LinkMode /*mode*/, const GapMemory& /*memory*/,
+                                          double /*t0*/, double /*t1*/) const {
+    return 0.0;
+  }
 };
 
 }  // namespace poundsim

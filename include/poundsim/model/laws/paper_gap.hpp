@@ -45,15 +45,37 @@ struct PaperGap {
             .force_at_zero = -(parameters.stiffness * parameters.gap),
             .rigid = gap_mode(mode) == GapMode::locked};
   }
-  /// Stored energy ½ k s² (contact, locked) or ½ k s_e(t)² (open, relaxing) [J].
-  [[nodiscard]] double stored_energy(double d, LinkMode mode, const GapMemory& memory,
-                                     double t) const {
+  // The energy interface every law has (dynamics/energy.hpp asks it).
+
+  /// ½ k s² (contact, locked) or ½ k s_e(t)² (open, relaxing) [J].
+  [[nodiscard]] double stored_energy(const LinkKinematics& k, LinkMode mode,
+                                     const GapMemory& memory) const {
     const double s = gap_mode(mode) == GapMode::open
-                         ? memory.free_end_shortening(t, parameters.stiffness, parameters.damping)
-                         : poundsim::shortening(parameters, d, 0.0);
+                         ? memory.free_end_shortening(k.t, parameters.stiffness, parameters.damping)
+                         : poundsim::shortening(parameters, k.ua, k.ub);
     return 0.5 * (parameters.stiffness * s * s);
   }
   /// c ṡ² in contact and locked, 0 open [W] (the relaxation is booked apart).
+  [[nodiscard]] double dissipated_power(const LinkKinematics& k, LinkMode mode) const {
+    const double rate = k.va - k.vb;
+    return dashpot(mode) * rate * rate;
+  }
+  /// c ṡ̄² with ṡ̄ the mean of the rates at both ends of a step (the trapezoidal rule).
+  [[nodiscard]] double trapezoidal_power(const LinkKinematics& k0, const LinkKinematics& k1,
+                                         LinkMode mode) const {
+    const double rate = 0.5 * (k0.va + k1.va - k0.vb - k1.vb);
+    return dashpot(mode) * rate * rate;
+  }
+  /// What a relaxing free end's spring releases into its dashpot from t0 to t1, ½ k (s_e0² − s_e1²)
+  /// [J]; 0 when not relaxing.
+  [[nodiscard]] double relaxation_release(LinkMode mode, const GapMemory& memory, double t0,
+                                          double t1) const {
+    if (gap_mode(mode) != GapMode::open || memory.released_shortening == 0.0) return 0.0;
+    const double s0 = memory.free_end_shortening(t0, parameters.stiffness, parameters.damping);
+    const double s1 = memory.free_end_shortening(t1, parameters.stiffness, parameters.damping);
+    return 0.5 * parameters.stiffness * (s0 * s0 - s1 * s1);
+  }
+  /// The dashpot c acting in `mode` [N·s/m]: 0 open.
   [[nodiscard]] double dashpot(LinkMode mode) const {
     return gap_mode(mode) == GapMode::open ? 0.0 : parameters.damping;
   }
