@@ -29,7 +29,6 @@ const GapMemory& memory_of(const TypedLink<L>& link, std::span<const GapMemory> 
 }
 
 /// The balance term of a law's energy group: storeys or gap elements.
-template <class L>
 double& term(EnergyGroup group, double& storey, double& gap_element) {
   return group == EnergyGroup::storey ? storey : gap_element;
 }
@@ -52,11 +51,13 @@ void EnergyMeter::update_stored(const KinematicState& x, const ContactConfigurat
   balance_.kinetic = kinetic_energy(x.v);
   double storey = 0.0, gap = 0.0;
   links_.for_each_law([&](auto links) {
+    if (links.empty()) return;
+    double sum = 0.0;  // in a register: one law's links, in link order
     for (const auto& link : links) {
-      double& sum = term<decltype(link.law)>(link.law.traits.energy, storey, gap);
       sum += link.law.stored_energy(kinematics_of(link, x), mode_in(link, config),
                                     memory_of(link, memory));
     }
+    term(links.front().law.traits.energy, storey, gap) += sum;
   });
   balance_.storey_strain = storey;
   balance_.gap_strain = gap;
@@ -78,11 +79,13 @@ void EnergyMeter::step(const KinematicState& x0, const KinematicState& x1,
   balance_.input -= 0.5 * (x0.ground + x1.ground) * (x1.u - x0.u).dot(mass_);
   double storey = 0.0, gap = 0.0;
   links_.for_each_law([&](auto links) {
+    if (links.empty()) return;
+    double sum = 0.0;
     for (const auto& link : links) {
-      double& sum = term<decltype(link.law)>(link.law.traits.energy, storey, gap);
       sum += link.law.trapezoidal_power(kinematics_of(link, x0), kinematics_of(link, x1),
                                         mode_in(link, config));
     }
+    term(links.front().law.traits.energy, storey, gap) += sum;
   });
   balance_.storey_damping += h * storey;
   balance_.gap_damping += h * gap;
@@ -95,11 +98,12 @@ EnergyMeter::Powers EnergyMeter::powers(const KinematicState& x,
   Powers p;
   p.input = -x.ground * x.v.dot(mass_);
   links_.for_each_law([&](auto links) {
+    if (links.empty()) return;
+    double sum = 0.0;
     for (const auto& link : links) {
-      double& sum =
-          term<decltype(link.law)>(link.law.traits.energy, p.storey_damping, p.gap_damping);
       sum += link.law.dissipated_power(kinematics_of(link, x), mode_in(link, config));
     }
+    term(links.front().law.traits.energy, p.storey_damping, p.gap_damping) += sum;
   });
   return p;
 }
@@ -152,8 +156,7 @@ void EnergyMeter::add_relaxation(const KinematicState& x0, const KinematicState&
       const double released = link.law.relaxation_release(
           mode_in(link, config), memory_of(link, memory), x0.t, x1.t);
       if (released == 0.0) continue;
-      term<decltype(link.law)>(link.law.traits.energy, balance_.storey_damping,
-                               balance_.gap_damping) += released;
+      term(link.law.traits.energy, balance_.storey_damping, balance_.gap_damping) += released;
     }
   });
 }

@@ -30,4 +30,23 @@ inline LinkKinematics kinematics(const KinematicState& x, const Link& link) {
           .aa = x.a(link.a), .ab = x.a(link.b), .t = x.t};
 }
 
+/// The two floors of a typed link at `x` (both floors: contact links join two).
+template <class L>
+LinkKinematics kinematics(const KinematicState& x, const TypedLink<L>& link) {
+  return {.ua = x.u(link.a), .ub = x.u(link.b), .va = x.v(link.a), .vb = x.v(link.b),
+          .aa = x.a(link.a), .ab = x.a(link.b), .t = x.t};
+}
+
+/// Calls f(link) for every link of `table` whose law is a contact law, law by law: the loops
+/// that run every step call the law directly, with no dispatch per link.
+template <class F>
+void for_each_contact_link(const LinkTable& table, F&& f) {
+  table.for_each_law([&](auto links) {
+    using L = std::decay_t<decltype(links.front().law)>;
+    if constexpr (ContactLaw<L>) {
+      for (const auto& link : links) f(link);
+    }
+  });
+}
+
 }  // namespace poundsim::detail

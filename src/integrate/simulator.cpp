@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -15,6 +16,7 @@
 
 namespace poundsim {
 
+using detail::for_each_contact_link;
 using detail::kinematics;
 using detail::with_contact_law;
 
@@ -133,6 +135,7 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
   for (Link& link : make_links(model_, layout_)) {
     if (link.element >= 0) contact_links_.push_back(std::move(link));
   }
+  contact_table_ = LinkTable(contact_links_);
   config_.assign(ng, GapMode::open);
   for (int p = 0; p < gaps; ++p) {
     const Link& link = contact_links_[static_cast<std::size_t>(p)];
@@ -148,6 +151,8 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
     }
   }
   memory_.assign(ng, GapMemory{});
+  transmits_.assign(ng, 0);
+  rigid_.assign(ng, 0);
   bias_.assign(ng, 0.0);
   memory_amplitude_.assign(2 * ng, 0.0);
   memory_rate_.assign(2 * ng, 0.0);
@@ -223,10 +228,7 @@ double Simulator::ground_acceleration_now() const {
 
 LinkMode Simulator::mode(std::size_t p) const { return PaperGap::link_mode(config_[p]); }
 
-bool Simulator::is_rigid(std::size_t p) const {
-  const LinearForm form = contact_links_[p].linear_form(mode(p)).value_or(LinearForm{});
-  return form.rigid;
-}
+bool Simulator::is_rigid(std::size_t p) const { return rigid_[p] != 0; }
 
 double Simulator::shortening(int p) const {
   const Link& link = contact_links_[static_cast<std::size_t>(p)];
@@ -267,6 +269,12 @@ void Simulator::activate_phase() {
   }
   phase_ = it->second.get();
   if (!phase_->is_unreduced()) phase_->set_link_lengths(link_length_);
+  // What each element's law does in its mode, asked once per configuration rather than per step.
+  for (std::size_t p = 0; p < config_.size(); ++p) {
+    const std::optional<LinearForm> form = contact_links_[p].linear_form(mode(p));
+    transmits_[p] = form.has_value();
+    rigid_[p] = form && form->rigid;
+  }
 }
 
 void Simulator::step() { advance_to(grid_origin_ + static_cast<double>(grid_index_ + 1) * options_.dt); }
@@ -355,15 +363,12 @@ void Simulator::evaluate_guards(const KinematicState& x, std::span<double> g,
   // zero is zero, and zero does not fire.
   compute_stop_reactions(x);
   std::array<GuardValue, 2> values;
-  for (std::size_t p = 0; p < config_.size(); ++p) {
-    const Link& link = contact_links_[p];
-    const LinkKinematics k = kinematics(x, link);
+  for_each_contact_link(contact_table_, [&](const auto& link) {
+    const auto p = static_cast<std::size_t>(link.element);
     const GuardContext context{.separation = options_.separation,
                                .reaction = stop_reaction_[p],
                                .reaction_noise = stop_noise_[p]};
-    with_contact_law<void>(link, [&](const auto& law) {
-      law.guards(k, mode(p), memory_[p], context, values);
-    });
+    link.law.guards(kinematics(x, link), mode(p), memory_[p], context, values);
     for (std::size_t i = 0; i < values.size(); ++i) {
       const GuardValue& v = values[i];
       const std::size_t j = 2 * p + i;
@@ -375,7 +380,7 @@ void Simulator::evaluate_guards(const KinematicState& x, std::span<double> g,
       g[j] = (v.hysteresis ? v.value - bias_[p] : v.value) - v.noise;
       dg[j] = v.rate;
     }
-  }
+  });
 }
 
 void Simulator::compute_stop_reactions(const KinematicState& x) {
@@ -492,14 +497,16 @@ void Simulator::check_finite() const {
     const double v = storey_shear(f);
     if (!std::isfinite(v)) fail(fmt::format("the base shear of frame {} ({} N)", f + 1, v));
   }
-  for (std::size_t p = 0; p < config_.size(); ++p) {
-    const double force = gap_force(static_cast<int>(p));
+  for_each_contact_link(contact_table_, [&](const auto& link) {
+    const auto p = static_cast<std::size_t>(link.element);
+    const double law_force = link.law.force(kinematics(state_, link), mode(p));
+    const double force = is_rigid(p) ? law_force + stop_reaction_[p] : law_force;
     if (!std::isfinite(force)) {
       fail(fmt::format("the force of the gap element between frames {} and {} at floor {} ({} N)",
                        model_.gaps[p].left_frame + 1, model_.gaps[p].left_frame + 2,
                        model_.gaps[p].floor + 1, force));
     }
-  }
+  });
   const EnergyBalance& b = energy_.balance();
   for (const auto& [name, value] :
        {std::pair{"the input energy", b.input}, std::pair{"the kinetic energy", b.kinetic},
@@ -531,15 +538,15 @@ void Simulator::record_statistics() {
   for (std::size_t k = 0; k < stats_.neighbours.size(); ++k) {
     stats_.neighbours[k].update(state_.u(neighbour_left_[k]) - state_.u(neighbour_right_[k]), t);
   }
-  for (std::size_t p = 0; p < config_.size(); ++p) {
-    const Link& link = contact_links_[p];
-    if (!link.linear_form(mode(p))) continue;  // transmits nothing
+  for_each_contact_link(contact_table_, [&](const auto& link) {
+    const auto p = static_cast<std::size_t>(link.element);
+    if (!transmits_[p]) return;
     const LinkKinematics k = kinematics(state_, link);
-    const auto [force, s] = with_contact_law<std::pair<double, double>>(
-        link, [&](const auto& law) { return std::pair{law.force(k, mode(p)), law.shortening(k)}; });
+    const double force = link.law.force(k, mode(p));
+    const double s = link.law.shortening(k);
     stats_.gaps[p].force.update(is_rigid(p) ? force + stop_reaction_[p] : force, t);
     if (s > 0) stats_.gaps[p].shortening.update(s, t);
-  }
+  });
 }
 
 void Simulator::emit(int gap, EventKind kind, double left_before, double right_before,

@@ -1,7 +1,5 @@
 #include "poundsim/model/contact_state.hpp"
 
-#include <cmath>
-
 namespace poundsim {
 
 std::string_view to_string(GapMode mode) {
@@ -13,10 +11,5 @@ std::string_view to_string(GapMode mode) {
   return "?";
 }
 
-double GapMemory::free_end_shortening(double t, double stiffness, double damping) const {
-  if (released_shortening == 0.0) return 0.0;
-  if (damping <= 0.0) return 0.0;  // a spring without dashpot recovers at once
-  return released_shortening * std::exp(-stiffness / damping * (t - release_time));
-}
 
 }  // namespace poundsim

@@ -261,7 +261,7 @@ class Simulator {
   void set_impact_biases();
   /// The mode of element p's link.
   [[nodiscard]] LinkMode mode(std::size_t p) const;
-  /// True when element p's link is rigid in its mode (a locked element).
+  /// True when element p's link is rigid in its mode (a locked element); as of activate_phase.
   [[nodiscard]] bool is_rigid(std::size_t p) const;
   /// True when element p's approach guard is its stop (its firing is an impact).
   [[nodiscard]] bool stop_guard_is_active(std::size_t p) const;
@@ -274,6 +274,10 @@ class Simulator {
   /// The links of the gap elements, in Model::gaps order; their laws are contact laws
   /// (model/laws/contact_law.hpp), asked for guards, events and forces.
   std::vector<Link> contact_links_;
+  LinkTable contact_table_;  ///< The same, by law, for the loops of every step.
+  /// Per element, as of the last activate_phase: its law transmits a force in its mode; its link
+  /// is rigid.
+  std::vector<char> transmits_, rigid_;
   std::vector<int> neighbour_left_, neighbour_right_;  ///< DOFs of every NeighbourResponse
   ContactConfiguration config_;
   std::vector<GapMemory> memory_;

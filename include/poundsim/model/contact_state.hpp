@@ -12,6 +12,7 @@
 /// For a rigid stop (ε = 0) there is no contact phase: open ──impact──▶ open or locked, and
 /// unlock returns to open.
 
+#include <cmath>
 #include <cstdint>
 #include <string_view>
 #include <vector>
@@ -44,8 +45,13 @@ enum class SeparationCriterion : std::uint8_t {
 struct GapMemory {
   double released_shortening = 0.0;  ///< s_e at release [m]; 0 when the element is relaxed.
   double release_time = 0.0;         ///< [s]
-  /// Shortening of the element's free end at time t [m] (0 for a plain open element).
-  [[nodiscard]] double free_end_shortening(double t, double stiffness, double damping) const;
+  /// Shortening of the element's free end at time t [m] (0 for a plain open element). Inline:
+  /// every guard evaluation of an open element asks it.
+  [[nodiscard]] double free_end_shortening(double t, double stiffness, double damping) const {
+    if (released_shortening == 0.0) return 0.0;
+    if (damping <= 0.0) return 0.0;  // a spring without dashpot recovers at once
+    return released_shortening * std::exp(-stiffness / damping * (t - release_time));
+  }
 };
 
 }  // namespace poundsim

@@ -8,13 +8,6 @@
 
 namespace poundsim {
 
-namespace {
-// A guard within a few ulps of zero is zero, and zero does not fire: without this floor, a guard
-// that stays at zero for a while (a pair released with ṡ = 0 at the stop) would flicker in the
-// last bit and stall event location.
-constexpr double kNoise = 8 * std::numeric_limits<double>::epsilon();
-}  // namespace
-
 LinkMode PaperGap::initial_mode(double d) const {
   const double s = d - parameters.gap;
   if (s <= 0) return link_mode(GapMode::open);
@@ -23,46 +16,6 @@ LinkMode PaperGap::initial_mode(double d) const {
                                             parameters.shortening));
   }
   return link_mode(GapMode::contact);
-}
-
-double PaperGap::position_noise(const LinkKinematics& k) const {
-  return kNoise * (std::abs(k.ua) + std::abs(k.ub) + parameters.gap + parameters.shortening);
-}
-
-void PaperGap::guards(const LinkKinematics& k, LinkMode mode, const GapMemory& memory,
-                      const GuardContext& context, std::span<GuardValue, 2> out) const {
-  const GapProperties& gp = parameters;
-  const double s = shortening(k);
-  const double rate = k.va - k.vb;
-  const double s_noise = position_noise(k);
-  switch (gap_mode(mode)) {
-    case GapMode::open: {
-      const double se = memory.free_end_shortening(k.t, gp.stiffness, gp.damping);
-      const double se_rate = gp.damping > 0 ? -gp.stiffness / gp.damping * se : 0.0;
-      out[0] = {.active = true, .value = s - se, .rate = rate - se_rate, .noise = s_noise,
-                .hysteresis = true};
-      out[1] = {};
-      return;
-    }
-    case GapMode::contact:
-      out[0] = {.active = true, .value = s - gp.shortening, .rate = rate, .noise = s_noise,
-                .hysteresis = true};
-      if (context.separation == SeparationCriterion::force) {
-        const double accel = k.aa - k.ab;
-        const double f_noise = kNoise * (gp.damping * (std::abs(k.va) + std::abs(k.vb)) +
-                                         gp.stiffness * s_noise / kNoise);
-        out[1] = {.active = true, .value = -contact_force(gp, s, rate),
-                  .rate = -(gp.damping * accel + gp.stiffness * rate), .noise = f_noise};
-      } else {
-        out[1] = {.active = true, .value = -s, .rate = -rate, .noise = s_noise};
-      }
-      return;
-    case GapMode::locked:
-      out[0] = {.active = true, .value = -context.reaction,
-                .rate = std::numeric_limits<double>::quiet_NaN(), .noise = context.reaction_noise};
-      out[1] = {};
-      return;
-  }
 }
 
 GuardForm PaperGap::guard_form(int guard, LinkMode mode, SeparationCriterion separation) const {

@@ -16,6 +16,8 @@
 /// returns to 0. Stored energy ½ k s² (½ k s_e² while relaxing), dissipated power c ṡ² in
 /// contact and locked, and the relaxation's release; impact losses are booked at the impact.
 
+#include <cmath>
+#include <limits>
 #include <optional>
 #include <span>
 
@@ -87,6 +89,7 @@ struct PaperGap {
   /// The mode at rest with d = u_L − u_R: open, or contact when 0 < s < ε. Throws
   /// std::invalid_argument ("by … m, beyond its allowable shortening … m") when s ≥ ε.
   [[nodiscard]] LinkMode initial_mode(double d) const;
+  /// Evaluated at every step and trial: inline.
   void guards(const LinkKinematics& k, LinkMode mode, const GapMemory& memory,
               const GuardContext& context, std::span<GuardValue, 2> out) const;
   [[nodiscard]] GuardForm guard_form(int guard, LinkMode mode, SeparationCriterion separation) const;
@@ -112,10 +115,52 @@ struct PaperGap {
            (gap_mode(mode) == GapMode::open && parameters.is_rigid_stop());
   }
   /// Round-off level of s [m].
-  [[nodiscard]] double position_noise(const LinkKinematics& k) const;
+  [[nodiscard]] double position_noise(const LinkKinematics& k) const {
+    return kNoise * (std::abs(k.ua) + std::abs(k.ub) + parameters.gap + parameters.shortening);
+  }
+  /// A guard within a few ulps of zero is zero, and zero does not fire: without this floor, a
+  /// guard that stays at zero for a while (a pair released with ṡ = 0 at the stop) would flicker
+  /// in the last bit and stall event location.
+  static constexpr double kNoise = 8 * std::numeric_limits<double>::epsilon();
   [[nodiscard]] double restitution() const { return parameters.restitution; }
   [[nodiscard]] static LinkMode locked_mode() { return link_mode(GapMode::locked); }
 };
+
+inline void PaperGap::guards(const LinkKinematics& k, LinkMode mode, const GapMemory& memory,
+                      const GuardContext& context, std::span<GuardValue, 2> out) const {
+  const GapProperties& gp = parameters;
+  const double s = shortening(k);
+  const double rate = k.va - k.vb;
+  const double s_noise = position_noise(k);
+  switch (gap_mode(mode)) {
+    case GapMode::open: {
+      const double se = memory.free_end_shortening(k.t, gp.stiffness, gp.damping);
+      const double se_rate = gp.damping > 0 ? -gp.stiffness / gp.damping * se : 0.0;
+      out[0] = {.active = true, .value = s - se, .rate = rate - se_rate, .noise = s_noise,
+                .hysteresis = true};
+      out[1] = {};
+      return;
+    }
+    case GapMode::contact:
+      out[0] = {.active = true, .value = s - gp.shortening, .rate = rate, .noise = s_noise,
+                .hysteresis = true};
+      if (context.separation == SeparationCriterion::force) {
+        const double accel = k.aa - k.ab;
+        const double f_noise = kNoise * (gp.damping * (std::abs(k.va) + std::abs(k.vb)) +
+                                         gp.stiffness * s_noise / kNoise);
+        out[1] = {.active = true, .value = -contact_force(gp, s, rate),
+                  .rate = -(gp.damping * accel + gp.stiffness * rate), .noise = f_noise};
+      } else {
+        out[1] = {.active = true, .value = -s, .rate = -rate, .noise = s_noise};
+      }
+      return;
+    case GapMode::locked:
+      out[0] = {.active = true, .value = -context.reaction,
+                .rate = std::numeric_limits<double>::quiet_NaN(), .noise = context.reaction_noise};
+      out[1] = {};
+      return;
+  }
+}
 
 static_assert(ContactLaw<PaperGap>);
 
