@@ -78,22 +78,15 @@ json describe_analysis(const RunInput& in) {
   return a;
 }
 
-/// One CSV field, quoted when it holds a comma, a quote or a line break.
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-  std::string out = "\"";
-  for (const char c : s) {
-    if (c == '"') out += '"';
-    out += c;
+/// A parameter's or metric's value as one CSV field (OutputFile::csv_field quotes text).
+void csv_value(OutputFile& f, const json& v) {
+  if (v.is_number()) {
+    f.print("{}", v.get<double>());
+  } else if (v.is_string()) {
+    f.csv_field(v.get<std::string>());
+  } else if (!v.is_null()) {
+    f.csv_field(v.dump());
   }
-  return out + "\"";
-}
-
-std::string csv_value(const json& v) {
-  if (v.is_number()) return fmt::format("{}", v.get<double>());
-  if (v.is_string()) return csv_field(v.get<std::string>());
-  if (v.is_null()) return "";
-  return csv_field(v.dump());
 }
 
 }  // namespace
@@ -398,14 +391,29 @@ void write_study_csv(OutputFile& f, const std::vector<std::string>& parameters,
     for (const auto& [k, v] : r.metrics.items()) metric_keys.insert(k);
   }
   f.text("id,status");
-  for (const std::string& p : parameters) f.print(",{}", csv_field(p));
-  for (const std::string& k : metric_keys) f.print(",{}", k);
+  for (const std::string& p : parameters) {
+    f.character(',');
+    f.csv_field(p);
+  }
+  for (const std::string& k : metric_keys) {
+    f.character(',');
+    f.csv_field(k);
+  }
   f.text(",run_time_s,error\n");
   for (const auto& r : rows) {
-    f.print("{},{}", r.id + 1, r.status);
-    for (const std::string& p : parameters) f.print(",{}", csv_value(r.parameters.value(p, json())));
-    for (const std::string& k : metric_keys) f.print(",{}", csv_value(r.metrics.value(k, json())));
-    f.print(",{},{}\n", r.run_time, csv_field(r.error));
+    f.print("{},", r.id + 1);
+    f.csv_field(r.status);
+    for (const std::string& p : parameters) {
+      f.character(',');
+      csv_value(f, r.parameters.value(p, json()));
+    }
+    for (const std::string& k : metric_keys) {
+      f.character(',');
+      csv_value(f, r.metrics.value(k, json()));
+    }
+    f.print(",{},", r.run_time);
+    f.csv_field(r.error);
+    f.character('\n');
   }
 }
 
