@@ -106,7 +106,7 @@ TEST(Allocation, StepsInALockedPhaseAllocateNothing) {
   Simulator sim(model, RecordExcitation{{0.0, 1000.0}, {-2.0, -2.0}, "constant"},
                 TimeHistoryOptions{.dt = 1e-3});
   sim.advance_to(20.0);
-  ASSERT_EQ(sim.configuration()[0], GapMode::locked);
+  ASSERT_EQ(PaperGap::gap_mode(sim.configuration()[0]), GapMode::locked);
   const auto events = sim.statistics().events;
   const long n = allocations_during([&] { sim.advance_to(30.0); });
   EXPECT_EQ(sim.statistics().events, events);

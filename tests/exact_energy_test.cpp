@@ -97,8 +97,8 @@ TEST(ExactEnergy, ClosedFormMatchesQuadratureOnLinearAndHarmonicPieces) {
   const GapProperties gap{.stiffness = 4000.0, .damping = 6.0, .gap = 0.01, .shortening = 0.02, .restitution = 0.5};
   const Model model = make_model({left, right}, gap);
   const DofLayout layout(model);
-  ContactConfiguration config(model.gap_count(), GapMode::open);
-  config[1] = GapMode::contact;
+  ContactConfiguration config(model.gap_count(), PaperGap::link_mode(GapMode::open));
+  config[1] = PaperGap::link_mode(GapMode::contact);
   const LinearPhase phase(model, layout, config, 1e-3);
   ASSERT_TRUE(phase.is_unreduced());
   const ExactPhase exact(phase);

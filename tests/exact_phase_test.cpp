@@ -147,7 +147,7 @@ TEST(ExactPhase, AStiffNeighbourKeepsTheModalSolution) {
   const Model model = testing::two_oscillators(m, k, 2 * zeta * m * w, m, k * ratio * ratio, 0.0,
                                                GapProperties{.gap = 0.1, .restitution = 0.75});
   const DofLayout layout(model);
-  const LinearPhase phase(model, layout, ContactConfiguration(1, GapMode::open), 1e-3);
+  const LinearPhase phase(model, layout, ContactConfiguration(1, PaperGap::link_mode(GapMode::open)), 1e-3);
   const ExactPhase exact(phase);
   EXPECT_TRUE(exact.modal());
   EXPECT_NEAR(exact.spectral_radius(), w * ratio, 1e-9 * w * ratio);

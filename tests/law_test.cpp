@@ -93,7 +93,7 @@ TEST(Links, PhaseAssemblyAddsEachLinkInItsMode) {
                              GapProperties{.stiffness = 50.0, .damping = 5.0, .gap = 0.01,
                                            .shortening = 0.02});
   const DofLayout layout(m);
-  const LinearPhase contact(m, layout, {GapMode::contact}, 1e-3);
+  const LinearPhase contact(m, layout, {PaperGap::link_mode(GapMode::contact)}, 1e-3);
   const Eigen::MatrixXd k = Eigen::MatrixXd(contact.full_stiffness());
   EXPECT_EQ(k(0, 0), 150.0);
   EXPECT_EQ(k(1, 1), 350.0);
@@ -101,10 +101,10 @@ TEST(Links, PhaseAssemblyAddsEachLinkInItsMode) {
   EXPECT_EQ(Eigen::MatrixXd(contact.full_damping())(1, 1), 7.0);
   EXPECT_DOUBLE_EQ(contact.full_constant_load()(0), 0.5);
   EXPECT_DOUBLE_EQ(contact.full_constant_load()(1), -0.5);
-  const LinearPhase open(m, layout, {GapMode::open}, 1e-3);
+  const LinearPhase open(m, layout, {PaperGap::link_mode(GapMode::open)}, 1e-3);
   EXPECT_EQ(Eigen::MatrixXd(open.full_stiffness())(0, 1), 0.0);
   EXPECT_EQ(open.full_constant_load().norm(), 0.0);
-  const LinearPhase locked(m, layout, {GapMode::locked}, 1e-3);
+  const LinearPhase locked(m, layout, {PaperGap::link_mode(GapMode::locked)}, 1e-3);
   EXPECT_EQ(locked.reduced_size(), 1);  // one group: the rigid link joins the floors
   EXPECT_DOUBLE_EQ(locked.offset()(1), -0.03);  // u_R = u_L − (δ + ε)
 }

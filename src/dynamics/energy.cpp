@@ -17,8 +17,7 @@ LinkKinematics kinematics_of(const TypedLink<L>& link, const KinematicState& x) 
 
 template <class L>
 LinkMode mode_in(const TypedLink<L>& link, const ContactConfiguration& config) {
-  return link.element < 0 ? LinkMode{0}
-                          : PaperGap::link_mode(config[static_cast<std::size_t>(link.element)]);
+  return link.element < 0 ? LinkMode{0} : config[static_cast<std::size_t>(link.element)];
 }
 
 const GapMemory kNoMemory{};

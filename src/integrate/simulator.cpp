@@ -136,13 +136,13 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
     if (link.element >= 0) contact_links_.push_back(std::move(link));
   }
   contact_table_ = LinkTable(contact_links_);
-  config_.assign(ng, GapMode::open);
+  config_.assign(ng, LinkMode{0});
   for (int p = 0; p < gaps; ++p) {
     const Link& link = contact_links_[static_cast<std::size_t>(p)];
     const double d = state_.u(link.a) - state_.u(link.b);
     try {
-      config_[p] = PaperGap::gap_mode(
-          with_contact_law<LinkMode>(link, [&](const auto& law) { return law.initial_mode(d); }));
+      config_[p] =
+          with_contact_law<LinkMode>(link, [&](const auto& law) { return law.initial_mode(d); });
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(fmt::format(
           "initial displacements compress the gap element between frames {} and {} at floor {} {}",
@@ -226,7 +226,7 @@ double Simulator::ground_acceleration_now() const {
   return ground_acceleration(excitation_, state_.t);
 }
 
-LinkMode Simulator::mode(std::size_t p) const { return PaperGap::link_mode(config_[p]); }
+LinkMode Simulator::mode(std::size_t p) const { return config_[p]; }
 
 bool Simulator::is_rigid(std::size_t p) const { return rigid_[p] != 0; }
 
@@ -606,7 +606,7 @@ void Simulator::apply_events(std::span<const double> fired) {
     const Transition transition = with_contact_law<Transition>(link, [&](const auto& law) {
       return law.on_guard(static_cast<int>(j % 2), k, m, memory_[p], options_.separation);
     });
-    config_[p] = PaperGap::gap_mode(m);
+    config_[p] = m;
     switch (transition) {
       case Transition::impact: impacts_.push_back(pi); break;
       case Transition::contact:
@@ -756,8 +756,8 @@ void Simulator::resolve_impacts(const std::vector<int>& fired) {
     if (locking.empty()) break;
     for (const int p : locking) {
       const auto e = static_cast<std::size_t>(p);
-      config_[e] = PaperGap::gap_mode(with_contact_law<LinkMode>(
-          contact_links_[e], [](const auto& law) { return law.locked_mode(); }));
+      config_[e] = with_contact_law<LinkMode>(contact_links_[e],
+                                              [](const auto& law) { return law.locked_mode(); });
       // The link keeps the floors where they are (on the stop, to the event tolerance).
       link_length_[e] = state_.u(contact_links_[e].a) - state_.u(contact_links_[e].b);
     }

@@ -17,6 +17,8 @@
 #include <string_view>
 #include <vector>
 
+#include "poundsim/model/laws/law_traits.hpp"
+
 namespace poundsim {
 
 enum class GapMode : std::uint8_t {
@@ -27,8 +29,9 @@ enum class GapMode : std::uint8_t {
 
 [[nodiscard]] std::string_view to_string(GapMode mode);
 
-/// One mode per gap element, in Model::gaps order. It selects the linear system of the phase.
-using ContactConfiguration = std::vector<GapMode>;
+/// The mode of every gap element's link (its law's LinkMode; for the paper's element a GapMode,
+/// PaperGap::link_mode), in Model::gaps order. It selects the linear system of the phase.
+using ContactConfiguration = std::vector<LinkMode>;
 
 /// How a gap element in contact separates (input key analysis.separation).
 enum class SeparationCriterion : std::uint8_t {

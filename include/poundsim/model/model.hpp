@@ -89,8 +89,7 @@ std::vector<Link> make_links(const Model& model, const DofLayout& layout);
 
 /// The mode of `link` in the contact configuration `config` (storeys have one mode, 0).
 [[nodiscard]] inline LinkMode mode_of(const Link& link, const ContactConfiguration& config) {
-  return link.element < 0 ? LinkMode{0}
-                          : PaperGap::link_mode(config[static_cast<std::size_t>(link.element)]);
+  return link.element < 0 ? LinkMode{0} : config[static_cast<std::size_t>(link.element)];
 }
 
 }  // namespace poundsim
