@@ -159,11 +159,19 @@ TEST(SimulatorLocking, LockedPairReleasesWhenTheStopReactionTurnsTensile) {
   const Excitation ground =
       RecordExcitation{{0.0, 5.0, 5.001, 100.0}, {-pf.push, -pf.push, pf.push, pf.push}, "reversal"};
   Simulator sim(model, ground, TimeHistoryOptions{.dt = 1e-3});
+  // An event handler that asks for the element's force sees the element as the event left it:
+  // a rigid stop that unlocked is open and carries nothing (no stop reaction any more).
+  std::vector<double> force_at_unlock;
+  sim.set_event_handler([&](const Event& e) {
+    if (e.kind == EventKind::unlock) force_at_unlock.push_back(sim.gap_force(e.gap));
+  });
   sim.advance_to(5.0);
   EXPECT_EQ(PaperGap::gap_mode(sim.configuration()[0]), GapMode::locked);
   sim.advance_to(6.0);
   EXPECT_EQ(PaperGap::gap_mode(sim.configuration()[0]), GapMode::open);
   EXPECT_GE(sim.statistics().gaps[0].unlocks, 1);
+  ASSERT_FALSE(force_at_unlock.empty());
+  for (const double f : force_at_unlock) EXPECT_EQ(f, 0.0);
   EXPECT_LT(sim.state().u(0) - sim.state().u(1), 0.02);
 }
 

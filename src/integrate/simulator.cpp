@@ -228,6 +228,13 @@ double Simulator::ground_acceleration_now() const {
 
 LinkMode Simulator::mode(std::size_t p) const { return config_[p]; }
 
+void Simulator::refresh_link_flags(std::size_t p) {
+  // What the element's law does in its mode, asked when the mode changes rather than per step.
+  const std::optional<LinearForm> form = contact_links_[p].linear_form(mode(p));
+  transmits_[p] = form.has_value();
+  rigid_[p] = form && form->rigid;
+}
+
 bool Simulator::is_rigid(std::size_t p) const { return rigid_[p] != 0; }
 
 double Simulator::shortening(int p) const {
@@ -269,12 +276,7 @@ void Simulator::activate_phase() {
   }
   phase_ = it->second.get();
   if (!phase_->is_unreduced()) phase_->set_link_lengths(link_length_);
-  // What each element's law does in its mode, asked once per configuration rather than per step.
-  for (std::size_t p = 0; p < config_.size(); ++p) {
-    const std::optional<LinearForm> form = contact_links_[p].linear_form(mode(p));
-    transmits_[p] = form.has_value();
-    rigid_[p] = form && form->rigid;
-  }
+  for (std::size_t p = 0; p < config_.size(); ++p) refresh_link_flags(p);
 }
 
 void Simulator::step() { advance_to(grid_origin_ + static_cast<double>(grid_index_ + 1) * options_.dt); }
@@ -607,6 +609,7 @@ void Simulator::apply_events(std::span<const double> fired) {
       return law.on_guard(static_cast<int>(j % 2), k, m, memory_[p], options_.separation);
     });
     config_[p] = m;
+    refresh_link_flags(p);  // the event handler below may ask for the element's force
     switch (transition) {
       case Transition::impact: impacts_.push_back(pi); break;
       case Transition::contact:
@@ -637,8 +640,9 @@ double Simulator::stop_guard(std::size_t p) const {
 }
 
 bool Simulator::stop_guard_is_active(std::size_t p) const {
-  return with_contact_law<bool>(contact_links_[p],
-                                [&](const auto& law) { return law.stop_guard_is_active(mode(p)); });
+  return with_contact_law<bool>(contact_links_[p], [&](const auto& law) {
+    return law.traits.has_stop && law.stop_guard_is_active(mode(p));
+  });
 }
 
 void Simulator::resolve_impacts(const std::vector<int>& fired) {

@@ -261,7 +261,9 @@ class Simulator {
   void set_impact_biases();
   /// The mode of element p's link.
   [[nodiscard]] LinkMode mode(std::size_t p) const;
-  /// True when element p's link is rigid in its mode (a locked element); as of activate_phase.
+  /// Sets transmits_ and rigid_ of element p from its law in its mode.
+  void refresh_link_flags(std::size_t p);
+  /// True when element p's link is rigid in its mode (a locked element).
   [[nodiscard]] bool is_rigid(std::size_t p) const;
   /// True when element p's approach guard is its stop (its firing is an impact).
   [[nodiscard]] bool stop_guard_is_active(std::size_t p) const;

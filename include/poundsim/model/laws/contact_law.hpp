@@ -5,13 +5,15 @@
 /// functions whose crossing of zero from below is an event), their affine form for the exact
 /// integrator, and what happens at each event. The system keeps the algorithms that act on
 /// several links at once — the stop reactions of rigid links, impacts with restitution and the
-/// locking of pairs pressed together — and asks the laws whose traits say has_stop for their
-/// part (stop guard, restitution, the mode a lock and an unlock lead to).
+/// locking of pairs pressed together — and asks the laws for their part (stop guard,
+/// restitution, the mode a lock leads to); a law whose traits say has_stop = false never has an
+/// active stop guard.
 ///
 /// The law's state is its mode (in the contact configuration, which selects the phase) and its
 /// relaxation memory (GapMemory: the free end of a spring and dashpot that separated
-/// compressed). The guard hysteresis after an impact is the event locator's, not the law's: the
-/// simulator subtracts it from the guards the law marks `hysteresis`.
+/// compressed). The guard hysteresis after an impact (the simulator's impact bias, which keeps a
+/// pair released a hair past its stop from firing again) is not the law's: the simulator
+/// subtracts it from the guards the law marks `hysteresis`.
 
 #include <concepts>
 #include <cstdint>
@@ -49,7 +51,8 @@ struct GuardValue {
 
 /// A guard as an affine function of the link, for the exact integrator:
 /// g = d_coefficient·d + rate_coefficient·ḋ + constant (the constant is taken from the guard's
-/// value at the start of each segment), or λ of the rigid link (reaction), or inactive.
+/// value at the start of each segment), or −λ with λ the stop reaction of the rigid link
+/// (reaction: an unlock guard), or inactive.
 struct GuardForm {
   enum class Kind : std::uint8_t { inactive, affine, reaction } kind = Kind::inactive;
   double d_coefficient = 0.0;
