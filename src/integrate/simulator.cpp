@@ -132,8 +132,14 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
   load(initial.displacement, state_.u, "displacement");
   load(initial.velocity, state_.v, "velocity");
 
+  first_storey_.resize(static_cast<std::size_t>(model_.frame_count()));
   for (Link& link : make_links(model_, layout_)) {
-    if (link.element >= 0) contact_links_.push_back(std::move(link));
+    if (link.element >= 0) {
+      contact_links_.push_back(std::move(link));
+    } else if (link.b < 0) {  // a first storey, on the ground
+      first_storey_[static_cast<std::size_t>(layout_.frame_of(link.a))] =
+          link.linear_form(0).value_or(LinearForm{});
+    }
   }
   contact_table_ = LinkTable(contact_links_);
   config_.assign(ng, LinkMode{0});
@@ -253,12 +259,13 @@ double Simulator::gap_force(int p) const {
 }
 
 double Simulator::base_shear(int f) const {
-  return model_.frames[f].stiffness[0] * state_.u(layout_.dof(f, 0));
+  return first_storey_[static_cast<std::size_t>(f)].stiffness * state_.u(layout_.dof(f, 0));
 }
 
 double Simulator::storey_shear(int f) const {
   const int d = layout_.dof(f, 0);
-  return model_.frames[f].stiffness[0] * state_.u(d) + model_.frames[f].damping[0] * state_.v(d);
+  const LinearForm& storey = first_storey_[static_cast<std::size_t>(f)];
+  return storey.stiffness * state_.u(d) + storey.damping * state_.v(d);
 }
 
 void Simulator::activate_phase() {
@@ -468,7 +475,8 @@ void Simulator::refine_step_peaks(const KinematicState& next) {
   }
   for (int f = 0; f < model_.frame_count(); ++f) {
     const int d = layout_.dof(f, 0);
-    const double k = model_.frames[f].stiffness[0], c = model_.frames[f].damping[0];
+    const LinearForm& storey = first_storey_[static_cast<std::size_t>(f)];
+    const double k = storey.stiffness, c = storey.damping;
     const auto fi = static_cast<std::size_t>(f);
     refine(stats_.base_shear[fi], k * state_.u(d), k * state_.v(d), k * next.u(d), k * next.v(d));
     refine(stats_.storey_shear[fi], k * state_.u(d) + c * state_.v(d), k * state_.v(d) + c * state_.a(d),

@@ -215,13 +215,13 @@ void Simulator::refine_exact_peaks(const KinematicState& next) {
       if (layout_.floor_of(i) == 0) {
         const int f = layout_.frame_of(i);
         stats_.base_shear[static_cast<std::size_t>(f)].update(
-            model_.frames[static_cast<std::size_t>(f)].stiffness[0] * node_.u(i), node_.t);
+            first_storey_[static_cast<std::size_t>(f)].stiffness * node_.u(i), node_.t);
       }
     }
     if (layout_.floor_of(i) == 0) {
       const int f = layout_.frame_of(i);
-      const double k = model_.frames[static_cast<std::size_t>(f)].stiffness[0];
-      const double c = model_.frames[static_cast<std::size_t>(f)].damping[0];
+      const double k = first_storey_[static_cast<std::size_t>(f)].stiffness;
+      const double c = first_storey_[static_cast<std::size_t>(f)].damping;
       const double sa = k * va + c * state_.a(i), sb = k * vb + c * next.a(i);
       if (sa * sb < 0) {
         extremum([i, k, c](const KinematicState& x) { return k * x.v(i) + c * x.a(i); }, a, b, sa);

@@ -277,6 +277,9 @@ class Simulator {
   /// (model/laws/contact_law.hpp), asked for guards, events and forces.
   std::vector<Link> contact_links_;
   LinkTable contact_table_;  ///< The same, by law, for the loops of every step.
+  /// The linear form of each frame's first storey (its law's, on the ground): V = k u₁ is its
+  /// spring force, k u₁ + c u̇₁ its whole force.
+  std::vector<LinearForm> first_storey_;
   /// Per element, as of the last activate_phase: its law transmits a force in its mode; its link
   /// is rigid.
   std::vector<char> transmits_, rigid_;
