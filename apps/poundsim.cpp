@@ -35,77 +35,6 @@ namespace {
 constexpr int kExitFailure = 1;
 constexpr int kExitBadInput = 2;
 
-void print_report(const nlohmann::json& s, const std::string& out_dir) {
-  fmt::print("poundsim {}: {} ({} s simulated, {} steps, {} events, {:.3f} s)\n",
-             POUNDSIM_VERSION, s["input"].get<std::string>(), s["end_time_s"].get<double>(),
-             s["counts"]["steps"].get<long>(), s["counts"]["events"].get<long>(),
-             s["run_time_s"].get<double>());
-  for (const auto& v : s["peaks"]["base_shear"]) {
-    fmt::print("  frame {}: peak base shear {:.6g} N (V/W1 = {:.4f}) at t = {:.4f} s\n",
-               v["frame"].get<int>(), v["value_N"].get<double>(),
-               v["over_frame1_weight"].get<double>(), v["time"].get<double>());
-  }
-  fmt::print("  impacts {}, max gap force {:.6g} N, max impact impulse {:.6g} N·s\n",
-             s["impacts"].get<int>(), s["max_gap_force_N"].get<double>(),
-             s["max_impact_impulse_Ns"].get<double>());
-  fmt::print("  energy: input {:.6g} J, relative balance residual {:.2e}\n",
-             s["energy"]["input_J"].get<double>(), s["energy"]["max_relative_residual"].get<double>());
-  fmt::print("  wrote {}/history.csv, events.csv, summary.json\n", out_dir);
-}
-
-void print_frf_report(const nlohmann::json& s, const std::string& out_dir) {
-  fmt::print("poundsim {}: {} (frequency response, {} points, {:.3f} s)\n", POUNDSIM_VERSION,
-             s["input"].get<std::string>(), s["analysis"]["points"].get<int>(),
-             s["run_time_s"].get<double>());
-  for (const auto& [branch, b] : s["branches"].items()) {
-    for (const auto& f : b["frames"]) {
-      fmt::print("  {:<4} frame {}: peak V/W {:.4f} at ω̄/ω₁ = {:.3f} (free {:.4f} at {:.3f})\n", branch,
-                 f["frame"].get<int>(), f["peak_V_W"].get<double>(), f["peak_ratio"].get<double>(),
-                 f["peak_free_V_W"].get<double>(), f["peak_free_ratio"].get<double>());
-    }
-  }
-  fmt::print("  wrote {}/frf.csv, summary.json\n", out_dir);
-}
-
-void print_study_report(const nlohmann::json& s, const std::string& out_dir, const std::string& kind) {
-  fmt::print("poundsim {}: {} ({}, {} {}: {} finished, {} of them now, {} failed; {:.3f} s)\n",
-             POUNDSIM_VERSION, s["input"].get<std::string>(), kind, s["points"].get<long>(),
-             kind == "ensemble" ? "records" : "points", s["finished"].get<long>(),
-             s["run_this_time"].get<long>(), s["failed"].get<long>(), s["run_time_s"].get<double>());
-  if (kind == "ensemble" && s.contains("mean")) {
-    for (std::size_t f = 1; s["mean"].contains(fmt::format("peak_V{}_W", f)); ++f) {
-      const std::string key = fmt::format("peak_V{}_W", f), ratio = fmt::format("ratio_to_free_{}", f);
-      fmt::print("  frame {}: peak V/W mean {:.4f}, max {:.4f}; pounding ÷ free mean {:.3f}, max {:.3f}\n", f,
-                 s["mean"][key].get<double>(), s["max"][key].get<double>(), s["mean"][ratio].get<double>(),
-                 s["max"][ratio].get<double>());
-    }
-    fmt::print("  wrote {0}/ensemble.sqlite, ensemble.csv, summary.json{1}\n", out_dir,
-               s["complete"].get<bool>() ? "" : " (incomplete: run again to go on)");
-    return;
-  }
-  if (!s["lowest_max_peak"].is_null()) {
-    const auto& b = s["lowest_max_peak"];
-    fmt::print("  lowest larger peak V/W {:.4f} at point {}: {}\n", b["metrics"]["max_peak_V_W"].get<double>(),
-               b["id"].get<long>(), b["parameters"].dump());
-  }
-  fmt::print("  wrote {}/study.sqlite, study.csv, summary.json{}\n", out_dir,
-             s["complete"].get<bool>() ? "" : " (incomplete: run again to go on)");
-}
-
-void print_optimization_report(const nlohmann::json& s, const std::string& out_dir) {
-  fmt::print("poundsim {}: {} (optimisation, {} evaluations, {:.3f} s)\n", POUNDSIM_VERSION,
-             s["input"].get<std::string>(), s["evaluations"].get<long>(), s["run_time_s"].get<double>());
-  // The optimum and bare pounding by the same measure: the objective's.
-  const auto& objective = s["comparison"]["objective"];
-  const auto metric = objective["metric"].get<std::string>();
-  fmt::print("  objective {}: {} (lower is better)\n", metric, objective["meaning"].get<std::string>());
-  fmt::print("  optimum {}: {} = {:.4f}\n", s["optimum"].dump(), metric, objective["optimum"].get<double>());
-  fmt::print("  bare pounding at the joint width and restitution: {} = {:.4f}\n", metric,
-             objective["bare_pounding"].get<double>());
-  fmt::print("  wrote {}/optimize.json, evaluations.csv{}\n", out_dir,
-             s["analysis"]["each"] == "frf" ? ", optimum_frf.csv, bare_frf.csv" : "");
-}
-
 /// --max-points N: a whole number ≥ 1.
 long parse_max_points(const std::string& text) {
   long n = 0;
@@ -248,27 +177,28 @@ int main(int argc, char** argv) {
       poundsim::io::StudyRunOptions options;
       if (max_points > 0) options.max_points = max_points;
       options.progress = progress;
-      const bool ensemble = input.analysis.kind == "ensemble";
-      const nlohmann::json summary = ensemble ? poundsim::io::run_ensemble(input, out_dir, options)
-                                              : poundsim::io::run_study(input, out_dir, options);
+      const poundsim::io::StudyResult result = input.analysis.kind == "ensemble"
+                                                   ? poundsim::io::run_ensemble(input, out_dir, options)
+                                                   : poundsim::io::run_study(input, out_dir, options);
       bar.finish();
-      if (!quiet) print_study_report(summary, out_dir, ensemble ? "ensemble" : "study");
+      if (!quiet) fmt::print("{}", poundsim::io::report(result, out_dir));
       return 0;
     }
     if (input.analysis.kind == "optimize") {
-      const nlohmann::json summary = poundsim::io::run_optimization(input, out_dir, progress);
+      const poundsim::io::OptimizationResult result = poundsim::io::run_optimization(input, out_dir, progress);
       bar.finish();
-      if (!quiet) print_optimization_report(summary, out_dir);
+      if (!quiet) fmt::print("{}", poundsim::io::report(result, out_dir));
       return 0;
     }
     if (input.analysis.kind == "frf") {
-      const nlohmann::json summary = poundsim::io::run_frequency_response(input, out_dir, progress);
+      const poundsim::io::FrequencyResponseResult result =
+          poundsim::io::run_frequency_response(input, out_dir, progress);
       bar.finish();
-      if (!quiet) print_frf_report(summary, out_dir);
+      if (!quiet) fmt::print("{}", poundsim::io::report(result, out_dir));
       return 0;
     }
-    const nlohmann::json summary = poundsim::io::run_time_history(input, out_dir);
-    if (!quiet) print_report(summary, out_dir);
+    const poundsim::io::TimeHistoryResult result = poundsim::io::run_time_history(input, out_dir);
+    if (!quiet) fmt::print("{}", poundsim::io::report(result, out_dir));
     return 0;
   } catch (const poundsim::InputError& e) {
     fmt::print(stderr, "poundsim: error: {}\n", e.what());

@@ -56,39 +56,64 @@ void write_frf_table(OutputFile& out, const Model& model, const std::vector<FrfP
   }
 }
 
-nlohmann::json summarize_frequency_response(const RunInput& input, const std::vector<FrfPoint>& points,
-                                            double run_time) {
-  using nlohmann::json;
+FrequencyResponseResult frequency_response_result(const RunInput& input, std::vector<FrfPoint> points,
+                                                  double run_time) {
+  FrequencyResponseResult result{.input = input, .points = std::move(points), .branches = {}, .run_time = run_time};
   const Model& model = input.model;
   const double w1 = reference_weight(model);
-  // Peaks of every curve, per branch.
-  std::map<std::string, json> branches;
-  for (const FrfPoint& p : points) {
-    json& b = branches[std::string(to_string(p.branch))];
-    if (b.is_null()) {
-      b = json{{"points", 0}, {"periodicity", json::object()}, {"frames", json::array()}};
-      for (int f = 0; f < model.frame_count(); ++f) {
-        b["frames"].push_back({{"frame", f + 1},
-                               {"peak_V_W", 0.0}, {"peak_ratio", 0.0},
-                               {"peak_free_V_W", 0.0}, {"peak_free_ratio", 0.0}});
+  for (const FrfPoint& p : result.points) {
+    BranchPeaks& b = result.branches[std::string(to_string(p.branch))];
+    b.frames.resize(static_cast<std::size_t>(model.frame_count()));
+    ++b.points;
+    ++b.periodicity[p.periodicity];
+    for (std::size_t f = 0; f < b.frames.size(); ++f) {
+      FramePeaks& fr = b.frames[f];
+      const double v = p.interacting.base_shear[f] / w1;
+      const double vf = p.free.base_shear[f] / w1;
+      if (v > fr.peak_v_w) {
+        fr.peak_v_w = v;
+        fr.peak_ratio = p.ratio;
+      }
+      if (vf > fr.peak_free_v_w) {
+        fr.peak_free_v_w = vf;
+        fr.peak_free_ratio = p.ratio;
       }
     }
-    b["points"] = b["points"].get<int>() + 1;
-    const std::string k = std::to_string(p.periodicity);
-    b["periodicity"][k] = b["periodicity"].value(k, 0) + 1;
-    for (int f = 0; f < model.frame_count(); ++f) {
-      json& fr = b["frames"][static_cast<std::size_t>(f)];
-      const double v = p.interacting.base_shear[static_cast<std::size_t>(f)] / w1;
-      const double vf = p.free.base_shear[static_cast<std::size_t>(f)] / w1;
-      if (v > fr["peak_V_W"].get<double>()) {
-        fr["peak_V_W"] = v;
-        fr["peak_ratio"] = p.ratio;
-      }
-      if (vf > fr["peak_free_V_W"].get<double>()) {
-        fr["peak_free_V_W"] = vf;
-        fr["peak_free_ratio"] = p.ratio;
-      }
+  }
+  return result;
+}
+
+std::string report(const FrequencyResponseResult& r, const std::filesystem::path& out_dir) {
+  std::string text = fmt::format("poundsim {}: {} (frequency response, {} points, {:.3f} s)\n", POUNDSIM_VERSION,
+                                 r.input.source.string(), r.input.frf->ratios.size(), r.run_time);
+  for (const auto& [branch, b] : r.branches) {
+    for (std::size_t f = 0; f < b.frames.size(); ++f) {
+      const FramePeaks& p = b.frames[f];
+      text += fmt::format("  {:<4} frame {}: peak V/W {:.4f} at ω̄/ω₁ = {:.3f} (free {:.4f} at {:.3f})\n", branch,
+                          f + 1, p.peak_v_w, p.peak_ratio, p.peak_free_v_w, p.peak_free_ratio);
     }
+  }
+  text += fmt::format("  wrote {}/frf.csv, summary.json\n", out_dir.string());
+  return text;
+}
+
+nlohmann::json to_json(const FrequencyResponseResult& result) {
+  using nlohmann::json;
+  const RunInput& input = result.input;
+  const Model& model = input.model;
+  const double w1 = reference_weight(model);
+  json branches = json::object();
+  for (const auto& [name, b] : result.branches) {
+    json periodicity = json::object();
+    for (const auto& [k, n] : b.periodicity) periodicity[std::to_string(k)] = n;
+    json frames = json::array();
+    for (std::size_t f = 0; f < b.frames.size(); ++f) {
+      const FramePeaks& p = b.frames[f];
+      frames.push_back({{"frame", f + 1},
+                        {"peak_V_W", p.peak_v_w}, {"peak_ratio", p.peak_ratio},
+                        {"peak_free_V_W", p.peak_free_v_w}, {"peak_free_ratio", p.peak_free_ratio}});
+    }
+    branches[name] = {{"points", b.points}, {"periodicity", periodicity}, {"frames", frames}};
   }
   const FrfSettings& f = *input.frf;
   json frames = json::array();
@@ -118,7 +143,7 @@ nlohmann::json summarize_frequency_response(const RunInput& input, const std::ve
                {"weight1_N", w1},
                {"frames", frames},
                {"branches", branches},
-               {"run_time_s", run_time}};
+               {"run_time_s", result.run_time}};
   if (input.dimensionless) {
     const DimensionlessParameters& d = *input.dimensionless;
     summary["dimensionless"] = {{"lambda2", d.lambda2}, {"alpha", d.alpha}, {"beta", d.beta},
@@ -129,8 +154,8 @@ nlohmann::json summarize_frequency_response(const RunInput& input, const std::ve
   return summary;
 }
 
-nlohmann::json run_frequency_response(const RunInput& input, const std::filesystem::path& out_dir,
-                                      const std::function<void(int, int)>& progress) {
+FrequencyResponseResult run_frequency_response(const RunInput& input, const std::filesystem::path& out_dir,
+                                               const std::function<void(int, int)>& progress) {
   const auto start = std::chrono::steady_clock::now();
   FrequencyResponseOptions options = frequency_response_options(input);
   options.progress = progress;
@@ -142,12 +167,12 @@ nlohmann::json run_frequency_response(const RunInput& input, const std::filesyst
   }
   const double run_time =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const nlohmann::json summary = summarize_frequency_response(input, points, run_time);
+  FrequencyResponseResult result = frequency_response_result(input, std::move(points), run_time);
   OutputTransaction out(out_dir);
-  write_frf_table(out.open("frf.csv"), input.model, points);
-  out.write_json("summary.json", summary);
+  write_frf_table(out.open("frf.csv"), input.model, result.points);
+  out.write_json("summary.json", to_json(result));
   out.commit();
-  return summary;
+  return result;
 }
 
 }  // namespace poundsim::io

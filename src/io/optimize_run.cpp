@@ -133,8 +133,8 @@ std::string run_stage(nlopt::opt& opt, Problem& problem, const std::string& name
 
 }  // namespace
 
-json run_optimization(const RunInput& input, const std::filesystem::path& out_dir,
-                      const std::function<void(int, int)>& progress) {
+OptimizationResult run_optimization(const RunInput& input, const std::filesystem::path& out_dir,
+                                    const std::function<void(int, int)>& progress) {
   if (!input.optimize) throw InputError(fmt::format("{}: no [optimize] table", input.source.string()));
   const OptimizeSettings& s = *input.optimize;
   if (s.variables.empty()) {
@@ -170,7 +170,7 @@ json run_optimization(const RunInput& input, const std::filesystem::path& out_di
     throw InputError(fmt::format("{}: the starting point ({}) is rejected: {}", where, values, first.error));
   }
   nlopt::srand(s.seed);
-  json stages = json::array();
+  std::vector<OptimizationStage> stages;
   if (global) {
     nlopt::opt opt(global_algorithm, n);
     opt.set_lower_bounds(lower);
@@ -179,8 +179,8 @@ json run_optimization(const RunInput& input, const std::filesystem::path& out_di
     const std::size_t before = problem.evaluations().size();
     std::vector<double> g = x;
     const std::string outcome = run_stage(opt, problem, "global", g);
-    stages.push_back({{"stage", "global"}, {"algorithm", s.global_algorithm}, {"outcome", outcome},
-                      {"evaluations", problem.evaluations().size() - before}});
+    stages.push_back({"global", s.global_algorithm, outcome,
+                      static_cast<long>(problem.evaluations().size() - before)});
   }
   if (local) {
     const Evaluation* best = problem.best();
@@ -195,18 +195,16 @@ json run_optimization(const RunInput& input, const std::filesystem::path& out_di
     opt.set_initial_step(step);
     const std::size_t before = problem.evaluations().size();
     const std::string outcome = run_stage(opt, problem, "local", l);
-    stages.push_back({{"stage", "local"}, {"algorithm", s.local_algorithm}, {"outcome", outcome},
-                      {"evaluations", problem.evaluations().size() - before}});
+    stages.push_back({"local", s.local_algorithm, outcome,
+                      static_cast<long>(problem.evaluations().size() - before)});
   }
   const Evaluation* best = problem.best();
   if (best == nullptr) throw SimulationError("optimize: no evaluation succeeded");
 
-  json optimum = json::object();
-  for (unsigned i = 0; i < n; ++i) optimum[s.variables[i].key] = best->x[i];
   OutputTransaction out(out_dir);
   // The optimum's response against bare pounding and the free frames.
   const RunInput best_point = read_point(input, point_values(s, best->x));
-  json comparison{{"optimum", best->metrics}};
+  json bare_metrics;
   if (s.each == "frf") {
     // Both responses are written out, so the bare one's metrics come from the same sweep.
     FrequencyResponseOptions o = frequency_response_options(best_point);
@@ -215,16 +213,10 @@ json run_optimization(const RunInput& input, const std::filesystem::path& out_di
     const Model bare = bare_pounding_model(best_point);
     const std::vector<FrfPoint> bare_response = frequency_response(bare, o);
     write_frf_table(out.open("bare_frf.csv"), bare, bare_response);
-    comparison["bare_pounding"] = frf_metrics(bare, bare_response, s.band_min, s.band_max);
+    bare_metrics = frf_metrics(bare, bare_response, s.band_min, s.band_max);
   } else {
-    comparison["bare_pounding"] = baseline_metrics(best_point, s.threads);
+    bare_metrics = baseline_metrics(best_point, s.threads);
   }
-  // The optimum and bare pounding by the same measure, the one minimised.
-  const auto [metric, meaning] = objective_metric(s.objective);
-  comparison["objective"] = {{"metric", metric},
-                             {"meaning", meaning},
-                             {"optimum", best->objective},
-                             {"bare_pounding", comparison["bare_pounding"].at(metric)}};
   OutputFile& csv = out.open("evaluations.csv");
   csv.text("evaluation,stage");
   for (const OptimizeVariable& v : s.variables) {
@@ -241,23 +233,76 @@ json run_optimization(const RunInput& input, const std::filesystem::path& out_di
     csv.character('\n');
   }
   const double run_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const auto [metric, meaning] = objective_metric(s.objective);
+  OptimizationResult result{.source = input.source,
+                            .title = input.title,
+                            .settings = s,
+                            .optimum = best->x,
+                            .objective = best->objective,
+                            .optimum_metrics = best->metrics,
+                            .bare_metrics = std::move(bare_metrics),
+                            .metric = metric,
+                            .meaning = meaning,
+                            .stages = std::move(stages),
+                            .evaluations = static_cast<long>(problem.evaluations().size()),
+                            .run_time = run_time};
+  out.write_json("optimize.json", to_json(result));
+  out.commit();
+  return result;
+}
+
+namespace {
+/// The optimum as key → value.
+json optimum_values(const OptimizationResult& result) {
+  json optimum = json::object();
+  for (std::size_t i = 0; i < result.settings.variables.size(); ++i) {
+    optimum[result.settings.variables[i].key] = result.optimum[i];
+  }
+  return optimum;
+}
+}  // namespace
+
+json to_json(const OptimizationResult& result) {
+  const OptimizeSettings& s = result.settings;
+  // The optimum and bare pounding by the same measure, the one minimised.
+  const json comparison{{"optimum", result.optimum_metrics},
+                        {"bare_pounding", result.bare_metrics},
+                        {"objective", {{"metric", result.metric},
+                                       {"meaning", result.meaning},
+                                       {"optimum", result.objective},
+                                       {"bare_pounding", result.bare_metrics.at(result.metric)}}}};
+  json stages = json::array();
+  for (const OptimizationStage& g : result.stages) {
+    stages.push_back({{"stage", g.stage}, {"algorithm", g.algorithm}, {"outcome", g.outcome},
+                      {"evaluations", g.evaluations}});
+  }
   json summary{{"poundsim_version", POUNDSIM_VERSION},
-               {"input", input.source.string()},
-               {"title", input.title},
+               {"input", result.source.string()},
+               {"title", result.title},
                {"analysis", {{"kind", "optimize"}, {"each", s.each}, {"objective", s.objective},
                              {"band", {s.band_min, s.band_max}}}},
                {"variables", json::array()},
-               {"optimum", optimum},
-               {"objective", best->objective},
-               {"optimum_metrics", best->metrics},
+               {"optimum", optimum_values(result)},
+               {"objective", result.objective},
+               {"optimum_metrics", result.optimum_metrics},
                {"comparison", comparison},
                {"stages", stages},
-               {"evaluations", problem.evaluations().size()},
-               {"run_time_s", run_time}};
+               {"evaluations", result.evaluations},
+               {"run_time_s", result.run_time}};
   for (const OptimizeVariable& v : s.variables) summary["variables"].push_back({{"key", v.key}, {"min", v.min}, {"max", v.max}});
-  out.write_json("optimize.json", summary);
-  out.commit();
   return summary;
+}
+
+std::string report(const OptimizationResult& r, const std::filesystem::path& out_dir) {
+  std::string text = fmt::format("poundsim {}: {} (optimisation, {} evaluations, {:.3f} s)\n", POUNDSIM_VERSION,
+                                 r.source.string(), r.evaluations, r.run_time);
+  text += fmt::format("  objective {}: {} (lower is better)\n", r.metric, r.meaning);
+  text += fmt::format("  optimum {}: {} = {:.4f}\n", optimum_values(r).dump(), r.metric, r.objective);
+  text += fmt::format("  bare pounding at the joint width and restitution: {} = {:.4f}\n", r.metric,
+                      r.bare_objective());
+  text += fmt::format("  wrote {}/optimize.json, evaluations.csv{}\n", out_dir.string(),
+                      r.settings.each == "frf" ? ", optimum_frf.csv, bare_frf.csv" : "");
+  return text;
 }
 
 }  // namespace poundsim::io

@@ -328,21 +328,18 @@ json baseline_metrics(const RunInput& point, int threads) {
 }
 
 namespace {
-/// Adds to a study's summary from the rows of its whole database before it is written.
-using SummaryExtension = std::function<void(json& summary, const std::vector<StudyDatabase::Row>& rows)>;
-
-json run_points(const RunInput& input, const std::filesystem::path& out_dir, const StudyRunOptions& options,
-                const std::string& stem, const SummaryExtension& extend = {});
+StudyResult run_points(const RunInput& input, const std::filesystem::path& out_dir, const StudyRunOptions& options,
+                       const std::string& stem);
 }
 
-json run_study(const RunInput& input, const std::filesystem::path& out_dir,
-               const StudyRunOptions& options) {
+StudyResult run_study(const RunInput& input, const std::filesystem::path& out_dir,
+                      const StudyRunOptions& options) {
   if (!input.study) throw InputError(fmt::format("{}: no [study] table", input.source.string()));
   return run_points(input, out_dir, options, "study");
 }
 
-json run_ensemble(const RunInput& input, const std::filesystem::path& out_dir,
-                  const StudyRunOptions& options) {
+StudyResult run_ensemble(const RunInput& input, const std::filesystem::path& out_dir,
+                         const StudyRunOptions& options) {
   if (!input.ensemble) throw InputError(fmt::format("{}: no [ensemble] table", input.source.string()));
   // An ensemble is a study over the record file, one time history per record.
   RunInput as_study = input;
@@ -356,13 +353,36 @@ json run_ensemble(const RunInput& input, const std::filesystem::path& out_dir,
   for (const auto& r : input.ensemble->records) records.values.push_back(json(r.string()).dump());
   study.parameters.push_back(std::move(records));
   as_study.study = study;
-  return run_points(as_study, out_dir, options, "ensemble", [](json& summary, const std::vector<StudyDatabase::Row>& rows) {
-    std::vector<json> done;
+  return run_points(as_study, out_dir, options, "ensemble");
+}
+
+json to_json(const StudyResult& result) {
+  const StudySettings& study = result.study;
+  json best;
+  if (result.lowest_max_peak) {
+    const BestPoint& b = *result.lowest_max_peak;
+    best = {{"id", b.id}, {"parameters", b.parameters}, {"metrics", b.metrics}};
+  }
+  json summary{{"poundsim_version", POUNDSIM_VERSION},
+               {"input", result.source.string()},
+               {"title", result.title},
+               {"analysis", {{"kind", result.kind}, {"each", study.each}, {"sampling", study.sampling},
+                             {"band", {study.band_min, study.band_max}}, {"baseline", study.baseline}}},
+               {"parameters", result.parameters},
+               {"points", result.points},
+               {"finished", result.finished},
+               {"failed", result.failed},
+               {"skipped_as_finished", result.skipped_as_finished},
+               {"run_this_time", result.run_this_time},
+               {"complete", result.complete()},
+               {"lowest_max_peak", best},
+               {"database", result.database.string()},
+               {"run_time_s", result.run_time}};
+  if (result.kind == "ensemble") {
     json per_record = json::array();
-    for (const StudyDatabase::Row& r : rows) {
+    for (const StudyDatabase::Row& r : result.rows) {
       json entry{{"record", r.parameters.value("excitation.file", json())}, {"status", r.status}};
       if (r.status == "done") {
-        done.push_back(r.metrics);
         for (const char* k : {"pga_g", "max_peak_V_W", "max_ratio_to_free", "impacts", "max_impact_impulse_Ns"}) {
           entry[k] = r.metrics.value(k, json());
         }
@@ -371,14 +391,40 @@ json run_ensemble(const RunInput& input, const std::filesystem::path& out_dir,
       }
       per_record.push_back(std::move(entry));
     }
-    summary["analysis"]["kind"] = "ensemble";
     summary["records"] = per_record;
-    if (!done.empty()) {
-      const Aggregate all = aggregate(done);
-      summary["mean"] = all.mean;
-      summary["max"] = all.max;
+    if (!result.mean.is_null()) {
+      summary["mean"] = result.mean;
+      summary["max"] = result.max;
     }
-  });
+  }
+  return summary;
+}
+
+std::string report(const StudyResult& r, const std::filesystem::path& out_dir) {
+  const bool ensemble = r.kind == "ensemble";
+  std::string text = fmt::format("poundsim {}: {} ({}, {} {}: {} finished, {} of them now, {} failed; {:.3f} s)\n",
+                                 POUNDSIM_VERSION, r.source.string(), r.kind, r.points, ensemble ? "records" : "points",
+                                 r.finished, r.run_this_time, r.failed, r.run_time);
+  const char* incomplete = r.complete() ? "" : " (incomplete: run again to go on)";
+  if (ensemble) {
+    if (!r.mean.is_null()) {
+      for (std::size_t f = 1; r.mean.contains(fmt::format("peak_V{}_W", f)); ++f) {
+        const std::string key = fmt::format("peak_V{}_W", f), ratio = fmt::format("ratio_to_free_{}", f);
+        text += fmt::format("  frame {}: peak V/W mean {:.4f}, max {:.4f}; pounding ÷ free mean {:.3f}, max {:.3f}\n",
+                            f, r.mean[key].get<double>(), r.max[key].get<double>(), r.mean[ratio].get<double>(),
+                            r.max[ratio].get<double>());
+      }
+    }
+    text += fmt::format("  wrote {}/ensemble.sqlite, ensemble.csv, summary.json{}\n", out_dir.string(), incomplete);
+    return text;
+  }
+  if (r.lowest_max_peak) {
+    const BestPoint& b = *r.lowest_max_peak;
+    text += fmt::format("  lowest larger peak V/W {:.4f} at point {}: {}\n", b.metrics["max_peak_V_W"].get<double>(),
+                        b.id, b.parameters.dump());
+  }
+  text += fmt::format("  wrote {}/study.sqlite, study.csv, summary.json{}\n", out_dir.string(), incomplete);
+  return text;
 }
 
 namespace {
@@ -417,8 +463,8 @@ void write_study_csv(OutputFile& f, const std::vector<std::string>& parameters,
   }
 }
 
-json run_points(const RunInput& input, const std::filesystem::path& out_dir, const StudyRunOptions& options,
-                const std::string& stem, const SummaryExtension& extend) {
+StudyResult run_points(const RunInput& input, const std::filesystem::path& out_dir, const StudyRunOptions& options,
+                       const std::string& stem) {
   const StudySettings& study = *input.study;
   const auto start = std::chrono::steady_clock::now();
   const std::vector<PointValues> all = study_points(study);
@@ -513,41 +559,41 @@ json run_points(const RunInput& input, const std::filesystem::path& out_dir, con
   });
 
   const double run_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  // The whole database, earlier runs included.
-  const std::vector<StudyDatabase::Row> rows = db.rows();
-  json best;
-  int complete = 0, failures = 0;
-  for (const StudyDatabase::Row& r : rows) {
+  StudyResult result;
+  result.kind = stem;
+  result.source = input.source;
+  result.title = input.title;
+  result.study = study;
+  result.parameters = parameter_keys;
+  result.points = static_cast<long>(all.size());
+  result.skipped_as_finished = static_cast<long>(finished.size());
+  result.run_this_time = total;
+  result.database = out_dir / (stem + ".sqlite");
+  result.run_time = run_time;
+  result.rows = db.rows();  // the whole database, earlier runs included
+  std::vector<json> done_metrics;
+  for (const StudyDatabase::Row& r : result.rows) {
+    ++result.finished;
     if (r.status != "done") {
-      ++failures;
+      ++result.failed;
       continue;
     }
-    ++complete;
+    done_metrics.push_back(r.metrics);
     const double objective = r.metrics.value("max_peak_V_W", std::numeric_limits<double>::infinity());
-    if (best.is_null() || objective < best["metrics"]["max_peak_V_W"].get<double>()) {
-      best = {{"id", r.id + 1}, {"parameters", r.parameters}, {"metrics", r.metrics}};
+    if (!result.lowest_max_peak ||
+        objective < result.lowest_max_peak->metrics["max_peak_V_W"].get<double>()) {
+      result.lowest_max_peak = BestPoint{r.id + 1, r.parameters, r.metrics};
     }
   }
-  json summary{{"poundsim_version", POUNDSIM_VERSION},
-               {"input", input.source.string()},
-               {"title", input.title},
-               {"analysis", {{"kind", "study"}, {"each", study.each}, {"sampling", study.sampling},
-                             {"band", {study.band_min, study.band_max}}, {"baseline", study.baseline}}},
-               {"parameters", parameter_keys},
-               {"points", all.size()},
-               {"finished", complete + failures},
-               {"failed", failures},
-               {"skipped_as_finished", finished.size()},
-               {"run_this_time", total},
-               {"complete", complete + failures == static_cast<int>(all.size())},
-               {"lowest_max_peak", best},
-               {"database", (out_dir / (stem + ".sqlite")).string()},
-               {"run_time_s", run_time}};
-  if (extend) extend(summary, rows);
-  out.write_json("summary.json", summary);
-  write_study_csv(out.open(stem + ".csv"), parameter_keys, rows);
+  if (stem == "ensemble" && !done_metrics.empty()) {
+    Aggregate all_records = aggregate(done_metrics);
+    result.mean = std::move(all_records.mean);
+    result.max = std::move(all_records.max);
+  }
+  out.write_json("summary.json", to_json(result));
+  write_study_csv(out.open(stem + ".csv"), parameter_keys, result.rows);
   out.commit();
-  return summary;
+  return result;
 }
 
 }  // namespace

@@ -91,11 +91,64 @@ std::string dof_label(const DofLayout& layout, int dof) {
   return fmt::format("{}_{}", layout.frame_of(dof) + 1, layout.floor_of(dof) + 1);
 }
 
-json summarize(const RunInput& input, const Simulator& sim, const ResponseStatistics* free,
-               double run_time) {
-  const DofLayout& layout = sim.layout();
-  const ResponseStatistics& st = sim.statistics();
-  const Model& model = sim.model();
+int TimeHistoryResult::impacts() const {
+  int n = 0;
+  for (const GapResponse& g : statistics.gaps) n += g.impacts;
+  return n;
+}
+
+double TimeHistoryResult::max_gap_force() const {
+  double m = 0;
+  for (const GapResponse& g : statistics.gaps) m = std::max(m, g.force.value);
+  return m;
+}
+
+double TimeHistoryResult::max_impact_impulse() const {
+  double m = 0;
+  for (const GapResponse& g : statistics.gaps) m = std::max(m, g.impulse.value);
+  return m;
+}
+
+TimeHistoryResult time_history_result(const RunInput& input, const Simulator& sim,
+                                      const ResponseStatistics* free, double run_time) {
+  TimeHistoryResult r{.input = input,
+                      .model = sim.model(),
+                      .layout = sim.layout(),
+                      .options = sim.options(),
+                      .statistics = sim.statistics(),
+                      .free = free != nullptr ? std::optional<ResponseStatistics>(*free) : std::nullopt,
+                      .energy = sim.energy(),
+                      .relative_residual = sim.energy_meter().relative_residual(),
+                      .max_relative_residual = sim.energy_meter().max_relative_residual(),
+                      .end_time = sim.time(),
+                      .run_time = run_time};
+  return r;
+}
+
+std::string report(const TimeHistoryResult& r, const std::filesystem::path& out_dir) {
+  std::string text = fmt::format("poundsim {}: {} ({} s simulated, {} steps, {} events, {:.3f} s)\n",
+                                 POUNDSIM_VERSION, r.input.source.string(), r.end_time, r.statistics.steps,
+                                 r.statistics.events, r.run_time);
+  const double weight1 = reference_weight(r.model);
+  for (int f = 0; f < r.model.frame_count(); ++f) {
+    const Peak& v = r.statistics.base_shear[static_cast<std::size_t>(f)];
+    text += fmt::format("  frame {}: peak base shear {:.6g} N (V/W1 = {:.4f}) at t = {:.4f} s\n", f + 1, v.value,
+                        v.value / weight1, v.time);
+  }
+  text += fmt::format("  impacts {}, max gap force {:.6g} N, max impact impulse {:.6g} N·s\n", r.impacts(),
+                      r.max_gap_force(), r.max_impact_impulse());
+  text += fmt::format("  energy: input {:.6g} J, relative balance residual {:.2e}\n", r.energy.input,
+                      r.max_relative_residual);
+  text += fmt::format("  wrote {}/history.csv, events.csv, summary.json\n", out_dir.string());
+  return text;
+}
+
+json to_json(const TimeHistoryResult& result) {
+  const RunInput& input = result.input;
+  const DofLayout& layout = result.layout;
+  const ResponseStatistics& st = result.statistics;
+  const ResponseStatistics* free = result.free ? &*result.free : nullptr;
+  const Model& model = result.model;
   const double weight1 = reference_weight(model);
 
   json floors = json::array();
@@ -180,14 +233,10 @@ json summarize(const RunInput& input, const Simulator& sim, const ResponseStatis
     }
   }
   json gaps = json::array();
-  int impacts = 0;
-  double max_force = 0, max_impulse = 0, max_impact_velocity = 0;
+  double max_impact_velocity = 0;
   for (int p = 0; p < model.gap_count(); ++p) {
     const GapResponse& g = st.gaps[static_cast<std::size_t>(p)];
     const GapElement& e = model.gaps[static_cast<std::size_t>(p)];
-    impacts += g.impacts;
-    max_force = std::max(max_force, g.force.value);
-    max_impulse = std::max(max_impulse, g.impulse.value);
     max_impact_velocity = std::max(max_impact_velocity, g.impact_velocity.value);
     gaps.push_back({{"frames", {e.left_frame + 1, e.left_frame + 2}},
                     {"floor", e.floor + 1},
@@ -209,7 +258,7 @@ json summarize(const RunInput& input, const Simulator& sim, const ResponseStatis
       }
     }
   }
-  const EnergyBalance& e = sim.energy();
+  const EnergyBalance& e = result.energy;
   json energy{{"initial_J", e.initial},
               {"input_J", e.input},
               {"kinetic_J", e.kinetic},
@@ -219,9 +268,9 @@ json summarize(const RunInput& input, const Simulator& sim, const ResponseStatis
               {"gap_damping_J", e.gap_damping},
               {"impact_loss_J", e.impact_loss},
               {"residual_J", e.residual()},
-              {"relative_residual", sim.energy_meter().relative_residual()},
-              {"max_relative_residual", sim.energy_meter().max_relative_residual()}};
-  const TimeHistoryOptions& o = sim.options();
+              {"relative_residual", result.relative_residual},
+              {"max_relative_residual", result.max_relative_residual}};
+  const TimeHistoryOptions& o = result.options;
   json analysis{{"kind", input.analysis.kind},
                 {"integrator", input.analysis.integrator},
                 {"duration_s", input.analysis.duration},
@@ -236,13 +285,13 @@ json summarize(const RunInput& input, const Simulator& sim, const ResponseStatis
               {"analysis", analysis},
               {"model", describe_model(input)},
               {"excitation", describe_excitation(input.excitation_info)},
-              {"end_time_s", sim.time()},
+              {"end_time_s", result.end_time},
               {"peaks", {{"floors", floors}, {"base_shear", shears}}},
               {"separation", separation},
               {"gap_elements", gaps},
-              {"impacts", impacts},
-              {"max_gap_force_N", max_force},
-              {"max_impact_impulse_Ns", max_impulse},
+              {"impacts", result.impacts()},
+              {"max_gap_force_N", result.max_gap_force()},
+              {"max_impact_impulse_Ns", result.max_impact_impulse()},
               {"max_impact_velocity_m_s", max_impact_velocity},
               {"energy", energy},
               {"counts",
@@ -251,10 +300,10 @@ json summarize(const RunInput& input, const Simulator& sim, const ResponseStatis
                 {"guard_evaluations", st.guard_evaluations},
                 {"events", st.events},
                 {"phases_factorised", st.phases_factorised}}},
-              {"run_time_s", run_time}};
+              {"run_time_s", result.run_time}};
 }
 
-json run_time_history(const RunInput& input, const std::filesystem::path& out_dir) {
+TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem::path& out_dir) {
   const auto start = std::chrono::steady_clock::now();
   std::unique_ptr<Simulator> sim;
   try {
@@ -344,10 +393,10 @@ json run_time_history(const RunInput& input, const std::filesystem::path& out_di
   }
   const double run_time =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const json summary = summarize(input, *sim, free ? &*free : nullptr, run_time);
-  out.write_json("summary.json", summary);
+  TimeHistoryResult result = time_history_result(input, *sim, free ? &*free : nullptr, run_time);
+  out.write_json("summary.json", to_json(result));
   out.commit();
-  return summary;
+  return result;
 }
 
 }  // namespace poundsim::io

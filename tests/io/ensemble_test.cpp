@@ -40,8 +40,8 @@ TEST(Ensemble, MeanAndMaximumOverTheRecords) {
   StudyRunOptions first;
   first.max_points = 1;
   const RunInput in = read(ensemble_input("ensemble"));
-  EXPECT_FALSE(run_ensemble(in, dir, first)["complete"].get<bool>());
-  const nlohmann::json s = run_ensemble(in, dir);
+  EXPECT_FALSE(run_ensemble(in, dir, first).complete());
+  const nlohmann::json s = to_json(run_ensemble(in, dir));
   ASSERT_TRUE(s["complete"].get<bool>());
   ASSERT_EQ(s["records"].size(), 3u);
   const auto rows = StudyDatabase(dir / "ensemble.sqlite").rows();

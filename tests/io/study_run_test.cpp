@@ -104,16 +104,16 @@ TEST(StudyPoints, GridListAndRandomSampling) {
 TEST(StudyRun, ResumesWithoutLosingOrRepeatingPoints) {
   const RunInput in = read(kStudy);
   const fs::path whole = fresh("whole"), parts = fresh("parts");
-  const nlohmann::json all = run_study(in, whole);
+  const nlohmann::json all = to_json(run_study(in, whole));
   EXPECT_TRUE(all["complete"].get<bool>());
   EXPECT_EQ(all["finished"], 9);
 
   StudyRunOptions some;
   some.max_points = 4;
-  const nlohmann::json first = run_study(in, parts, some);
+  const nlohmann::json first = to_json(run_study(in, parts, some));
   EXPECT_FALSE(first["complete"].get<bool>());
   EXPECT_EQ(first["finished"], 4);
-  const nlohmann::json rest = run_study(in, parts);
+  const nlohmann::json rest = to_json(run_study(in, parts));
   EXPECT_TRUE(rest["complete"].get<bool>());
   EXPECT_EQ(rest["skipped_as_finished"], 4);
   EXPECT_EQ(rest["run_this_time"], 5);
@@ -274,8 +274,15 @@ key = "model.dimensionless.delta"
 values = [0.25, 100.0]
 )";
   const fs::path dir = fresh("time_history");
-  const nlohmann::json s = run_study(read(text), dir);
+  const StudyResult result = run_study(read(text), dir);
+  const nlohmann::json s = to_json(result);
   EXPECT_EQ(s["finished"], 2);
+  EXPECT_EQ(nlohmann::json::parse(std::ifstream(dir / "summary.json")), s);  // written from the result
+  ASSERT_TRUE(result.lowest_max_peak);
+  // The best point is the finished one with the lower larger peak V/W.
+  EXPECT_EQ(result.lowest_max_peak->metrics["max_peak_V_W"].get<double>(),
+            std::min(result.rows[0].metrics["max_peak_V_W"].get<double>(),
+                     result.rows[1].metrics["max_peak_V_W"].get<double>()));
   const auto rows = StudyDatabase(dir / "study.sqlite").rows();
   ASSERT_EQ(rows.size(), 2u);
   const nlohmann::json& close = rows[0].metrics;
@@ -314,7 +321,10 @@ start = 0.1
 )";
   const fs::path dir = fresh("optimize");
   const RunInput in = read(text);
-  const nlohmann::json s = run_optimization(in, dir);
+  const OptimizationResult result = run_optimization(in, dir);
+  const nlohmann::json s = to_json(result);
+  EXPECT_EQ(nlohmann::json::parse(std::ifstream(dir / "optimize.json")), s);  // written from the result
+  EXPECT_EQ(result.bare_objective(), s["comparison"]["objective"]["bare_pounding"].get<double>());
   const double best = s["objective"].get<double>();
   const double bare = s["comparison"]["bare_pounding"]["max_peak_V_W"].get<double>();
   EXPECT_LT(best, 0.8 * bare);
@@ -342,7 +352,7 @@ start = 0.1
   EXPECT_TRUE(fs::exists(dir / "optimum_frf.csv"));
   EXPECT_TRUE(fs::exists(dir / "bare_frf.csv"));
   // Deterministic: the same optimum again.
-  const nlohmann::json again = run_optimization(in, fresh("optimize_again"));
+  const nlohmann::json again = to_json(run_optimization(in, fresh("optimize_again")));
   EXPECT_EQ(again["optimum"], s["optimum"]);
   EXPECT_EQ(again["objective"], s["objective"]);
   fs::remove_all(dir);

@@ -5,6 +5,10 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <fmt/format.h>
 
 #include <gtest/gtest.h>
 
@@ -51,7 +55,7 @@ output_dt = 0.1
   const fs::path records = fs::path(POUNDSIM_SOURCE_DIR) / "data" / "ground_motions";
   const RunInput input = read_input_string(text, "two.toml", records);
   const fs::path out = fs::temp_directory_path() / "poundsim_th_summary";
-  const nlohmann::json s = run_time_history(input, out);
+  const nlohmann::json s = to_json(run_time_history(input, out));
   ASSERT_EQ(s["separation"].size(), 1u);
   const auto& sep = s["separation"][0];
   const double min_gap = sep["min_gap_m"].get<double>();
@@ -81,6 +85,35 @@ output_dt = 0.1
   }
   EXPECT_NEAR(s["excitation"]["pga_g"].get<double>(), 0.4, 1e-12);
   EXPECT_EQ(s["excitation"]["format"], "at2");
+  fs::remove_all(out);
+}
+
+
+// The run returns its findings typed; summary.json and the console report are both written from
+// them (the program never reads its own JSON). The impacts it counts are the rows of events.csv.
+TEST(TimeHistoryResult, SummaryAndReportAreWrittenFromIt) {
+  const fs::path example = fs::path(POUNDSIM_SOURCE_DIR) / "examples" / "free_vibration_impact.toml";
+  const fs::path out = fs::temp_directory_path() / "poundsim_th_result";
+  const TimeHistoryResult r = run_time_history(read_input(example), out);
+  std::ifstream summary(out / "summary.json");
+  EXPECT_EQ(nlohmann::json::parse(summary), to_json(r));
+
+  std::ifstream events(out / "events.csv");
+  std::string line;
+  int impact_rows = 0;
+  while (std::getline(events, line)) impact_rows += line.find(",impact,") != std::string::npos ? 1 : 0;
+  EXPECT_EQ(r.impacts(), impact_rows);
+  EXPECT_EQ(r.impacts(), 14);  // the example's two frames released against each other, e = 0.65
+  EXPECT_EQ(r.statistics.events, 14);
+  EXPECT_EQ(r.energy.input, 0.0);  // free vibration: no ground motion
+  EXPECT_LT(r.max_relative_residual, 1e-12);
+
+  const std::string text = report(r, out);
+  const Peak& v1 = r.statistics.base_shear[0];
+  EXPECT_NE(text.find(fmt::format("frame 1: peak base shear {:.6g} N", v1.value)), std::string::npos) << text;
+  EXPECT_NE(text.find(fmt::format("impacts 14, max gap force 0 N, max impact impulse {:.6g} N·s",
+                                  r.max_impact_impulse())), std::string::npos) << text;
+  EXPECT_NE(text.find(fmt::format("wrote {}/history.csv", out.string())), std::string::npos) << text;
   fs::remove_all(out);
 }
 

@@ -5,6 +5,9 @@
 
 #include <filesystem>
 #include <functional>
+#include <map>
+#include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -14,19 +17,49 @@
 
 namespace poundsim::io {
 
+/// The peaks of one frame's curves on one branch of a frequency response.
+struct FramePeaks {
+  double peak_v_w = 0;          ///< Largest V/W₁ with the gap elements.
+  double peak_ratio = 0;        ///< ω̄/ω₁ where it is.
+  double peak_free_v_w = 0;     ///< Largest V/W₁ of the frame alone.
+  double peak_free_ratio = 0;   ///< ω̄/ω₁ where that is.
+};
+
+/// The points of one branch (from rest, up, down): how many, of which periodicity, the peaks.
+struct BranchPeaks {
+  int points = 0;
+  std::map<int, int> periodicity;  ///< Periodicity (1 for period-1, 0 for not periodic) → points.
+  std::vector<FramePeaks> frames;  ///< Per frame.
+};
+
+/// What a frequency-response run found, typed: summary.json (to_json) and the console report
+/// (report) are both written from it.
+struct FrequencyResponseResult {
+  RunInput input;                  ///< What was run.
+  std::vector<FrfPoint> points;    ///< In the order of the ratios (and branches).
+  std::map<std::string, BranchPeaks> branches;  ///< By branch name.
+  double run_time = 0;             ///< [s] wall clock, reported as is.
+};
+
 /// Runs the [frf] analysis of `input` and writes its files into `out_dir`; `progress` (may be
-/// empty) is called after every point. Returns the summary that was written.
-nlohmann::json run_frequency_response(const RunInput& input, const std::filesystem::path& out_dir,
-                                      const std::function<void(int, int)>& progress = {});
+/// empty) is called after every point. Returns what it found.
+FrequencyResponseResult run_frequency_response(const RunInput& input, const std::filesystem::path& out_dir,
+                                               const std::function<void(int, int)>& progress = {});
+
+/// The result of the frequency response `points` of `input`: the peaks of every curve per branch.
+FrequencyResponseResult frequency_response_result(const RunInput& input, std::vector<FrfPoint> points,
+                                                  double run_time);
+
+/// summary.json (docs/output.md).
+nlohmann::json to_json(const FrequencyResponseResult& result);
+
+/// The console report: the peaks per branch and frame, the files written into `out_dir`.
+std::string report(const FrequencyResponseResult& result, const std::filesystem::path& out_dir);
 
 /// The options of the library call that `input` describes.
 FrequencyResponseOptions frequency_response_options(const RunInput& input);
 
 /// Writes the frf.csv table: ratio, V<f>_W…, V<f>_free_W…, periodicity, then the rest.
 void write_frf_table(OutputFile& out, const Model& model, const std::vector<FrfPoint>& points);
-
-/// Summary of a frequency response: peaks of every curve, periodicities, run time.
-nlohmann::json summarize_frequency_response(const RunInput& input, const std::vector<FrfPoint>& points,
-                                            double run_time);
 
 }  // namespace poundsim::io

@@ -8,6 +8,8 @@
 
 #include <filesystem>
 #include <functional>
+#include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -15,10 +17,45 @@
 
 namespace poundsim::io {
 
+/// One NLopt stage as it ran.
+struct OptimizationStage {
+  std::string stage;        ///< "global" or "local".
+  std::string algorithm;    ///< NLopt's name, e.g. GN_DIRECT_L.
+  std::string outcome;      ///< NLopt's result, e.g. MAXEVAL_REACHED.
+  long evaluations = 0;
+};
+
+/// What an optimisation found, typed: optimize.json (to_json) and the console report (report)
+/// are both written from it. Metrics are name → value maps, the study table's (docs/studies.md).
+struct OptimizationResult {
+  std::filesystem::path source;     ///< The input file.
+  std::string title;
+  OptimizeSettings settings;        ///< As run.
+  std::vector<double> optimum;      ///< Per design variable, in the order of settings.variables.
+  double objective = 0;             ///< The objective at the optimum.
+  nlohmann::json optimum_metrics;   ///< Every metric of the optimum.
+  nlohmann::json bare_metrics;      ///< The same metrics of bare pounding at the optimum's joints.
+  std::string metric;               ///< The metric minimised (e.g. max_peak_V_W) …
+  std::string meaning;              ///< … and what it measures.
+  std::vector<OptimizationStage> stages;
+  long evaluations = 0;
+  double run_time = 0;              ///< [s] wall clock, reported as is.
+
+  /// The minimised metric of bare pounding, to compare with `objective`.
+  [[nodiscard]] double bare_objective() const { return bare_metrics.at(metric).get<double>(); }
+};
+
 /// Runs the optimisation of `input` and writes optimize.json, evaluations.csv and, for a
 /// frequency-response objective, optimum_frf.csv and bare_frf.csv into `out_dir`.
 /// `progress` is called after every evaluation with (evaluations, budget).
-nlohmann::json run_optimization(const RunInput& input, const std::filesystem::path& out_dir,
-                                const std::function<void(int, int)>& progress = {});
+OptimizationResult run_optimization(const RunInput& input, const std::filesystem::path& out_dir,
+                                    const std::function<void(int, int)>& progress = {});
+
+/// optimize.json (docs/studies.md).
+nlohmann::json to_json(const OptimizationResult& result);
+
+/// The console report: the optimum against bare pounding by the objective's metric, the files
+/// written into `out_dir`.
+std::string report(const OptimizationResult& result, const std::filesystem::path& out_dir);
 
 }  // namespace poundsim::io

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "poundsim/io/input.hpp"
+#include "poundsim/io/study_database.hpp"
 
 namespace poundsim::io {
 
@@ -56,16 +57,55 @@ struct StudyRunOptions {
   std::function<void(int, int)> progress;       ///< (done, to do) after every point.
 };
 
+/// The finished point with the lowest max_peak_V_W.
+struct BestPoint {
+  long id = 0;                   ///< 1-based, as in study.csv.
+  nlohmann::json parameters;     ///< Key → value of its overrides.
+  nlohmann::json metrics;        ///< Metric name → value (docs/studies.md).
+};
+
+/// What a study or an ensemble run found, typed: summary.json (to_json) and the console report
+/// (report) are both written from it. The parameters and metrics of a point stay name → value
+/// maps: they are the columns of the study table, which the input chooses.
+struct StudyResult {
+  std::string kind;                       ///< "study" or "ensemble".
+  std::filesystem::path source;           ///< The input file.
+  std::string title;
+  StudySettings study;                    ///< As run (an ensemble's: a list over its records).
+  std::vector<std::string> parameters;    ///< The keys varied, in order.
+  long points = 0;                        ///< In the whole study.
+  long finished = 0;                      ///< Done or failed, earlier runs included.
+  long failed = 0;
+  long skipped_as_finished = 0;           ///< Finished by earlier runs, so not run now.
+  long run_this_time = 0;
+  std::optional<BestPoint> lowest_max_peak;
+  std::filesystem::path database;         ///< study.sqlite or ensemble.sqlite.
+  double run_time = 0;                    ///< [s] wall clock of this run, reported as is.
+  std::vector<StudyDatabase::Row> rows;   ///< The whole database, by id.
+
+  [[nodiscard]] bool complete() const { return finished == points; }
+  /// Ensembles: the mean and the maximum of every numeric metric over the finished records
+  /// (objects metric → value); null when no record finished.
+  nlohmann::json mean, max;
+};
+
 /// Runs the study of `input` into `out_dir`: study.sqlite (resumable), then study.csv and
-/// summary.json. Returns the summary.
-nlohmann::json run_study(const RunInput& input, const std::filesystem::path& out_dir,
-                         const StudyRunOptions& options = {});
+/// summary.json. Returns what it found.
+StudyResult run_study(const RunInput& input, const std::filesystem::path& out_dir,
+                      const StudyRunOptions& options = {});
 
 /// Runs an ensemble (analysis.kind = "ensemble"): one time history per record, in parallel,
 /// into `out_dir`: ensemble.sqlite (resumable), ensemble.csv, and summary.json with the
 /// per-record results and the mean and maximum of every metric over the records.
-nlohmann::json run_ensemble(const RunInput& input, const std::filesystem::path& out_dir,
-                            const StudyRunOptions& options = {});
+StudyResult run_ensemble(const RunInput& input, const std::filesystem::path& out_dir,
+                         const StudyRunOptions& options = {});
+
+/// summary.json of a study or an ensemble (docs/studies.md).
+nlohmann::json to_json(const StudyResult& result);
+
+/// The console report: points run, the best point (a study) or the per-frame means and maxima
+/// (an ensemble), the files written into `out_dir`.
+std::string report(const StudyResult& result, const std::filesystem::path& out_dir);
 
 /// Writes the points of a study database as CSV: id, status, parameters, metrics, error, run time.
 void export_study(const std::filesystem::path& database, const std::filesystem::path& csv);
