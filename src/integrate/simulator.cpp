@@ -21,6 +21,18 @@ using detail::kinematics;
 using detail::with_contact_law;
 
 namespace {
+
+/// The linear form of each frame's first storey (its law's, on the ground): V = k u₁ is its
+/// spring force, k u₁ + c u̇₁ its whole force.
+std::vector<LinearForm> first_storey_forms(const Model& model, const DofLayout& layout) {
+  std::vector<LinearForm> forms(static_cast<std::size_t>(model.frame_count()));
+  for (const Link& link : make_links(model, layout)) {
+    if (link.element < 0 && link.b < 0) {
+      forms[static_cast<std::size_t>(layout.frame_of(link.a))] = link.linear_form(0).value_or(LinearForm{});
+    }
+  }
+  return forms;
+}
 constexpr double kInactive = -std::numeric_limits<double>::infinity();
 /// The closing speed u̇_L − u̇_R of a pair counts only above this fraction of |u̇_L| + |u̇_R|: below
 /// it, it is the round-off of equal velocities computed apart, or the remainder of the
@@ -82,7 +94,7 @@ class Simulator::TrialEvaluator final : public GuardEvaluator {
   void evaluate(double tau, GuardSample out) override {
     sim_.trial_step(tau, false, sim_.trial_);
     sim_.evaluate_guards(sim_.trial_, out.value, out.rate);
-    ++sim_.stats_.guard_evaluations;
+    ++sim_.monitor_.counts().guard_evaluations;
   }
   void keep_trial_as_upper() override { std::swap(sim_.trial_, sim_.upper_); }
 
@@ -97,7 +109,8 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
       excitation_(std::move(excitation)),
       options_(options),
       newmark_(layout_.size()),
-      energy_(model_, layout_) {
+      energy_(model_, layout_),
+      monitor_(model_, layout_, first_storey_forms(model_, layout_)) {
   options_.validate();
   validate(excitation_);
   const int n = layout_.size();
@@ -132,14 +145,8 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
   load(initial.displacement, state_.u, "displacement");
   load(initial.velocity, state_.v, "velocity");
 
-  first_storey_.resize(static_cast<std::size_t>(model_.frame_count()));
   for (Link& link : make_links(model_, layout_)) {
-    if (link.element >= 0) {
-      contact_links_.push_back(std::move(link));
-    } else if (link.b < 0) {  // a first storey, on the ground
-      first_storey_[static_cast<std::size_t>(layout_.frame_of(link.a))] =
-          link.linear_form(0).value_or(LinearForm{});
-    }
+    if (link.element >= 0) contact_links_.push_back(std::move(link));
   }
   contact_table_ = LinkTable(contact_links_);
   config_.assign(ng, LinkMode{0});
@@ -168,19 +175,6 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
   link_in_.assign(static_cast<std::size_t>(n), 0.0);
   for (auto* g : {&g_lo_, &g_hi_, &g_work_, &dg_lo_, &dg_hi_, &dg_work_}) g->assign(2 * ng, 0.0);
   impacts_.reserve(ng);
-
-  stats_.floors.resize(static_cast<std::size_t>(n));
-  for (int f = 0; f + 1 < model_.frame_count(); ++f) {
-    const int shared = std::min(model_.frames[f].storeys(), model_.frames[f + 1].storeys());
-    for (int i = 0; i < shared; ++i) {
-      stats_.neighbours.push_back(NeighbourResponse{f, i});
-      neighbour_left_.push_back(layout_.dof(f, i));
-      neighbour_right_.push_back(layout_.dof(f + 1, i));
-    }
-  }
-  stats_.base_shear.resize(static_cast<std::size_t>(model_.frame_count()));
-  stats_.storey_shear.resize(static_cast<std::size_t>(model_.frame_count()));
-  stats_.gaps.resize(ng);
 
   link_length_.assign(ng, 0.0);
   settle_state();
@@ -216,13 +210,7 @@ void Simulator::restart(Excitation excitation, double dt) {
 }
 
 void Simulator::reset_statistics() {
-  stats_.steps = stats_.substeps = stats_.guard_evaluations = stats_.events =
-      stats_.phases_factorised = 0;
-  for (FloorResponse& f : stats_.floors) f = FloorResponse{};
-  for (Peak& p : stats_.base_shear) p = Peak{};
-  for (Peak& p : stats_.storey_shear) p = Peak{};
-  for (GapResponse& g : stats_.gaps) g = GapResponse{};
-  for (NeighbourResponse& nb : stats_.neighbours) nb = NeighbourResponse{nb.left_frame, nb.floor};
+  monitor_.reset();
   record_statistics();
 }
 
@@ -259,13 +247,11 @@ double Simulator::gap_force(int p) const {
 }
 
 double Simulator::base_shear(int f) const {
-  return first_storey_[static_cast<std::size_t>(f)].stiffness * state_.u(layout_.dof(f, 0));
+  return monitor_.base_shear(state_, f);
 }
 
 double Simulator::storey_shear(int f) const {
-  const int d = layout_.dof(f, 0);
-  const LinearForm& storey = first_storey_[static_cast<std::size_t>(f)];
-  return storey.stiffness * state_.u(d) + storey.damping * state_.v(d);
+  return monitor_.storey_shear(state_, f);
 }
 
 void Simulator::activate_phase() {
@@ -278,7 +264,7 @@ void Simulator::activate_phase() {
       segment_powers_ = nullptr;
     }
     auto phase = std::make_unique<LinearPhase>(model_, layout_, config_, options_.dt);
-    ++stats_.phases_factorised;
+    ++monitor_.counts().phases_factorised;
     it = phases_.emplace(config_, std::move(phase)).first;
   }
   phase_ = it->second.get();
@@ -300,7 +286,7 @@ void Simulator::advance_to(double t_target) {
       grid_origin_ = t_target;
       grid_index_ = 0;
     }
-    ++stats_.steps;
+    ++monitor_.counts().steps;
   }
 }
 
@@ -355,7 +341,7 @@ bool Simulator::find_grazing(double tau) {
   if (best_theta >= 1.0) return false;
   trial_step(best_theta * tau, false, trial_);
   evaluate_guards(trial_, g_work_, dg_work_);
-  ++stats_.guard_evaluations;
+  ++monitor_.counts().guard_evaluations;
   if (!any_fired(g_work_)) {
     compute_stop_reactions(upper_);  // the step is accepted at upper_, not at this trial
     return false;
@@ -426,7 +412,7 @@ void Simulator::compute_stop_reactions(const KinematicState& x) {
 
 void Simulator::accept(KinematicState& next) {
   energy_.step(state_, next, config_, memory_);
-  refine_step_peaks(next);
+  monitor_.observe_step(state_, next);
   after_accept(next);
   g_lo_ = g_hi_;
   dg_lo_ = dg_hi_;
@@ -435,53 +421,11 @@ void Simulator::accept(KinematicState& next) {
 void Simulator::after_accept(KinematicState& next) {
   const double h = next.t - state_.t;
   for (std::size_t p = 0; p < config_.size(); ++p) {
-    if (is_rigid(p)) stats_.gaps[p].locked_time += h;
+    if (is_rigid(p)) monitor_.observe_locked(p, h);
   }
   std::swap(state_, next);
-  ++stats_.substeps;
+  ++monitor_.counts().substeps;
   record_statistics();
-}
-
-void Simulator::refine_step_peaks(const KinematicState& next) {
-  // Inside one Newmark step a quantity q with rate q̇ is modelled by the cubic Hermite
-  // interpolant of (q, q̇) at both ends; where q̇ changes sign it peaks inside the step.
-  const double t0 = state_.t, h = next.t - t0;
-  if (!(h > 0)) return;
-  const auto refine = [&](Peak& peak, double q0, double r0, double q1, double r1) {
-    if (!(r0 * r1 < 0)) return;
-    const detail::HermiteCubic cubic(q0, r0, q1, r1, h);
-    for (const double theta : cubic.critical_points()) {
-      if (theta > 0 && theta < 1) peak.update(cubic(theta), t0 + theta * h);
-    }
-  };
-  for (int i = 0; i < layout_.size(); ++i) {
-    FloorResponse& fr = stats_.floors[static_cast<std::size_t>(i)];
-    refine(fr.displacement, state_.u(i), state_.v(i), next.u(i), next.v(i));
-    const int b = layout_.below(i);
-    if (b >= 0) {
-      refine(fr.drift, state_.u(i) - state_.u(b), state_.v(i) - state_.v(b), next.u(i) - next.u(b),
-             next.v(i) - next.v(b));
-    }
-  }
-  for (std::size_t k = 0; k < stats_.neighbours.size(); ++k) {
-    // A signed maximum: where u_L − u_R stops growing inside the step.
-    const int l = neighbour_left_[k], r = neighbour_right_[k];
-    const double r0 = state_.v(l) - state_.v(r), r1 = next.v(l) - next.v(r);
-    if (!(r0 > 0 && r1 < 0)) continue;
-    const detail::HermiteCubic cubic(state_.u(l) - state_.u(r), r0, next.u(l) - next.u(r), r1, h);
-    for (const double theta : cubic.critical_points()) {
-      if (theta > 0 && theta < 1) stats_.neighbours[k].update(cubic(theta), t0 + theta * h);
-    }
-  }
-  for (int f = 0; f < model_.frame_count(); ++f) {
-    const int d = layout_.dof(f, 0);
-    const LinearForm& storey = first_storey_[static_cast<std::size_t>(f)];
-    const double k = storey.stiffness, c = storey.damping;
-    const auto fi = static_cast<std::size_t>(f);
-    refine(stats_.base_shear[fi], k * state_.u(d), k * state_.v(d), k * next.u(d), k * next.v(d));
-    refine(stats_.storey_shear[fi], k * state_.u(d) + c * state_.v(d), k * state_.v(d) + c * state_.a(d),
-           k * next.u(d) + c * next.v(d), k * next.v(d) + c * next.a(d));
-  }
 }
 
 void Simulator::check_finite() const {
@@ -531,31 +475,13 @@ void Simulator::check_finite() const {
 
 void Simulator::record_statistics() {
   check_finite();
-  const double t = state_.t, ground = state_.ground;
-  for (int i = 0; i < layout_.size(); ++i) {
-    FloorResponse& fr = stats_.floors[static_cast<std::size_t>(i)];
-    fr.displacement.update(state_.u(i), t);
-    fr.velocity.update(state_.v(i), t);
-    fr.acceleration.update(state_.a(i), t);
-    fr.absolute_acceleration.update(state_.a(i) + ground, t);
-    const int b = layout_.below(i);
-    fr.drift.update(state_.u(i) - (b >= 0 ? state_.u(b) : 0.0), t);
-  }
-  for (int f = 0; f < model_.frame_count(); ++f) {
-    stats_.base_shear[static_cast<std::size_t>(f)].update(base_shear(f), t);
-    stats_.storey_shear[static_cast<std::size_t>(f)].update(storey_shear(f), t);
-  }
-  for (std::size_t k = 0; k < stats_.neighbours.size(); ++k) {
-    stats_.neighbours[k].update(state_.u(neighbour_left_[k]) - state_.u(neighbour_right_[k]), t);
-  }
+  monitor_.observe(state_);
   for_each_contact_link(contact_table_, [&](const auto& link) {
     const auto p = static_cast<std::size_t>(link.element);
     if (!transmits_[p]) return;
     const LinkKinematics k = kinematics(state_, link);
     const double force = link.law.force(k, mode(p));
-    const double s = link.law.shortening(k);
-    stats_.gaps[p].force.update(is_rigid(p) ? force + stop_reaction_[p] : force, t);
-    if (s > 0) stats_.gaps[p].shortening.update(s, t);
+    monitor_.observe_gap(p, is_rigid(p) ? force + stop_reaction_[p] : force, link.law.shortening(k), state_.t);
   });
 }
 
@@ -565,7 +491,6 @@ void Simulator::emit(int gap, EventKind kind, double left_before, double right_b
   const double left_after = state_.v(contact_links_[p].a);
   const double right_after = state_.v(contact_links_[p].b);
   const double before = left_before - right_before, after = left_after - right_after;
-  ++stats_.events;
   if (++events_this_step_ > options_.max_events_per_step) {
     throw SimulationError(fmt::format(
         "more than {} events within one step at t = {} s (gap element between frames {} and {} "
@@ -573,21 +498,7 @@ void Simulator::emit(int gap, EventKind kind, double left_before, double right_b
         options_.max_events_per_step, state_.t, model_.gaps[gap].left_frame + 1,
         model_.gaps[gap].left_frame + 2, model_.gaps[gap].floor + 1, options_.lock_time));
   }
-  GapResponse& gr = stats_.gaps[static_cast<std::size_t>(gap)];
-  switch (kind) {
-    case EventKind::contact: ++gr.contacts; break;
-    case EventKind::separation: ++gr.separations; break;
-    case EventKind::impact:
-      ++gr.impacts;
-      gr.impact_velocity.update(before, state_.t);
-      gr.impulse.update(impulse, state_.t);
-      break;
-    case EventKind::lock:
-      ++gr.locks;
-      gr.impulse.update(impulse, state_.t);
-      break;
-    case EventKind::unlock: ++gr.unlocks; break;
-  }
+  monitor_.observe_event(p, kind, before, impulse, state_.t);
   if (on_event_) {
     on_event_(Event{state_.t, gap, kind, before, after, impulse, left_before, right_before,
                     left_after, right_after});

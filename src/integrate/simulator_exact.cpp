@@ -154,7 +154,7 @@ void Simulator::accept_exact(KinematicState& next) {
   const EnergyMeter::Powers integral =
       segment_powers_ != nullptr ? segment_powers_->integrate(a, b) : quadrature_powers(a, b);
   energy_.step_with(state_, next, integral, config_, memory_);
-  refine_exact_peaks(next);
+  monitor_.observe_step(state_, next, trajectory_.start_time(), exact_output_);
   evaluate_guards(next, g_lo_, dg_lo_);
   after_accept(next);
 }
@@ -180,62 +180,6 @@ EnergyMeter::Powers Simulator::quadrature_powers(double a, double b) {
     }
   }
   return integral;
-}
-
-void Simulator::refine_exact_peaks(const KinematicState& next) {
-  // Extrema of a floor displacement (and of the base shear K₁u₁) or of a drift between samples
-  // lie where its rate changes sign: find that instant on the exact trajectory.
-  const double t0 = trajectory_.start_time();
-  const auto extremum = [&](auto rate, double a, double b, double ra) {
-    for (int i = 0; i < 60 && b - a > 1e-12 * std::max(1.0, b + t0); ++i) {
-      const double m = 0.5 * (a + b);
-      exact_state(m, node_);
-      if ((rate(node_) > 0) == (ra > 0)) {
-        a = m;
-      } else {
-        b = m;
-      }
-    }
-    exact_state(0.5 * (a + b), node_);
-  };
-  const double a = state_.t - t0, b = next.t - t0;
-  for (std::size_t k = 0; k < stats_.neighbours.size(); ++k) {
-    const int l = neighbour_left_[k], r = neighbour_right_[k];
-    const double ra = state_.v(l) - state_.v(r), rb = next.v(l) - next.v(r);
-    if (!(ra > 0 && rb < 0)) continue;
-    extremum([l, r](const KinematicState& x) { return x.v(l) - x.v(r); }, a, b, ra);
-    stats_.neighbours[k].update(node_.u(l) - node_.u(r), node_.t);
-  }
-  for (int i = 0; i < layout_.size(); ++i) {
-    FloorResponse& fr = stats_.floors[static_cast<std::size_t>(i)];
-    const double va = state_.v(i), vb = next.v(i);
-    if (va * vb < 0) {
-      extremum([i](const KinematicState& x) { return x.v(i); }, a, b, va);
-      fr.displacement.update(node_.u(i), node_.t);
-      if (layout_.floor_of(i) == 0) {
-        const int f = layout_.frame_of(i);
-        stats_.base_shear[static_cast<std::size_t>(f)].update(
-            first_storey_[static_cast<std::size_t>(f)].stiffness * node_.u(i), node_.t);
-      }
-    }
-    if (layout_.floor_of(i) == 0) {
-      const int f = layout_.frame_of(i);
-      const double k = first_storey_[static_cast<std::size_t>(f)].stiffness;
-      const double c = first_storey_[static_cast<std::size_t>(f)].damping;
-      const double sa = k * va + c * state_.a(i), sb = k * vb + c * next.a(i);
-      if (sa * sb < 0) {
-        extremum([i, k, c](const KinematicState& x) { return k * x.v(i) + c * x.a(i); }, a, b, sa);
-        stats_.storey_shear[static_cast<std::size_t>(f)].update(k * node_.u(i) + c * node_.v(i), node_.t);
-      }
-    }
-    const int below = layout_.below(i);
-    if (below < 0) continue;
-    const double da = va - state_.v(below), db = vb - next.v(below);
-    if (da * db < 0) {
-      extremum([i, below](const KinematicState& x) { return x.v(i) - x.v(below); }, a, b, da);
-      fr.drift.update(node_.u(i) - node_.u(below), node_.t);
-    }
-  }
 }
 
 void Simulator::integrate_exact_to(double t_end) {

@@ -55,6 +55,7 @@
 #include "poundsim/dynamics/linear_phase.hpp"
 #include "poundsim/model/model.hpp"
 #include "poundsim/integrate/newmark.hpp"
+#include "poundsim/integrate/response_monitor.hpp"
 
 namespace poundsim {
 
@@ -96,69 +97,6 @@ struct TimeHistoryOptions {
 struct InitialConditions {
   std::vector<std::vector<double>> displacement;
   std::vector<std::vector<double>> velocity;
-};
-
-/// Largest absolute value of a response and when it occurred.
-struct Peak {
-  double value = 0.0;
-  double time = 0.0;
-  void update(double x, double t) {
-    const double a = x < 0 ? -x : x;
-    if (a > value) {
-      value = a;
-      time = t;
-    }
-  }
-};
-
-/// Peaks are taken at every accepted state (steps, events) and between them: a displacement, drift
-/// or shear whose rate changes sign inside a step peaks there. Newmark takes that peak from the
-/// cubic Hermite model of the step (values and rates at both ends, error O(h⁴)); the exact
-/// integrator finds it on its exact trajectory.
-struct FloorResponse {
-  Peak displacement;           ///< |u| [m]
-  Peak velocity;               ///< |u̇| [m/s]
-  Peak acceleration;           ///< |ü| relative [m/s²]
-  Peak absolute_acceleration;  ///< |ü + a_g| [m/s²]
-  Peak drift;                  ///< |u_i − u_{i−1}| [m]
-};
-
-struct GapResponse {
-  int contacts = 0, separations = 0, impacts = 0, locks = 0, unlocks = 0;
-  Peak force;             ///< F = c ṡ + k s, plus the stop reaction when locked [N].
-  Peak impact_velocity;   ///< Closing velocity at impact [m/s].
-  Peak impulse;           ///< Impulse of one impact or lock [N·s].
-  Peak shortening;        ///< Largest s > 0 [m].
-  double locked_time = 0.0;  ///< Total time spent locked [s].
-};
-
-/// Corresponding floors of neighbouring frames (whether or not a gap element joins them).
-struct NeighbourResponse {
-  int left_frame = 0;  ///< Frame f; its neighbour is f+1.
-  int floor = 0;
-  /// The largest u_L − u_R [m] (signed: how far the left floor came towards the right one); its
-  /// positive part is the smallest gap that avoids contact.
-  double max_approach = -std::numeric_limits<double>::infinity();
-  double max_approach_time = 0.0;
-  void update(double approach, double t) {
-    if (approach > max_approach) {
-      max_approach = approach;
-      max_approach_time = t;
-    }
-  }
-};
-
-struct ResponseStatistics {
-  std::vector<FloorResponse> floors;  ///< By DOF (DofLayout numbering).
-  std::vector<NeighbourResponse> neighbours;  ///< Every pair of corresponding floors.
-  std::vector<Peak> base_shear;       ///< |V| = |K_1 u_1| per frame [N].
-  std::vector<Peak> storey_shear;     ///< |K_1 u_1 + C_1 u̇_1| per frame: spring and dashpot [N].
-  std::vector<GapResponse> gaps;
-  std::int64_t steps = 0;             ///< Grid steps.
-  std::int64_t substeps = 0;          ///< Accepted Newmark steps, including partial ones.
-  std::int64_t guard_evaluations = 0; ///< Trial sub-steps spent locating events.
-  std::int64_t events = 0;
-  std::int64_t phases_factorised = 0; ///< Configurations assembled and factorised.
 };
 
 class Simulator {
@@ -208,11 +146,20 @@ class Simulator {
 
   [[nodiscard]] const EnergyBalance& energy() const { return energy_.balance(); }
   [[nodiscard]] const EnergyMeter& energy_meter() const { return energy_; }
-  [[nodiscard]] const ResponseStatistics& statistics() const { return stats_; }
+  [[nodiscard]] const ResponseStatistics& statistics() const { return monitor_.statistics(); }
 
  private:
   class TrialEvaluator;
   friend class TrialEvaluator;
+  /// The exact trajectory of the current segment, as dense output for the monitor.
+  class ExactTrajectoryOutput final : public DenseOutput {
+   public:
+    explicit ExactTrajectoryOutput(Simulator& sim) : sim_(sim) {}
+    void state_at(double s, KinematicState& out) override { sim_.exact_state(s, out); }
+
+   private:
+    Simulator& sim_;
+  };
   struct ExactData {
     std::unique_ptr<ExactPhase> phase;
     Eigen::MatrixXd guard_rows;  ///< R: guards as affine functions of the phase state
@@ -228,8 +175,6 @@ class Simulator {
   void accept_exact(KinematicState& next);
   /// ∫ of the powers over [a, b] of the segment by quadrature (phases without modes).
   EnergyMeter::Powers quadrature_powers(double a, double b);
-  void refine_exact_peaks(const KinematicState& next);
-  void refine_step_peaks(const KinematicState& next);
   void settle_state();
   [[nodiscard]] Eigen::MatrixXd guard_rows(const ExactPhase& exact) const;
   void trial_step(double tau, bool nominal, KinematicState& out);
@@ -277,13 +222,9 @@ class Simulator {
   /// (model/laws/contact_law.hpp), asked for guards, events and forces.
   std::vector<Link> contact_links_;
   LinkTable contact_table_;  ///< The same, by law, for the loops of every step.
-  /// The linear form of each frame's first storey (its law's, on the ground): V = k u₁ is its
-  /// spring force, k u₁ + c u̇₁ its whole force.
-  std::vector<LinearForm> first_storey_;
   /// Per element, as of the last activate_phase: its law transmits a force in its mode; its link
   /// is rigid.
   std::vector<char> transmits_, rigid_;
-  std::vector<int> neighbour_left_, neighbour_right_;  ///< DOFs of every NeighbourResponse
   ContactConfiguration config_;
   std::vector<GapMemory> memory_;
   std::vector<double> bias_;          ///< Hysteresis of each element's contact/impact guard [m].
@@ -305,7 +246,8 @@ class Simulator {
   KinematicState node_;
   NewmarkIntegrator newmark_;
   EnergyMeter energy_;
-  ResponseStatistics stats_;
+  ResponseMonitor monitor_;  ///< Peaks and counts.
+  ExactTrajectoryOutput exact_output_{*this};
 
   KinematicState state_, trial_, upper_;
   std::vector<double> g_lo_, g_hi_, g_work_, dg_lo_, dg_hi_, dg_work_;

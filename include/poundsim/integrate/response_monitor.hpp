@@ -1,0 +1,146 @@
+#pragma once
+/// @file
+/// The response monitor: the peaks of a simulation's response (floor displacements, velocities,
+/// accelerations and drifts, base and first-storey shears, approaches of neighbouring floors,
+/// forces and counts of the gap elements), taken at every accepted state and between them on
+/// the trajectory that the integrator provides. The simulation loop feeds it; it never changes
+/// the simulation.
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "poundsim/dynamics/event.hpp"
+#include "poundsim/dynamics/state.hpp"
+#include "poundsim/model/law.hpp"
+#include "poundsim/model/model.hpp"
+
+namespace poundsim {
+
+/// Largest absolute value of a response and when it occurred.
+struct Peak {
+  double value = 0.0;
+  double time = 0.0;
+  void update(double x, double t) {
+    const double a = x < 0 ? -x : x;
+    if (a > value) {
+      value = a;
+      time = t;
+    }
+  }
+};
+
+/// Peaks are taken at every accepted state (steps, events) and between them: a displacement, drift
+/// or shear whose rate changes sign inside a step peaks there. Newmark takes that peak from the
+/// cubic Hermite model of the step (values and rates at both ends, error O(h⁴)); the exact
+/// integrator finds it on its exact trajectory.
+struct FloorResponse {
+  Peak displacement;           ///< |u| [m]
+  Peak velocity;               ///< |u̇| [m/s]
+  Peak acceleration;           ///< |ü| relative [m/s²]
+  Peak absolute_acceleration;  ///< |ü + a_g| [m/s²]
+  Peak drift;                  ///< |u_i − u_{i−1}| [m]
+};
+
+struct GapResponse {
+  int contacts = 0, separations = 0, impacts = 0, locks = 0, unlocks = 0;
+  Peak force;             ///< F = c ṡ + k s, plus the stop reaction when locked [N].
+  Peak impact_velocity;   ///< Closing velocity at impact [m/s].
+  Peak impulse;           ///< Impulse of one impact or lock [N·s].
+  Peak shortening;        ///< Largest s > 0 [m].
+  double locked_time = 0.0;  ///< Total time spent locked [s].
+};
+
+/// Corresponding floors of neighbouring frames (whether or not a gap element joins them).
+struct NeighbourResponse {
+  int left_frame = 0;  ///< Frame f; its neighbour is f+1.
+  int floor = 0;
+  /// The largest u_L − u_R [m] (signed: how far the left floor came towards the right one); its
+  /// positive part is the smallest gap that avoids contact.
+  double max_approach = -std::numeric_limits<double>::infinity();
+  double max_approach_time = 0.0;
+  void update(double approach, double t) {
+    if (approach > max_approach) {
+      max_approach = approach;
+      max_approach_time = t;
+    }
+  }
+};
+
+struct ResponseStatistics {
+  std::vector<FloorResponse> floors;  ///< By DOF (DofLayout numbering).
+  std::vector<NeighbourResponse> neighbours;  ///< Every pair of corresponding floors.
+  std::vector<Peak> base_shear;       ///< |V| = |K_1 u_1| per frame [N].
+  std::vector<Peak> storey_shear;     ///< |K_1 u_1 + C_1 u̇_1| per frame: spring and dashpot [N].
+  std::vector<GapResponse> gaps;
+  std::int64_t steps = 0;             ///< Grid steps.
+  std::int64_t substeps = 0;          ///< Accepted Newmark steps, including partial ones.
+  std::int64_t guard_evaluations = 0; ///< Trial sub-steps spent locating events.
+  std::int64_t events = 0;
+  std::int64_t phases_factorised = 0; ///< Configurations assembled and factorised.
+};
+
+/// The trajectory of an integrator between two accepted states: the state at s, the time from
+/// an origin the integrator chooses.
+class DenseOutput {
+ public:
+  virtual void state_at(double s, KinematicState& out) = 0;
+
+ protected:
+  ~DenseOutput() = default;
+};
+
+class ResponseMonitor {
+ public:
+  /// `first_storey`: the linear form of each frame's first storey, whose spring force k u₁ is
+  /// the base shear and whose whole force k u₁ + c u̇₁ is the first-storey shear.
+  ResponseMonitor(const Model& model, const DofLayout& layout, std::vector<LinearForm> first_storey);
+
+  [[nodiscard]] const ResponseStatistics& statistics() const { return stats_; }
+  /// The counts (steps, events, …) are the simulation loop's to keep.
+  [[nodiscard]] ResponseStatistics& counts() { return stats_; }
+
+  /// Forgets every peak and count.
+  void reset();
+
+  /// V = k u₁ of frame f at x [N].
+  [[nodiscard]] double base_shear(const KinematicState& x, int f) const {
+    return first_storey_[static_cast<std::size_t>(f)].stiffness * x.u(layout_.dof(f, 0));
+  }
+  /// k u₁ + c u̇₁ of frame f at x [N].
+  [[nodiscard]] double storey_shear(const KinematicState& x, int f) const {
+    const int d = layout_.dof(f, 0);
+    const LinearForm& storey = first_storey_[static_cast<std::size_t>(f)];
+    return storey.stiffness * x.u(d) + storey.damping * x.v(d);
+  }
+
+  /// The floors, shears and approaches at the accepted state x.
+  void observe(const KinematicState& x);
+  /// Gap element p transmits `force` [N] at shortening s [m] at time t.
+  void observe_gap(std::size_t p, double force, double s, double t) {
+    GapResponse& g = stats_.gaps[p];
+    g.force.update(force, t);
+    if (s > 0) g.shortening.update(s, t);
+  }
+  /// An event of gap element p at t; `closing_velocity` before it [m/s], its impulse [N·s].
+  void observe_event(std::size_t p, EventKind kind, double closing_velocity, double impulse, double t);
+  /// Gap element p was locked over a step of h [s].
+  void observe_locked(std::size_t p, double h) { stats_.gaps[p].locked_time += h; }
+
+  /// Peaks strictly inside a Newmark step from a to b: each quantity q with rate q̇ is the cubic
+  /// Hermite interpolant of (q, q̇) at both ends, which peaks where q̇ changes sign.
+  void observe_step(const KinematicState& a, const KinematicState& b);
+  /// Peaks strictly inside a step from a to b of an integrator that knows its trajectory: where
+  /// a rate changes sign, the instant is bisected on `trajectory` (times from `origin`).
+  void observe_step(const KinematicState& a, const KinematicState& b, double origin, DenseOutput& trajectory);
+
+ private:
+  DofLayout layout_;
+  std::vector<LinearForm> first_storey_;
+  std::vector<int> neighbour_left_, neighbour_right_;  ///< DOFs of every NeighbourResponse
+  ResponseStatistics stats_;
+  KinematicState node_;  ///< Scratch for states on a trajectory.
+};
+
+}  // namespace poundsim

@@ -1,0 +1,166 @@
+#include "poundsim/integrate/response_monitor.hpp"
+
+#include <algorithm>
+#include <utility>
+
+#include "hermite_cubic.hpp"
+
+namespace poundsim {
+
+ResponseMonitor::ResponseMonitor(const Model& model, const DofLayout& layout, std::vector<LinearForm> first_storey)
+    : layout_(layout), first_storey_(std::move(first_storey)) {
+  stats_.floors.resize(static_cast<std::size_t>(layout_.size()));
+  for (int f = 0; f + 1 < model.frame_count(); ++f) {
+    const int shared = std::min(model.frames[f].storeys(), model.frames[f + 1].storeys());
+    for (int i = 0; i < shared; ++i) {
+      stats_.neighbours.push_back(NeighbourResponse{f, i});
+      neighbour_left_.push_back(layout_.dof(f, i));
+      neighbour_right_.push_back(layout_.dof(f + 1, i));
+    }
+  }
+  stats_.base_shear.resize(static_cast<std::size_t>(model.frame_count()));
+  stats_.storey_shear.resize(static_cast<std::size_t>(model.frame_count()));
+  stats_.gaps.resize(static_cast<std::size_t>(model.gap_count()));
+  node_.resize(layout_.size());
+}
+
+void ResponseMonitor::reset() {
+  stats_.steps = stats_.substeps = stats_.guard_evaluations = stats_.events = stats_.phases_factorised = 0;
+  for (FloorResponse& f : stats_.floors) f = FloorResponse{};
+  for (Peak& p : stats_.base_shear) p = Peak{};
+  for (Peak& p : stats_.storey_shear) p = Peak{};
+  for (GapResponse& g : stats_.gaps) g = GapResponse{};
+  for (NeighbourResponse& nb : stats_.neighbours) nb = NeighbourResponse{nb.left_frame, nb.floor};
+}
+
+void ResponseMonitor::observe(const KinematicState& x) {
+  const double t = x.t, ground = x.ground;
+  for (int i = 0; i < layout_.size(); ++i) {
+    FloorResponse& fr = stats_.floors[static_cast<std::size_t>(i)];
+    fr.displacement.update(x.u(i), t);
+    fr.velocity.update(x.v(i), t);
+    fr.acceleration.update(x.a(i), t);
+    fr.absolute_acceleration.update(x.a(i) + ground, t);
+    const int b = layout_.below(i);
+    fr.drift.update(x.u(i) - (b >= 0 ? x.u(b) : 0.0), t);
+  }
+  for (int f = 0; f < static_cast<int>(first_storey_.size()); ++f) {
+    stats_.base_shear[static_cast<std::size_t>(f)].update(base_shear(x, f), t);
+    stats_.storey_shear[static_cast<std::size_t>(f)].update(storey_shear(x, f), t);
+  }
+  for (std::size_t k = 0; k < stats_.neighbours.size(); ++k) {
+    stats_.neighbours[k].update(x.u(neighbour_left_[k]) - x.u(neighbour_right_[k]), t);
+  }
+}
+
+void ResponseMonitor::observe_event(std::size_t p, EventKind kind, double closing_velocity, double impulse,
+                                    double t) {
+  ++stats_.events;
+  GapResponse& gr = stats_.gaps[p];
+  switch (kind) {
+    case EventKind::contact: ++gr.contacts; break;
+    case EventKind::separation: ++gr.separations; break;
+    case EventKind::impact:
+      ++gr.impacts;
+      gr.impact_velocity.update(closing_velocity, t);
+      gr.impulse.update(impulse, t);
+      break;
+    case EventKind::lock:
+      ++gr.locks;
+      gr.impulse.update(impulse, t);
+      break;
+    case EventKind::unlock: ++gr.unlocks; break;
+  }
+}
+
+void ResponseMonitor::observe_step(const KinematicState& a, const KinematicState& b) {
+  const double t0 = a.t, h = b.t - t0;
+  if (!(h > 0)) return;
+  const auto refine = [&](Peak& peak, double q0, double r0, double q1, double r1) {
+    if (!(r0 * r1 < 0)) return;
+    const detail::HermiteCubic cubic(q0, r0, q1, r1, h);
+    for (const double theta : cubic.critical_points()) {
+      if (theta > 0 && theta < 1) peak.update(cubic(theta), t0 + theta * h);
+    }
+  };
+  for (int i = 0; i < layout_.size(); ++i) {
+    FloorResponse& fr = stats_.floors[static_cast<std::size_t>(i)];
+    refine(fr.displacement, a.u(i), a.v(i), b.u(i), b.v(i));
+    const int below = layout_.below(i);
+    if (below >= 0) {
+      refine(fr.drift, a.u(i) - a.u(below), a.v(i) - a.v(below), b.u(i) - b.u(below), b.v(i) - b.v(below));
+    }
+  }
+  for (std::size_t k = 0; k < stats_.neighbours.size(); ++k) {
+    // A signed maximum: where u_L − u_R stops growing inside the step.
+    const int l = neighbour_left_[k], r = neighbour_right_[k];
+    const double r0 = a.v(l) - a.v(r), r1 = b.v(l) - b.v(r);
+    if (!(r0 > 0 && r1 < 0)) continue;
+    const detail::HermiteCubic cubic(a.u(l) - a.u(r), r0, b.u(l) - b.u(r), r1, h);
+    for (const double theta : cubic.critical_points()) {
+      if (theta > 0 && theta < 1) stats_.neighbours[k].update(cubic(theta), t0 + theta * h);
+    }
+  }
+  for (std::size_t f = 0; f < first_storey_.size(); ++f) {
+    const int d = layout_.dof(static_cast<int>(f), 0);
+    const double k = first_storey_[f].stiffness, c = first_storey_[f].damping;
+    refine(stats_.base_shear[f], k * a.u(d), k * a.v(d), k * b.u(d), k * b.v(d));
+    refine(stats_.storey_shear[f], k * a.u(d) + c * a.v(d), k * a.v(d) + c * a.a(d), k * b.u(d) + c * b.v(d),
+           k * b.v(d) + c * b.a(d));
+  }
+}
+
+void ResponseMonitor::observe_step(const KinematicState& from, const KinematicState& to, double origin,
+                                   DenseOutput& trajectory) {
+  // Extrema of a floor displacement (and of the base shear k u₁) or of a drift between samples
+  // lie where its rate changes sign: find that instant on the trajectory.
+  const double t0 = origin;
+  const auto extremum = [&](auto rate, double a, double b, double ra) {
+    for (int i = 0; i < 60 && b - a > 1e-12 * std::max(1.0, b + t0); ++i) {
+      const double m = 0.5 * (a + b);
+      trajectory.state_at(m, node_);
+      if ((rate(node_) > 0) == (ra > 0)) {
+        a = m;
+      } else {
+        b = m;
+      }
+    }
+    trajectory.state_at(0.5 * (a + b), node_);
+  };
+  const double a = from.t - t0, b = to.t - t0;
+  for (std::size_t k = 0; k < stats_.neighbours.size(); ++k) {
+    const int l = neighbour_left_[k], r = neighbour_right_[k];
+    const double ra = from.v(l) - from.v(r), rb = to.v(l) - to.v(r);
+    if (!(ra > 0 && rb < 0)) continue;
+    extremum([l, r](const KinematicState& x) { return x.v(l) - x.v(r); }, a, b, ra);
+    stats_.neighbours[k].update(node_.u(l) - node_.u(r), node_.t);
+  }
+  for (int i = 0; i < layout_.size(); ++i) {
+    FloorResponse& fr = stats_.floors[static_cast<std::size_t>(i)];
+    const double va = from.v(i), vb = to.v(i);
+    const bool first = layout_.floor_of(i) == 0;
+    const auto f = static_cast<std::size_t>(layout_.frame_of(i));
+    if (va * vb < 0) {
+      extremum([i](const KinematicState& x) { return x.v(i); }, a, b, va);
+      fr.displacement.update(node_.u(i), node_.t);
+      if (first) stats_.base_shear[f].update(first_storey_[f].stiffness * node_.u(i), node_.t);
+    }
+    if (first) {
+      const double k = first_storey_[f].stiffness, c = first_storey_[f].damping;
+      const double sa = k * va + c * from.a(i), sb = k * vb + c * to.a(i);
+      if (sa * sb < 0) {
+        extremum([i, k, c](const KinematicState& x) { return k * x.v(i) + c * x.a(i); }, a, b, sa);
+        stats_.storey_shear[f].update(k * node_.u(i) + c * node_.v(i), node_.t);
+      }
+    }
+    const int below = layout_.below(i);
+    if (below < 0) continue;
+    const double da = va - from.v(below), db = vb - to.v(below);
+    if (da * db < 0) {
+      extremum([i, below](const KinematicState& x) { return x.v(i) - x.v(below); }, a, b, da);
+      fr.drift.update(node_.u(i) - node_.u(below), node_.t);
+    }
+  }
+}
+
+}  // namespace poundsim
