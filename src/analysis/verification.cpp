@@ -13,6 +13,7 @@
 
 #include "poundsim/model/dimensionless.hpp"
 #include "poundsim/analysis/frequency_response.hpp"
+#include "poundsim/integrate/exact_phase.hpp"
 #include "poundsim/units.hpp"
 
 namespace poundsim {

@@ -11,6 +11,7 @@
 
 #include "contact_links.hpp"
 #include "hermite_cubic.hpp"
+#include "steppers.hpp"
 #include "poundsim/error.hpp"
 #include "poundsim/model/impact.hpp"
 
@@ -51,10 +52,6 @@ Model validated(Model model) {
 
 }  // namespace
 
-std::string_view to_string(Integrator integrator) {
-  return integrator == Integrator::exact ? "exact" : "newmark";
-}
-
 std::string_view to_string(EventKind kind) {
   switch (kind) {
     case EventKind::contact: return "contact";
@@ -87,20 +84,6 @@ void TimeHistoryOptions::validate() const {
   if (phase_cache_size < 1) throw std::invalid_argument("phase_cache_size must be ≥ 1");
 }
 
-/// Evaluates guards on Newmark sub-steps from the start of the current step.
-class Simulator::TrialEvaluator final : public GuardEvaluator {
- public:
-  explicit TrialEvaluator(Simulator& sim) : sim_(sim) {}
-  void evaluate(double tau, GuardSample out) override {
-    sim_.trial_step(tau, false, sim_.trial_);
-    sim_.evaluate_guards(sim_.trial_, out.value, out.rate);
-    ++sim_.monitor_.counts().guard_evaluations;
-  }
-  void keep_trial_as_upper() override { std::swap(sim_.trial_, sim_.upper_); }
-
- private:
-  Simulator& sim_;
-};
 
 Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions options,
                      const InitialConditions& initial)
@@ -117,8 +100,6 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
   const int gaps = model_.gap_count();
   const auto ng = static_cast<std::size_t>(gaps);
   state_.resize(n);
-  trial_.resize(n);
-  upper_.resize(n);
 
   const auto load = [&](const std::vector<std::vector<double>>& values, Eigen::VectorXd& out,
                         const char* what) {
@@ -145,8 +126,17 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
   load(initial.displacement, state_.u, "displacement");
   load(initial.velocity, state_.v, "velocity");
 
-  for (Link& link : make_links(model_, layout_)) {
+  std::vector<Link> links = make_links(model_, layout_);
+  if (const IntegratorSupport support = supports(options_.integrator, links); !support) {
+    throw std::invalid_argument(support.reason);
+  }
+  for (Link& link : links) {
     if (link.element >= 0) contact_links_.push_back(std::move(link));
+  }
+  if (options_.integrator == Integrator::exact) {
+    stepper_ = std::make_unique<detail::ExactStepper>(n, gaps);
+  } else {
+    stepper_ = std::make_unique<detail::NewmarkStepper>(n);
   }
   contact_table_ = LinkTable(contact_links_);
   config_.assign(ng, LinkMode{0});
@@ -167,9 +157,6 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
   transmits_.assign(ng, 0);
   rigid_.assign(ng, 0);
   bias_.assign(ng, 0.0);
-  memory_amplitude_.assign(2 * ng, 0.0);
-  memory_rate_.assign(2 * ng, 0.0);
-  node_.resize(n);
   stop_reaction_.assign(ng, 0.0);
   stop_noise_.assign(ng, 0.0);
   link_in_.assign(static_cast<std::size_t>(n), 0.0);
@@ -203,8 +190,7 @@ void Simulator::restart(Excitation excitation, double dt) {
   grid_origin_ = 0.0;
   grid_index_ = 0;
   phases_.clear();  // factorised for the old step
-  exact_phases_.clear();
-  segment_powers_ = nullptr;
+  stepper_->phases_cleared();
   settle_state();
   reset_statistics();
 }
@@ -255,13 +241,12 @@ double Simulator::storey_shear(int f) const {
 }
 
 void Simulator::activate_phase() {
-  segment_valid_ = false;  // an exact segment belongs to one phase
+  stepper_->phase_changed();
   auto it = phases_.find(config_);
   if (it == phases_.end()) {
     if (phases_.size() >= options_.phase_cache_size) {
       phases_.clear();
-      exact_phases_.clear();
-      segment_powers_ = nullptr;
+      stepper_->phases_cleared();
     }
     auto phase = std::make_unique<LinearPhase>(model_, layout_, config_, options_.dt);
     ++monitor_.counts().phases_factorised;
@@ -290,66 +275,9 @@ void Simulator::advance_to(double t_target) {
   }
 }
 
-void Simulator::trial_step(double tau, bool nominal, KinematicState& out) {
-  const LinearPhase::Solver& solver =
-      nominal ? phase_->step_solver() : phase_->substep_solver(tau);
-  newmark_.step(*phase_, solver, state_, tau,
-                ground_acceleration(excitation_, state_.t + tau), out);
-}
-
 void Simulator::integrate_to(double t_end, bool nominal) {
   events_this_step_ = 0;
-  if (options_.integrator == Integrator::exact) {
-    integrate_exact_to(t_end);
-    return;
-  }
-  bool first = true;
-  while (state_.t < t_end) {
-    const bool use_step_solver = nominal && first;
-    const double tau = use_step_solver ? options_.dt : t_end - state_.t;
-    first = false;
-    trial_step(tau, use_step_solver, upper_);
-    upper_.t = t_end;  // exact grid time, whatever the rounding of t + τ
-    evaluate_guards(upper_, g_hi_, dg_hi_);
-    if (!any_fired(g_hi_) && !find_grazing(tau)) {
-      accept(upper_);
-      return;
-    }
-    TrialEvaluator evaluator(*this);
-    locate_first_event(0.0, upper_.t - state_.t, {g_lo_, dg_lo_}, {g_hi_, dg_hi_},
-                       {g_work_, dg_work_}, options_.event_tolerance, evaluator);
-    compute_stop_reactions(upper_);  // trials below the event came last
-    accept(upper_);
-    apply_pending_events();
-  }
-}
-
-bool Simulator::find_grazing(double tau) {
-  // A guard that rises and falls inside the step without crossing at the ends: check the interior
-  // maximum of its cubic Hermite model, then the Newmark sub-step there.
-  double best_theta = 2.0;
-  for (std::size_t j = 0; j < g_hi_.size(); ++j) {
-    // Inactive guards (−∞) have zero rates and are skipped with the others that do not rise.
-    if (!(g_lo_[j] <= 0 && g_hi_[j] <= 0 && dg_lo_[j] > 0 && dg_hi_[j] < 0)) continue;
-    const detail::HermiteCubic cubic(g_lo_[j], dg_lo_[j], g_hi_[j], dg_hi_[j], tau);
-    for (const double theta : cubic.critical_points()) {
-      if (theta > 0 && cubic(theta) > 0 && cubic.slope(theta - 1e-9) > 0) {
-        best_theta = std::min(best_theta, theta);
-      }
-    }
-  }
-  if (best_theta >= 1.0) return false;
-  trial_step(best_theta * tau, false, trial_);
-  evaluate_guards(trial_, g_work_, dg_work_);
-  ++monitor_.counts().guard_evaluations;
-  if (!any_fired(g_work_)) {
-    compute_stop_reactions(upper_);  // the step is accepted at upper_, not at this trial
-    return false;
-  }
-  std::swap(trial_, upper_);
-  g_hi_ = g_work_;
-  dg_hi_ = dg_work_;
-  return true;
+  stepper_->integrate_to(*this, t_end, nominal);
 }
 
 void Simulator::evaluate_guards(const KinematicState& x, std::span<double> g,

@@ -46,31 +46,22 @@
 
 #include "poundsim/model/contact_state.hpp"
 #include "poundsim/dynamics/energy.hpp"
-#include "poundsim/integrate/exact_energy.hpp"
-#include "poundsim/integrate/exact_phase.hpp"
-#include "poundsim/integrate/guard_expansion.hpp"
 #include "poundsim/dynamics/event.hpp"
 #include "poundsim/integrate/event_location.hpp"
 #include "poundsim/model/excitation.hpp"
 #include "poundsim/dynamics/linear_phase.hpp"
 #include "poundsim/model/model.hpp"
+#include "poundsim/integrate/integrator.hpp"
 #include "poundsim/integrate/newmark.hpp"
 #include "poundsim/integrate/response_monitor.hpp"
 
 namespace poundsim {
 
-/// How a phase is integrated between events.
-enum class Integrator : std::uint8_t {
-  /// Newmark's average-acceleration method with step dt; events located on its trajectory to
-  /// event_tolerance.
-  newmark,
-  /// The closed-form solution of each phase (exact_phase.hpp); events are roots of exact guard
-  /// functions, located to near machine precision with a proof that none is missed. dt is then
-  /// only the sampling interval of peaks, energies and outputs.
-  exact,
-};
-
-[[nodiscard]] std::string_view to_string(Integrator integrator);
+namespace detail {
+class Stepper;
+class NewmarkStepper;
+class ExactStepper;
+}  // namespace detail
 
 /// Options of the time-history integration. SI units.
 struct TimeHistoryOptions {
@@ -149,39 +140,17 @@ class Simulator {
   [[nodiscard]] const ResponseStatistics& statistics() const { return monitor_.statistics(); }
 
  private:
-  class TrialEvaluator;
-  friend class TrialEvaluator;
-  /// The exact trajectory of the current segment, as dense output for the monitor.
-  class ExactTrajectoryOutput final : public DenseOutput {
-   public:
-    explicit ExactTrajectoryOutput(Simulator& sim) : sim_(sim) {}
-    void state_at(double s, KinematicState& out) override { sim_.exact_state(s, out); }
-
-   private:
-    Simulator& sim_;
-  };
-  struct ExactData {
-    std::unique_ptr<ExactPhase> phase;
-    Eigen::MatrixXd guard_rows;  ///< R: guards as affine functions of the phase state
-    std::unique_ptr<ExactPowerIntegrals> powers;  ///< closed-form energy integrals (modal phases)
-  };
+  // The integrators (src/integrate/steppers.hpp) drive the guards and events of the system.
+  friend class detail::NewmarkStepper;
+  friend class detail::ExactStepper;
 
   /// Makes the phase of config_ current, with the link lengths of its locked elements.
   void activate_phase();
   void integrate_to(double t_end, bool nominal);
-  void integrate_exact_to(double t_end);
-  void start_exact_segment();
-  void exact_state(double s, KinematicState& out);
-  void accept_exact(KinematicState& next);
-  /// ∫ of the powers over [a, b] of the segment by quadrature (phases without modes).
-  EnergyMeter::Powers quadrature_powers(double a, double b);
   void settle_state();
-  [[nodiscard]] Eigen::MatrixXd guard_rows(const ExactPhase& exact) const;
-  void trial_step(double tau, bool nominal, KinematicState& out);
   void evaluate_guards(const KinematicState& x, std::span<double> g, std::span<double> dg);
   /// λ of the locked elements at `x` (stop_reaction_, stop_noise_); evaluate_guards computes them.
   void compute_stop_reactions(const KinematicState& x);
-  bool find_grazing(double tau);
   /// Accepts the Newmark step to `next`, whose guards are g_hi_.
   void accept(KinematicState& next);
   /// Makes `next` the current state (swapped with it) and records its statistics, which read λ:
@@ -236,20 +205,12 @@ class Simulator {
 
   std::map<ContactConfiguration, std::unique_ptr<LinearPhase>> phases_;
   LinearPhase* phase_ = nullptr;
-  std::map<ContactConfiguration, ExactData> exact_phases_;
-  ExactPowerIntegrals* segment_powers_ = nullptr;  ///< of the current segment's phase, or null
-  ExactTrajectory trajectory_;
-  GuardExpansion expansion_;
-  bool segment_valid_ = false;
-  Eigen::VectorXd x_work_, x_rate_work_;
-  std::vector<double> memory_amplitude_, memory_rate_;
-  KinematicState node_;
   NewmarkIntegrator newmark_;
   EnergyMeter energy_;
   ResponseMonitor monitor_;  ///< Peaks and counts.
-  ExactTrajectoryOutput exact_output_{*this};
 
-  KinematicState state_, trial_, upper_;
+  std::unique_ptr<detail::Stepper> stepper_;  ///< Newmark or exact (options_.integrator)
+  KinematicState state_;
   std::vector<double> g_lo_, g_hi_, g_work_, dg_lo_, dg_hi_, dg_work_;
   double grid_origin_ = 0.0;
   std::int64_t grid_index_ = 0;

@@ -25,6 +25,7 @@ struct LawTraits {
   bool piecewise_linear = true;  ///< Linear in each mode: Newmark and the exact integrator apply.
   bool has_stop = false;         ///< Has a rigid stop: impacts with restitution, locking.
   EnergyGroup energy = EnergyGroup::storey;
+  const char* name = "";  ///< For messages, e.g. "the paper's gap element".
 };
 
 }  // namespace poundsim

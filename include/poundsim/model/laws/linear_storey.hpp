@@ -18,7 +18,7 @@ struct LinearStorey {
   double damping = 0.0;    ///< C [N·s/m], ≥ 0.
 
   static constexpr LawTraits traits{
-      .piecewise_linear = true, .has_stop = false, .energy = EnergyGroup::storey};
+      .piecewise_linear = true, .has_stop = false, .energy = EnergyGroup::storey, .name = "linear storey"};
 
   [[nodiscard]] LinearForm linear_form(LinkMode /*mode*/) const {
     return {.stiffness = stiffness, .damping = damping};

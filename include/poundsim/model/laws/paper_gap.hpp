@@ -32,7 +32,10 @@ struct PaperGap {
   GapProperties parameters;
 
   static constexpr LawTraits traits{
-      .piecewise_linear = true, .has_stop = true, .energy = EnergyGroup::gap_element};
+      .piecewise_linear = true,
+      .has_stop = true,
+      .energy = EnergyGroup::gap_element,
+      .name = "the paper's gap element"};
 
   [[nodiscard]] static GapMode gap_mode(LinkMode mode) { return static_cast<GapMode>(mode); }
   [[nodiscard]] static LinkMode link_mode(GapMode mode) { return static_cast<LinkMode>(mode); }

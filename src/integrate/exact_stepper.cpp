@@ -1,5 +1,5 @@
-// The exact integrator's path through Simulator: closed-form phases between events, events as
-// proven first roots of exact guard functions (exact_phase.hpp, guard_expansion.hpp).
+// The exact integrator: closed-form phases between events, events as proven first roots of exact
+// guard functions (exact_phase.hpp, guard_expansion.hpp).
 
 #include <algorithm>
 #include <array>
@@ -8,14 +8,12 @@
 
 #include <Eigen/Eigenvalues>
 
-#include "poundsim/integrate/simulator.hpp"
+#include "steppers.hpp"
 
 #include "contact_links.hpp"
 
-namespace poundsim {
+namespace poundsim::detail {
 
-using detail::kinematics;
-using detail::with_contact_law;
 
 namespace {
 
@@ -58,25 +56,25 @@ int nodes_for(double rh) {
 
 }  // namespace
 
-Eigen::MatrixXd Simulator::guard_rows(const ExactPhase& exact) const {
+Eigen::MatrixXd ExactStepper::guard_rows(const Simulator& sim, const ExactPhase& exact) const {
   // Guards as affine functions of x = [q; q̇] of the phase (their constants come from the guard
   // values at the start of each segment). See evaluate_guards for the guards themselves.
   const Eigen::Index n = exact.groups();
-  const auto group = phase_->group_of();
+  const auto group = sim.phase_->group_of();
   const auto g = [&](int dof) { return static_cast<Eigen::Index>(group[static_cast<std::size_t>(dof)]); };
-  Eigen::MatrixXd rows = Eigen::MatrixXd::Zero(2 * model_.gap_count(), 2 * n);
+  Eigen::MatrixXd rows = Eigen::MatrixXd::Zero(2 * sim.model_.gap_count(), 2 * n);
   // Stop reactions: λ_out = f_L + λ_in along each chain, f_L = f_S − m(a_g + ü) − C u̇ − K u;
   // the ground acceleration cancels between m a_g and m ü.
-  std::vector<Eigen::RowVectorXd> link_in(static_cast<std::size_t>(layout_.size()));
-  const LinearPhase::SparseMatrix& c = phase_->full_damping();
-  const LinearPhase::SparseMatrix& k = phase_->full_stiffness();
-  for (std::size_t p = 0; p < config_.size(); ++p) {
-    const Link& link = contact_links_[p];
+  std::vector<Eigen::RowVectorXd> link_in(static_cast<std::size_t>(sim.layout_.size()));
+  const LinearPhase::SparseMatrix& c = sim.phase_->full_damping();
+  const LinearPhase::SparseMatrix& k = sim.phase_->full_stiffness();
+  for (std::size_t p = 0; p < sim.config_.size(); ++p) {
+    const Link& link = sim.contact_links_[p];
     const int l = link.a, r = link.b;
     for (int i = 0; i < 2; ++i) {
       const Eigen::Index j = 2 * static_cast<Eigen::Index>(p) + i;
       const GuardForm form = with_contact_law<GuardForm>(
-          link, [&](const auto& law) { return law.guard_form(i, mode(p), options_.separation); });
+          link, [&](const auto& law) { return law.guard_form(i, sim.mode(p), sim.options_.separation); });
       switch (form.kind) {
         case GuardForm::Kind::inactive: break;
         case GuardForm::Kind::affine:
@@ -88,7 +86,7 @@ Eigen::MatrixXd Simulator::guard_rows(const ExactPhase& exact) const {
           }
           break;
         case GuardForm::Kind::reaction: {
-          Eigen::RowVectorXd f = -phase_->full_mass()(l) * exact.matrix().row(n + g(l));
+          Eigen::RowVectorXd f = -sim.phase_->full_mass()(l) * exact.matrix().row(n + g(l));
           for (LinearPhase::SparseMatrix::InnerIterator it(c, l); it; ++it) {
             f(n + g(static_cast<int>(it.row()))) -= it.value();
           }
@@ -107,59 +105,60 @@ Eigen::MatrixXd Simulator::guard_rows(const ExactPhase& exact) const {
   return rows;
 }
 
-void Simulator::start_exact_segment() {
-  auto it = exact_phases_.find(config_);
-  if (it == exact_phases_.end()) {
-    ExactData data;
-    data.phase = std::make_unique<ExactPhase>(*phase_);
-    data.guard_rows = guard_rows(*data.phase);
+void ExactStepper::start_segment(Simulator& sim) {
+  auto it = phases_.find(sim.config_);
+  if (it == phases_.end()) {
+    PhaseData data;
+    data.phase = std::make_unique<ExactPhase>(*sim.phase_);
+    data.guard_rows = guard_rows(sim, *data.phase);
     if (data.phase->modal()) {
       data.powers = std::make_unique<ExactPowerIntegrals>(
-          *data.phase, energy_.power_forms(config_, phase_->group_of(), data.phase->groups()));
+          *data.phase, sim.energy_.power_forms(sim.config_, sim.phase_->group_of(), data.phase->groups()));
     }
-    it = exact_phases_.emplace(config_, std::move(data)).first;
+    it = phases_.emplace(sim.config_, std::move(data)).first;
   }
   const ExactPhase& exact = *it->second.phase;
   const Eigen::Index n = exact.groups();
   x_work_.resize(2 * n);
-  phase_->gather(state_.u, x_work_.head(n));
-  phase_->gather(state_.v, x_work_.tail(n));
-  trajectory_.start(exact, phase_->mass(), phase_->constant_load(), state_.t, x_work_,
-                    forcing_piece(excitation_, state_.t));
+  sim.phase_->gather(sim.state_.u, x_work_.head(n));
+  sim.phase_->gather(sim.state_.v, x_work_.tail(n));
+  trajectory_.start(exact, sim.phase_->mass(), sim.phase_->constant_load(), sim.state_.t, x_work_,
+                    forcing_piece(sim.excitation_, sim.state_.t));
   segment_powers_ = it->second.powers.get();
   if (segment_powers_ != nullptr) segment_powers_->start(trajectory_);
-  for (std::size_t p = 0; p < config_.size(); ++p) {
+  for (std::size_t p = 0; p < sim.config_.size(); ++p) {
     const Relaxation relaxation = with_contact_law<Relaxation>(
-        contact_links_[p], [&](const auto& law) { return law.relaxation(mode(p), memory_[p], state_.t); });
+        sim.contact_links_[p], [&](const auto& law) { return law.relaxation(sim.mode(p), sim.memory_[p], sim.state_.t); });
     memory_amplitude_[2 * p] = relaxation.amplitude;
     memory_rate_[2 * p] = relaxation.rate;
   }
-  expansion_.build(trajectory_, it->second.guard_rows, g_lo_, memory_amplitude_, memory_rate_);
+  expansion_.build(trajectory_, it->second.guard_rows, sim.g_lo_, memory_amplitude_, memory_rate_);
   segment_valid_ = true;
 }
 
-void Simulator::exact_state(double s, KinematicState& out) {
+void ExactStepper::state_at(const Simulator& sim, double s, KinematicState& out) {
   trajectory_.evaluate(s, x_work_, x_rate_work_);
   const Eigen::Index n = trajectory_.phase().groups();
-  phase_->scatter(x_work_.head(n), out.u, true);
-  phase_->scatter(x_work_.tail(n), out.v, false);
-  phase_->scatter(x_rate_work_.tail(n), out.a, false);
+  sim.phase_->scatter(x_work_.head(n), out.u, true);
+  sim.phase_->scatter(x_work_.tail(n), out.v, false);
+  sim.phase_->scatter(x_rate_work_.tail(n), out.a, false);
   out.t = trajectory_.start_time() + s;
   out.ground = trajectory_.piece().at(out.t);
 }
 
-void Simulator::accept_exact(KinematicState& next) {
+void ExactStepper::accept(Simulator& sim, KinematicState& next) {
   const double t0 = trajectory_.start_time();
-  const double a = state_.t - t0, b = next.t - t0;
+  const double a = sim.state_.t - t0, b = next.t - t0;
   const EnergyMeter::Powers integral =
-      segment_powers_ != nullptr ? segment_powers_->integrate(a, b) : quadrature_powers(a, b);
-  energy_.step_with(state_, next, integral, config_, memory_);
-  monitor_.observe_step(state_, next, trajectory_.start_time(), exact_output_);
-  evaluate_guards(next, g_lo_, dg_lo_);
-  after_accept(next);
+      segment_powers_ != nullptr ? segment_powers_->integrate(a, b) : quadrature_powers(sim, a, b);
+  sim.energy_.step_with(sim.state_, next, integral, sim.config_, sim.memory_);
+  Output output(*this, sim);
+  sim.monitor_.observe_step(sim.state_, next, trajectory_.start_time(), output);
+  sim.evaluate_guards(next, sim.g_lo_, sim.dg_lo_);
+  sim.after_accept(next);
 }
 
-EnergyMeter::Powers Simulator::quadrature_powers(double a, double b) {
+EnergyMeter::Powers ExactStepper::quadrature_powers(const Simulator& sim, double a, double b) {
   // The matrix-exponential path has no modes to integrate in closed form: Gauss–Legendre
   // quadrature on sub-intervals over which the fastest product of two modes turns by at most one
   // radian, and enough nodes that the rule's error is far below round-off.
@@ -171,8 +170,8 @@ EnergyMeter::Powers Simulator::quadrature_powers(double a, double b) {
   for (int piece = 0; piece < pieces; ++piece) {
     const double mid = a + (piece + 0.5) * width;
     for (std::size_t k = 0; k < rule.nodes.size(); ++k) {
-      exact_state(mid + 0.5 * width * rule.nodes[k], node_);
-      const EnergyMeter::Powers p = energy_.powers(node_, config_);
+      state_at(sim, mid + 0.5 * width * rule.nodes[k], node_);
+      const EnergyMeter::Powers p = sim.energy_.powers(node_, sim.config_);
       const double w = 0.5 * width * rule.weights[k];
       integral.input += w * p.input;
       integral.storey_damping += w * p.storey_damping;
@@ -182,19 +181,26 @@ EnergyMeter::Powers Simulator::quadrature_powers(double a, double b) {
   return integral;
 }
 
-void Simulator::integrate_exact_to(double t_end) {
+ExactStepper::ExactStepper(int dofs, int gap_elements) {
+  memory_amplitude_.assign(2 * static_cast<std::size_t>(gap_elements), 0.0);
+  memory_rate_.assign(2 * static_cast<std::size_t>(gap_elements), 0.0);
+  node_.resize(dofs);
+  upper_.resize(dofs);
+}
+
+void ExactStepper::integrate_to(Simulator& sim, double t_end, bool /*nominal*/) {
   constexpr double eps = std::numeric_limits<double>::epsilon();
-  while (state_.t < t_end) {
-    if (!segment_valid_) start_exact_segment();
+  while (sim.state_.t < t_end) {
+    if (!segment_valid_) start_segment(sim);
     const double t0 = trajectory_.start_time();
     const double limit = std::min(t_end, trajectory_.piece().end);
     const double resolution = 16 * eps * std::max(1.0, std::abs(limit));
     const std::optional<Crossing> crossing =
-        first_crossing(expansion_, state_.t - t0, limit - t0, resolution);
+        first_crossing(expansion_, sim.state_.t - t0, limit - t0, resolution);
     if (!crossing) {
-      exact_state(limit - t0, upper_);
+      state_at(sim, limit - t0, upper_);
       upper_.t = limit;
-      accept_exact(upper_);
+      accept(sim, upper_);
       if (limit >= trajectory_.piece().end) segment_valid_ = false;  // the next forcing piece
       continue;
     }
@@ -202,21 +208,21 @@ void Simulator::integrate_exact_to(double t_end) {
     // Move its upper end past the root until the guard of the state there has fired too, so the
     // event decision and every later guard evaluation agree; all guards positive there fire
     // together (simultaneous events).
-    const double lo = std::max(crossing->lo, state_.t - t0);
+    const double lo = std::max(crossing->lo, sim.state_.t - t0);
     double hi = std::max(crossing->hi, lo);
     const double end = limit - t0;
     for (int widen = 0;; ++widen) {
-      exact_state(hi, upper_);
-      evaluate_guards(upper_, g_work_, dg_work_);
-      if (g_work_[static_cast<std::size_t>(crossing->guard)] > 0 || hi >= end || widen > 60) break;
+      state_at(sim, hi, upper_);
+      sim.evaluate_guards(upper_, sim.g_work_, sim.dg_work_);
+      if (sim.g_work_[static_cast<std::size_t>(crossing->guard)] > 0 || hi >= end || widen > 60) break;
       hi = std::min(end, lo + 2 * (hi - lo) + resolution);
     }
-    const bool fired = any_fired(g_work_);
-    accept_exact(upper_);  // g_lo_ = the guards at upper_: g_work_
+    const bool fired = any_fired(sim.g_work_);
+    accept(sim, upper_);  // sim.g_lo_ = the guards at upper_: sim.g_work_
     if (!fired) continue;  // a touch within round-off: no event
-    apply_pending_events();
+    sim.apply_pending_events();
     segment_valid_ = false;
   }
 }
 
-}  // namespace poundsim
+}  // namespace poundsim::detail

@@ -1,0 +1,97 @@
+#pragma once
+// The two integrators between grid times behind one interface (integrate/integrator.hpp says
+// which laws each supports). The simulator keeps the system's side — the links' guards, the
+// events and their resolution, the phase of each contact configuration, the monitors — and its
+// loop asks its stepper to advance to the next grid time. A stepper reaches into the simulator
+// (a friend) for the guards and the events: the system/integrator interface is still being cut
+// (docs/architecture.md).
+
+#include <map>
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "poundsim/integrate/exact_energy.hpp"
+#include "poundsim/integrate/exact_phase.hpp"
+#include "poundsim/integrate/guard_expansion.hpp"
+#include "poundsim/integrate/simulator.hpp"
+
+namespace poundsim::detail {
+
+class Stepper {
+ public:
+  virtual ~Stepper() = default;
+  /// Advances `sim` from its state to t_end, applying the events on the way. `nominal`: a whole
+  /// grid step of dt (Newmark's factorised step solver applies).
+  virtual void integrate_to(Simulator& sim, double t_end, bool nominal) = 0;
+  /// The current phase changed (an event, or a restart): what was built on the old one is void.
+  virtual void phase_changed() {}
+  /// The simulator dropped its phases (a new step, or a full cache): forget what refers to them.
+  virtual void phases_cleared() {}
+};
+
+/// Newmark's average acceleration: a trial step to t_end; when a guard fired (or grazes inside
+/// the step), the first event is located on Newmark sub-steps to event_tolerance.
+class NewmarkStepper final : public Stepper {
+ public:
+  explicit NewmarkStepper(int dofs);
+  void integrate_to(Simulator& sim, double t_end, bool nominal) override;
+
+ private:
+  class TrialEvaluator;
+  void trial_step(Simulator& sim, double tau, bool nominal, KinematicState& out) const;
+  /// A guard that rises and falls inside the step without crossing at the ends fires inside:
+  /// makes `upper_` that trial (and returns true), so the event is located below it.
+  bool find_grazing(Simulator& sim, double tau);
+
+  KinematicState trial_, upper_;
+};
+
+/// The closed-form solution of each phase (exact_phase.hpp) from segment to segment; events are
+/// proven first roots of the guards' exact expansions (guard_expansion.hpp).
+class ExactStepper final : public Stepper {
+ public:
+  ExactStepper(int dofs, int gap_elements);
+  void integrate_to(Simulator& sim, double t_end, bool nominal) override;
+  void phase_changed() override { segment_valid_ = false; }
+  void phases_cleared() override {
+    phases_.clear();
+    segment_powers_ = nullptr;
+  }
+
+ private:
+  struct PhaseData {
+    std::unique_ptr<ExactPhase> phase;
+    Eigen::MatrixXd guard_rows;  ///< R: guards as affine functions of the phase state
+    std::unique_ptr<ExactPowerIntegrals> powers;  ///< closed-form energy integrals (modal phases)
+  };
+  /// The trajectory of the current segment as dense output for the response monitor.
+  class Output final : public DenseOutput {
+   public:
+    Output(ExactStepper& stepper, Simulator& sim) : stepper_(stepper), sim_(sim) {}
+    void state_at(double s, KinematicState& out) override { stepper_.state_at(sim_, s, out); }
+
+   private:
+    ExactStepper& stepper_;
+    Simulator& sim_;
+  };
+
+  void start_segment(Simulator& sim);
+  void state_at(const Simulator& sim, double s, KinematicState& out);
+  void accept(Simulator& sim, KinematicState& next);
+  /// ∫ of the powers over [a, b] of the segment by quadrature (phases without modes).
+  EnergyMeter::Powers quadrature_powers(const Simulator& sim, double a, double b);
+  [[nodiscard]] Eigen::MatrixXd guard_rows(const Simulator& sim, const ExactPhase& exact) const;
+
+  std::map<ContactConfiguration, PhaseData> phases_;
+  ExactPowerIntegrals* segment_powers_ = nullptr;  ///< of the current segment's phase, or null
+  ExactTrajectory trajectory_;
+  GuardExpansion expansion_;
+  bool segment_valid_ = false;
+  Eigen::VectorXd x_work_, x_rate_work_;
+  std::vector<double> memory_amplitude_, memory_rate_;
+  KinematicState node_, upper_;
+};
+
+}  // namespace poundsim::detail

@@ -1,0 +1,38 @@
+// Which integrator integrates which laws (integrate/integrator.hpp): Newmark any law, the exact
+// integrator only laws that are linear in each mode; a refusal says which link and what to do.
+
+#include "poundsim/integrate/integrator.hpp"
+
+#include <array>
+#include <stdexcept>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "test_models.hpp"
+
+namespace poundsim {
+namespace {
+
+TEST(IntegratorSupport, ExactNeedsPiecewiseLinearLawsNewmarkTakesAny) {
+  const LawTraits smooth{.piecewise_linear = false, .has_stop = false, .energy = EnergyGroup::gap_element,
+                         .name = "a smooth contact law"};
+  const std::array<LawTraits, 3> laws{LinearStorey::traits, PaperGap::traits, smooth};
+  EXPECT_TRUE(supports(Integrator::newmark, laws));
+  const IntegratorSupport exact = supports(Integrator::exact, laws);
+  EXPECT_FALSE(exact);
+  EXPECT_NE(exact.reason.find("link 3 has a smooth contact law"), std::string::npos) << exact.reason;
+  EXPECT_NE(exact.reason.find("analysis.integrator = \"newmark\""), std::string::npos) << exact.reason;
+  EXPECT_TRUE(supports(Integrator::exact, std::span(laws).first(2)));
+}
+
+TEST(IntegratorSupport, BothIntegrateThePapersModels) {
+  const Model model = make_model(testing::fig2('c'), {4, 4});
+  const std::vector<Link> links = make_links(model, DofLayout(model));
+  EXPECT_EQ(links.size(), 8u + 4u);  // eight storeys, four gap elements
+  EXPECT_TRUE(supports(Integrator::newmark, links));
+  EXPECT_TRUE(supports(Integrator::exact, links));
+}
+
+}  // namespace
+}  // namespace poundsim
