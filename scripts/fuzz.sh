@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs the fuzz targets built by the `fuzz` preset (fuzz/README.md).
 #
-#   scripts/fuzz.sh [--time SECONDS] [--runs N] [--build DIR] [--keep-going] [TARGET...]
+#   scripts/fuzz.sh [--time SECONDS] [--runs N] [--timeout SECONDS] [--build DIR] [--keep-going] [TARGET...]
 #                                           fuzz each target for SECONDS (or N executions)
 #   scripts/fuzz.sh --corpus [--build DIR] [TARGET...]            only replay the committed corpus
 #   scripts/fuzz.sh --findings [--build DIR] [TARGET...]          replay fuzz/findings/ (known defects)
@@ -11,6 +11,9 @@
 # runs (DIR/fuzz-work/<target>/, kept between runs; the committed corpus is never written). A crash,
 # sanitizer report, timeout or escaping exception stops the target; its reproducer is written to
 # DIR/fuzz-artifacts/<target>/ and the script exits non-zero after the remaining targets.
+# --timeout: the longest one input may take, in wall-clock seconds (default 10). libFuzzer's alarm
+# counts the wall clock: a niced long run sharing its cores with builds needs more (say 120), or
+# an input that takes 0.2 s of CPU is reported as a timeout.
 # --keep-going (long runs): a finding does not stop the target; libFuzzer runs the inputs in a
 # child process (-fork=1) and collects every reproducer. Targets default to all five; DIR defaults
 # to build/fuzz.
@@ -19,6 +22,7 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build=$root/build/fuzz
 mode=fuzz
 seconds=60
+timeout=10
 keep_going=()
 runs=()
 targets=()
@@ -26,6 +30,7 @@ while [ $# -gt 0 ]; do
   case "$1" in
     --time) seconds=$2; shift 2 ;;
     --runs) runs=(-runs="$2"); shift 2 ;;
+    --timeout) timeout=$2; shift 2 ;;
     --build) build=$2; shift 2 ;;
     --keep-going) keep_going=(-fork=1 -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1); shift ;;
     --corpus) mode=corpus; shift ;;
@@ -49,7 +54,7 @@ export TMPDIR=$(mktemp -d "$scratch_parent/poundsim-fuzz.XXXXXX")
 trap 'rm -rf "$TMPDIR"' EXIT
 
 # Per-input limits: a reader of a few-KB input has no business taking 10 s or allocating 256 MB.
-limits=(-timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=256)
+limits=(-timeout="$timeout" -rss_limit_mb=2048 -malloc_limit_mb=256)
 status=0
 for t in "${targets[@]}"; do
   binary=$build/fuzz/fuzz_$t

@@ -337,5 +337,52 @@ TEST(SimulatorFailures, NonFiniteStatesStopTheRunNamingTimeAndQuantity) {
       << stiff;
 }
 
+
+// The loop's status: why a run stopped, at what time, with the same message the error carries.
+TEST(SimulatorStatus, RunToSaysWhyItStopped) {
+  const Model paper = two_oscillators(1.0, 200.0, 1.4, 1.0, 50.0, 0.7, {.gap = 0.01, .restitution = 0.75});
+  Simulator fine(paper, HarmonicExcitation{0.2 * 9.81, 10.0}, TimeHistoryOptions{.dt = 1e-3});
+  const SimulationStatus reached = fine.run_to(0.5);
+  EXPECT_TRUE(reached.ok());
+  EXPECT_EQ(reached.time, 0.5);
+  EXPECT_TRUE(reached.message.empty());
+
+  Simulator huge(paper, HarmonicExcitation{1e300 * 9.81, 10.0}, TimeHistoryOptions{.dt = 1e-3});
+  const SimulationStatus overflow = huge.run_to(1.0);
+  EXPECT_EQ(overflow.reason, StopReason::non_finite);
+  EXPECT_EQ(overflow.time, huge.time());
+  EXPECT_LT(overflow.time, 1.0);
+  EXPECT_NE(overflow.message.find("is not finite"), std::string::npos) << overflow.message;
+  // A failed simulation stays failed: its state is the failure's, not a solution.
+  EXPECT_EQ(huge.run_to(2.0).message, overflow.message);
+  try {
+    huge.advance_to(2.0);
+    ADD_FAILURE() << "advance_to continued after a failure";
+  } catch (const SimulationError& e) {
+    EXPECT_EQ(e.reason(), StopReason::non_finite);
+  }
+
+  // A stiff spring (contact π/√(k/m̄) = 2.2 ms) closes at 0.5 ms and reopens at 2.7 ms, within
+  // the first step of 10 ms: two events, which the exact integrator locates in that step.
+  const Model stiff = two_oscillators(1.0, 1.0, 0.0, 1.0, 1.0, 0.0,
+                                      {.stiffness = 1e6, .gap = 0.001, .shortening = 0.1, .restitution = 1.0});
+  InitialConditions closing;
+  closing.velocity = {{1.0}, {-1.0}};
+  Simulator one_event(stiff, NoExcitation{},
+                      TimeHistoryOptions{.dt = 0.01, .integrator = Integrator::exact, .max_events_per_step = 1},
+                      closing);
+  const SimulationStatus limit = one_event.run_to(0.1);
+  EXPECT_EQ(limit.reason, StopReason::event_limit);
+  EXPECT_GT(limit.time, 0.0);
+  EXPECT_LT(limit.time, 0.01);
+  EXPECT_NE(limit.message.find("more than 1 events within one step"), std::string::npos) << limit.message;
+  Simulator two_events(stiff, NoExcitation{},
+                       TimeHistoryOptions{.dt = 0.01, .integrator = Integrator::exact, .max_events_per_step = 2},
+                       closing);
+  EXPECT_TRUE(two_events.run_to(0.1).ok());
+  EXPECT_EQ(two_events.statistics().gaps[0].contacts, 1);
+  EXPECT_EQ(two_events.statistics().gaps[0].separations, 1);
+}
+
 }  // namespace
 }  // namespace poundsim

@@ -5,6 +5,7 @@
 /// it and exits with code 2. A numerical failure during a run is a SimulationError (exit code 1).
 /// Programmer errors are assertions, not exceptions.
 
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -16,10 +17,27 @@ class InputError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// The simulation could not continue (singular matrix, unresolvable chattering, ...).
+/// Why a simulation stopped: at the time it was asked to reach, or the failure that ended it.
+enum class StopReason : std::uint8_t {
+  reached_time,    ///< It reached the time asked for.
+  non_finite,      ///< The state, a force or an energy is no longer finite.
+  event_limit,     ///< More events within one step than max_events_per_step (chattering).
+  event_location,  ///< An event could not be located.
+  resonance,       ///< Exact integrator: forcing at a natural frequency of an undamped phase.
+  singular_phase,  ///< A phase's Newmark matrix could not be factorised.
+  other,           ///< Any other numerical failure.
+};
+
+/// The simulation could not continue (singular matrix, unresolvable chattering, ...); `reason`
+/// says which (a simulator's run_to returns it as a status).
 class SimulationError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit SimulationError(const std::string& message, StopReason reason = StopReason::other)
+      : std::runtime_error(message), reason_(reason) {}
+  [[nodiscard]] StopReason reason() const { return reason_; }
+
+ private:
+  StopReason reason_;
 };
 
 }  // namespace poundsim

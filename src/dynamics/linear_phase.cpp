@@ -146,7 +146,8 @@ void LinearPhase::factorize(Solver& solver, double tau) const {
   solver.factorize(effective_);
   if (solver.info() != Eigen::Success) {
     throw SimulationError(
-        fmt::format("the Newmark effective matrix could not be factorised (step {} s)", tau));
+        fmt::format("the Newmark effective matrix could not be factorised (step {} s)", tau),
+        StopReason::singular_phase);
   }
 }
 

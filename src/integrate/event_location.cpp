@@ -37,7 +37,7 @@ EventBracket locate_first_event(double lo, double hi, GuardSample at_lo, GuardSa
     if (iteration >= max_iterations) {
       throw SimulationError(fmt::format(
           "event location did not converge: bracket [{}, {}] s after {} iterations", b.lo, b.hi,
-          iteration));
+          iteration), StopReason::event_location);
     }
     const double width = b.hi - b.lo;
 

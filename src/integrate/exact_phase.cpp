@@ -77,7 +77,7 @@ const Eigen::VectorXcd& ExactPhase::harmonic_response(double omega) const {
     throw SimulationError(fmt::format(
         "exact integrator: the forcing frequency {} rad/s is a natural frequency of an undamped "
         "phase, which has no bounded steady state; add damping or use integrator = \"newmark\"",
-        omega));
+        omega), StopReason::resonance);
   }
   Eigen::VectorXcd e = Eigen::VectorXcd::Zero(2 * n_);
   e.tail(n_).setConstant(-1.0);

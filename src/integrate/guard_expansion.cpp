@@ -176,7 +176,8 @@ std::optional<Crossing> search(const GuardExpansion& guards, int j, double a, do
     if (depth == stack.size())
       throw SimulationError(
           "event location: the guard search went deeper than its stack (a resolution below 2^-60 "
-          "of the step)");
+          "of the step)",
+          StopReason::event_location);
     stack[depth++] = in;
   };
   const auto [ga, da] = guards.value_and_rate(j, a);

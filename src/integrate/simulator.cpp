@@ -260,19 +260,34 @@ void Simulator::activate_phase() {
 void Simulator::step() { advance_to(grid_origin_ + static_cast<double>(grid_index_ + 1) * options_.dt); }
 
 void Simulator::advance_to(double t_target) {
+  if (failure_) throw SimulationError(failure_->message, failure_->reason);
   const double dt = options_.dt, slack = 1e-9 * dt;
-  while (state_.t < t_target - slack) {
-    const double next = grid_origin_ + static_cast<double>(grid_index_ + 1) * dt;
-    if (next <= t_target + slack) {
-      integrate_to(next, true);
-      ++grid_index_;
-    } else {
-      integrate_to(t_target, false);
-      grid_origin_ = t_target;
-      grid_index_ = 0;
+  try {
+    while (state_.t < t_target - slack) {
+      const double next = grid_origin_ + static_cast<double>(grid_index_ + 1) * dt;
+      if (next <= t_target + slack) {
+        integrate_to(next, true);
+        ++grid_index_;
+      } else {
+        integrate_to(t_target, false);
+        grid_origin_ = t_target;
+        grid_index_ = 0;
+      }
+      ++monitor_.counts().steps;
     }
-    ++monitor_.counts().steps;
+  } catch (const SimulationError& e) {
+    failure_ = SimulationStatus{e.reason(), state_.t, e.what()};
+    throw;
   }
+}
+
+SimulationStatus Simulator::run_to(double t) {
+  try {
+    advance_to(t);
+  } catch (const SimulationError&) {
+    return *failure_;
+  }
+  return SimulationStatus{StopReason::reached_time, state_.t, {}};
 }
 
 void Simulator::integrate_to(double t_end, bool nominal) {
@@ -367,7 +382,7 @@ void Simulator::check_finite() const {
     throw SimulationError(fmt::format(
         "at t = {} s {} is not finite: the input's magnitudes (accelerations, initial velocities, "
         "stiffness over mass) exceed the range of double precision",
-        state_.t, what));
+        state_.t, what), StopReason::non_finite);
   };
   if (!std::isfinite(state_.ground)) fail(fmt::format("the ground acceleration ({})", state_.ground));
   for (int i = 0; i < layout_.size(); ++i) {
@@ -424,7 +439,8 @@ void Simulator::emit(int gap, EventKind kind, double left_before, double right_b
         "more than {} events within one step at t = {} s (gap element between frames {} and {} "
         "at floor {}): chattering that lock_time = {} s does not suppress",
         options_.max_events_per_step, state_.t, model_.gaps[gap].left_frame + 1,
-        model_.gaps[gap].left_frame + 2, model_.gaps[gap].floor + 1, options_.lock_time));
+        model_.gaps[gap].left_frame + 2, model_.gaps[gap].floor + 1, options_.lock_time),
+        StopReason::event_limit);
   }
   monitor_.observe_event(p, kind, before, impulse, state_.t);
   if (on_event_) {

@@ -42,8 +42,11 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
+#include <string>
 #include <vector>
 
+#include "poundsim/error.hpp"
 #include "poundsim/model/contact_state.hpp"
 #include "poundsim/dynamics/energy.hpp"
 #include "poundsim/dynamics/event.hpp"
@@ -90,6 +93,14 @@ struct InitialConditions {
   std::vector<std::vector<double>> velocity;
 };
 
+/// How a run to a time ended: the simulation loop's answer to "why did you stop?".
+struct SimulationStatus {
+  StopReason reason = StopReason::reached_time;
+  double time = 0.0;    ///< [s] The time reached, or the instant of the failure.
+  std::string message;  ///< What failed and where; empty when the time was reached.
+  [[nodiscard]] bool ok() const { return reason == StopReason::reached_time; }
+};
+
 class Simulator {
  public:
   /// Validates its inputs (std::invalid_argument on failure) and equilibrates the initial state.
@@ -104,7 +115,12 @@ class Simulator {
     on_event_ = std::move(handler);
   }
   /// Integrates grid steps of h until `t` [s]; the last step is shortened to end exactly at t.
+  /// Throws SimulationError (with its StopReason) when the integration fails; after a failure
+  /// every later call throws it again.
   void advance_to(double t);
+  /// The same, with a failure returned as a status instead of thrown. The state is then the one
+  /// at the failure's instant (not a solution: do not continue from it).
+  [[nodiscard]] SimulationStatus run_to(double t);
 
   /// Continues from the current state (displacements, velocities, contact configuration, locked
   /// links) under a new excitation and step, with the clock reset to 0 — a frequency sweep's next
@@ -210,6 +226,7 @@ class Simulator {
   ResponseMonitor monitor_;  ///< Peaks and counts.
 
   std::unique_ptr<detail::Stepper> stepper_;  ///< Newmark or exact (options_.integrator)
+  std::optional<SimulationStatus> failure_;   ///< Once the integration has failed
   KinematicState state_;
   std::vector<double> g_lo_, g_hi_, g_work_, dg_lo_, dg_hi_, dg_work_;
   double grid_origin_ = 0.0;
