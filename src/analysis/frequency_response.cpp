@@ -30,13 +30,10 @@ std::string_view to_string(SweepMode mode) {
 }
 
 void SteadyStateOptions::validate() const {
-  if (steps_per_period < 8) throw std::invalid_argument("steps_per_period must be ≥ 8");
-  if (!(tolerance > 0 && tolerance < 1)) throw std::invalid_argument("tolerance must be in (0, 1)");
-  if (max_periodicity < 1) throw std::invalid_argument("max_periodicity must be ≥ 1");
+  if (const auto violation = first_violation(*this)) throw std::invalid_argument(*violation);
   if (max_periods < 2 * max_periodicity + 2) {
     throw std::invalid_argument("max_periods must be at least 2 × max_periodicity + 2");
   }
-  if (window_periods < 1) throw std::invalid_argument("window_periods must be ≥ 1");
 }
 
 double reference_frequency(const Model& model) { return fundamental_frequency(model.frames.front()); }

@@ -67,18 +67,16 @@ void TimeHistoryOptions::validate() const {
   if (!std::isfinite(dt) || dt <= 0) {
     throw std::invalid_argument(fmt::format("dt = {} s must be > 0", dt));
   }
-  if (!std::isfinite(event_tolerance) || event_tolerance <= 0 || event_tolerance >= dt) {
+  if (const auto violation = first_violation(*this)) throw std::invalid_argument(*violation);
+  // Between fields:
+  if (event_tolerance >= dt) {
     throw std::invalid_argument(fmt::format(
-        "event_tolerance = {} s must be > 0 and smaller than dt = {} s", event_tolerance, dt));
+        "event_tolerance = {} s must be smaller than dt = {} s", event_tolerance, dt));
   }
-  if (!std::isfinite(lock_time) || lock_time < 10 * event_tolerance) {
+  if (lock_time < 10 * event_tolerance) {
     throw std::invalid_argument(fmt::format(
         "lock_time = {} s must be at least 10 × event_tolerance = {} s", lock_time,
         10 * event_tolerance));
-  }
-  if (!(rest_velocity_ratio >= 0 && rest_velocity_ratio < 1)) {
-    throw std::invalid_argument(
-        fmt::format("rest_velocity_ratio = {} must be in [0, 1)", rest_velocity_ratio));
   }
   if (max_events_per_step < 1) throw std::invalid_argument("max_events_per_step must be ≥ 1");
   if (phase_cache_size < 1) throw std::invalid_argument("phase_cache_size must be ≥ 1");

@@ -280,6 +280,45 @@ class TableReader {
   std::set<std::string> used_;
 };
 
+// --- declared fields (fields.hpp) ---------------------------------------------------------------
+
+/// Whether the table may leave a required field out: an override table inherits its fields.
+enum class Presence : std::uint8_t { as_declared, inherited };
+
+/// Reads every declared field of S that `t` holds into `s`, checking its type and range; a
+/// field absent from the table keeps its value in `s` (the struct's default, or what it
+/// inherits). Messages name the key and the rule: "must be ≥ 0 (got -1)".
+template <Configuration S>
+void read_fields(TableReader& t, S& s, Presence presence = Presence::as_declared) {
+  for_each_field<S>([&](const auto& field) {
+    using Field = std::decay_t<decltype(field)>;
+    if (!t.has(field.key)) {
+      if constexpr (std::is_same_v<Field, NumberField<S>>) {
+        if (field.required && presence == Presence::as_declared) t.require(field.key);
+      }
+      return;
+    }
+    if constexpr (std::is_same_v<Field, NumberField<S>>) {
+      const double v = t.number(field.key);
+      if (!field.range.contains(v)) {
+        t.fail(field.key, fmt::format("must be {} (got {})", field.range.describe(), v));
+      }
+      s.*field.member = v;
+    } else if constexpr (std::is_same_v<Field, IntegerField<S>>) {
+      s.*field.member = t.integer(field.key, field.lo, field.hi);
+    } else {
+      const std::string name = t.string(field.key);
+      const auto value = field.parse(name);
+      if (!value) {
+        std::vector<std::string_view> names;
+        for (const auto& entry : field.names) names.push_back(entry.first);
+        t.fail(field.key, fmt::format("\"{}\" is not one of: \"{}\"", name, fmt::join(names, "\", \"")));
+      }
+      s.*field.member = *value;
+    }
+  });
+}
+
 // --- --set overrides -------------------------------------------------------------------------
 
 struct KeySegment {
@@ -471,24 +510,7 @@ struct GapSpec {
 GapSpec read_gap_properties(TableReader& t, const GapSpec* defaults) {
   GapSpec spec = defaults != nullptr ? *defaults : GapSpec{};
   GapProperties& g = spec.properties;
-  const auto get = [&](const char* key, double& field, bool required) {
-    if (required) {
-      field = t.number(key);
-    } else if (auto v = t.optional_number(key)) {
-      field = *v;
-    }
-  };
-  const bool base = defaults == nullptr;
-  get("gap", g.gap, base);
-  get("stiffness", g.stiffness, false);
-  get("damping", g.damping, false);
-  get("shortening", g.shortening, false);
-  get("restitution", g.restitution, base);
-  t.non_negative("gap", g.gap);
-  t.non_negative("stiffness", g.stiffness);
-  t.non_negative("damping", g.damping);
-  t.non_negative("shortening", g.shortening);
-  t.unit_interval("restitution", g.restitution);
+  read_fields(t, g, defaults == nullptr ? Presence::as_declared : Presence::inherited);
   if (g.shortening == 0 && (g.stiffness > 0 || g.damping > 0)) {
     t.fail(t.has("shortening") ? "shortening" : (t.has("stiffness") ? "stiffness" : "damping"),
            "an element with shortening = 0 is a rigid stop whose spring and dashpot never act; "
@@ -801,23 +823,11 @@ void read_excitation(TableReader& t, const Model& model, const std::filesystem::
 /// The integration keys shared by every kind of analysis.
 void read_integration(TableReader& t, AnalysisSettings& a) {
   TimeHistoryOptions& o = a.options;
-  a.integrator = t.choice("integrator", {"newmark", "exact"}, std::string("newmark"));
-  o.integrator = a.integrator == "exact" ? Integrator::exact : Integrator::newmark;
-  o.event_tolerance = t.number_or("event_tolerance", o.event_tolerance);
-  if (!(o.event_tolerance > 0)) {
-    t.fail("event_tolerance", fmt::format("{} s must be > 0", o.event_tolerance));
-  }
-  o.lock_time = t.number_or("lock_time", o.lock_time);
+  read_fields(t, o);
+  a.integrator = std::string(to_string(o.integrator));
   if (!(o.lock_time >= 10 * o.event_tolerance)) {
     t.fail("lock_time", fmt::format("{} s must be at least 10 × event_tolerance", o.lock_time));
   }
-  o.rest_velocity_ratio = t.number_or("rest_velocity_ratio", o.rest_velocity_ratio);
-  if (!(o.rest_velocity_ratio >= 0 && o.rest_velocity_ratio < 1)) {
-    t.fail("rest_velocity_ratio", fmt::format("{} must be in [0, 1)", o.rest_velocity_ratio));
-  }
-  o.separation = t.choice("separation", {"displacement", "force"}, std::string("displacement")) == "force"
-                     ? SeparationCriterion::force
-                     : SeparationCriterion::displacement;
   a.max_steps = t.number_or("max_steps", a.max_steps);
   if (!(a.max_steps >= 1 && a.max_steps <= limits::max_steps_limit)) {
     t.fail("max_steps", fmt::format("must be in [1, {:g}] (got {})", limits::max_steps_limit, a.max_steps));
@@ -921,15 +931,10 @@ FrfSettings read_frf(TableReader& t, TableReader& analysis, const Model& model, 
             : sweep == "both" ? SweepMode::both
                               : SweepMode::from_rest;
   SteadyStateOptions& s = f.steady;
-  s.steps_per_period = t.optional_integer("steps_per_period", 8, limits::periods).value_or(s.steps_per_period);
-  s.tolerance = t.number_or("tolerance", s.tolerance);
-  if (!(s.tolerance > 0 && s.tolerance < 1)) t.fail("tolerance", "must be in (0, 1)");
-  s.max_periodicity = t.optional_integer("max_periodicity", 1, limits::periodicity).value_or(s.max_periodicity);
-  s.max_periods = t.optional_integer("max_periods", 1, limits::periods).value_or(s.max_periods);
+  read_fields(t, s);
   if (s.max_periods < 2 * s.max_periodicity + 2) {
     t.fail("max_periods", "must be at least 2 × max_periodicity + 2");
   }
-  s.window_periods = t.optional_integer("window_periods", 1, limits::periods).value_or(s.window_periods);
   f.threads = read_threads(t, f.threads);
   // The shortest step: the highest frequency's period over steps_per_period.
   const double shortest = 2 * std::numbers::pi / (f.ratios.back() * reference_frequency(model)) /

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "poundsim/fields.hpp"
 #include "poundsim/model/model.hpp"
 #include "poundsim/integrate/simulator.hpp"
 
@@ -41,6 +42,26 @@ struct SteadyStateOptions {
   int max_periods = 600;        ///< Periods simulated before the response is called non-periodic.
   int max_periodicity = 8;      ///< Largest k looked for.
   int window_periods = 64;      ///< Periods over which a non-periodic response's peaks are taken.
+
+  /// The most periods (and steps per period) one point may ask for.
+  static constexpr int max_count = 1'000'000;
+  static constexpr int largest_periodicity = 1000;  ///< max_periodicity's bound.
+  /// The fields a model file sets ([frf]): fields.hpp.
+  static constexpr auto fields() {
+    using O = SteadyStateOptions;
+    return std::tuple{
+        IntegerField{"steps_per_period", &O::steps_per_period, 8, max_count,
+                     "Newmark steps (exact integrator: samples) per forcing period"},
+        NumberField{"tolerance", &O::tolerance, "", open_unit,
+                    "the Poincaré sections must repeat to this, relative to the largest state"},
+        IntegerField{"max_periodicity", &O::max_periodicity, 1, largest_periodicity,
+                     "the largest period (in forcing periods) looked for"},
+        IntegerField{"max_periods", &O::max_periods, 1, max_count,
+                     "forcing periods simulated before a response is declared not periodic"},
+        IntegerField{"window_periods", &O::window_periods, 1, max_count,
+                     "periods over which a non-periodic response's peaks are taken"},
+    };
+  }
 
   /// Throws std::invalid_argument naming the field that is out of range.
   void validate() const;

@@ -47,6 +47,7 @@
 #include <vector>
 
 #include "poundsim/error.hpp"
+#include "poundsim/fields.hpp"
 #include "poundsim/model/contact_state.hpp"
 #include "poundsim/dynamics/energy.hpp"
 #include "poundsim/dynamics/event.hpp"
@@ -81,6 +82,30 @@ struct TimeHistoryOptions {
   Integrator integrator = Integrator::newmark;
   int max_events_per_step = 100000;        ///< Beyond this the run stops with an error.
   std::size_t phase_cache_size = 4096;     ///< Factorised configurations kept.
+
+  /// The fields a model file sets (its [analysis] table; dt is read with the analysis it
+  /// belongs to), with their units and ranges: fields.hpp.
+  static constexpr auto fields() {
+    using O = TimeHistoryOptions;
+    return std::tuple{
+        ChoiceField{"integrator", &O::integrator,
+                    std::array{std::pair<std::string_view, Integrator>{"newmark", Integrator::newmark},
+                               std::pair<std::string_view, Integrator>{"exact", Integrator::exact}},
+                    "Newmark's average acceleration, or the closed-form solution of each phase"},
+        NumberField{"event_tolerance", &O::event_tolerance, "s", positive,
+                    "Newmark: event times are bracketed to this width"},
+        NumberField{"lock_time", &O::lock_time, "s", positive,
+                    "a pressed pair whose next bounce would be shorter locks (persistent contact)"},
+        NumberField{"rest_velocity_ratio", &O::rest_velocity_ratio, "", below_one,
+                    "an impact closing slower than this fraction of its floors' speeds is plastic"},
+        ChoiceField{"separation", &O::separation,
+                    std::array{std::pair<std::string_view, SeparationCriterion>{
+                                   "displacement", SeparationCriterion::displacement},
+                               std::pair<std::string_view, SeparationCriterion>{"force",
+                                                                                SeparationCriterion::force}},
+                    "contact ends when s returns to 0, or when the element force would become tensile"},
+    };
+  }
 
   /// Throws std::invalid_argument naming the field that is out of range.
   void validate() const;

@@ -33,8 +33,9 @@ inline constexpr int floors = 2000;           ///< Floors of all frames together
 inline constexpr double max_steps = 1e8;      ///< Default of analysis.max_steps.
 inline constexpr double max_steps_limit = 1e15;  ///< analysis.max_steps itself (exact in a double).
 inline constexpr int frf_points = 1'000'000;  ///< frf.points.
-inline constexpr int periods = 1'000'000;     ///< frf.steps_per_period, max_periods, window_periods.
-inline constexpr int periodicity = 1000;      ///< frf.max_periodicity.
+/// frf.steps_per_period, max_periods, window_periods.
+inline constexpr int periods = SteadyStateOptions::max_count;
+inline constexpr int periodicity = SteadyStateOptions::largest_periodicity;  ///< frf.max_periodicity.
 inline constexpr int study_points = 1'000'000;  ///< Points of a study (all parameters together).
 inline constexpr int evaluations = 1'000'000;   ///< Each stage of the optimiser.
 inline constexpr int threads = 1024;          ///< Any `threads` key.

@@ -20,6 +20,8 @@
 
 #include <string>
 
+#include "poundsim/fields.hpp"
+
 namespace poundsim {
 
 /// Mechanical properties of one gap element. SI units.
@@ -29,6 +31,21 @@ struct GapProperties {
   double gap = 0.0;          ///< δ [m], ≥ 0: the clear distance at rest.
   double shortening = 0.0;   ///< ε [m], ≥ 0: the allowable spring shortening before impact.
   double restitution = 1.0;  ///< e ∈ [0, 1]: the coefficient of restitution of the impacts.
+
+  /// The fields a model file sets ([gap_elements] and its overrides): fields.hpp. The gap and
+  /// the restitution have no default in a file.
+  static constexpr auto fields() {
+    using P = GapProperties;
+    return std::tuple{
+        NumberField{"gap", &P::gap, "m", non_negative, "δ, the clear distance at rest", true},
+        NumberField{"stiffness", &P::stiffness, "N/m", non_negative, "k, the spring"},
+        NumberField{"damping", &P::damping, "N·s/m", non_negative, "c, the dashpot"},
+        NumberField{"shortening", &P::shortening, "m", non_negative,
+                    "ε, the allowable spring shortening before impact"},
+        NumberField{"restitution", &P::restitution, "", unit_interval,
+                    "e, the coefficient of restitution of the impacts", true},
+    };
+  }
 
   /// True for bare pounding: the element has no stroke, contact is an impact at once.
   [[nodiscard]] bool is_rigid_stop() const { return shortening <= 0.0; }

@@ -1,0 +1,167 @@
+#pragma once
+/// @file
+/// Configuration fields declared once. A configuration struct (TimeHistoryOptions,
+/// SteadyStateOptions, GapProperties, …) lists its fields in a static `fields()`: for each, the
+/// key it has in a model file, the member it sets, its SI unit, the values it admits and what it
+/// means. Its default is the member's initialiser. The same list drives
+///   - the struct's own validation (first_violation(), used by its validate()),
+///   - the model-file reader (io/input.cpp reads every declared field of a table generically,
+///     with the file, line, column and key in its messages),
+///   - the documentation check (tests/io/input_docs_test.cpp: docs/input.md lists every declared
+///     key of a table with its default and unit).
+/// Rules between fields (lock_time ≥ 10 × event_tolerance, max_periods ≥ 2 × max_periodicity + 2)
+/// stay in the struct's validate(), after the fields' own ranges.
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <tuple>
+#include <utility>
+
+#include <fmt/format.h>
+
+namespace poundsim {
+
+/// The values a number admits: an interval with open or closed ends; never NaN or ±∞.
+struct Interval {
+  double lo = -std::numeric_limits<double>::infinity();
+  double hi = std::numeric_limits<double>::infinity();
+  bool lo_open = false;
+  bool hi_open = false;
+
+  [[nodiscard]] constexpr bool contains(double v) const {
+    if (!(v == v) || v == std::numeric_limits<double>::infinity() ||
+        v == -std::numeric_limits<double>::infinity()) {
+      return false;
+    }
+    const bool above = lo_open ? v > lo : v >= lo;
+    const bool below = hi_open ? v < hi : v <= hi;
+    return above && below;
+  }
+  /// The rule as a message says it: "> 0", "≥ 0", "in [0, 1)".
+  [[nodiscard]] std::string describe() const {
+    const bool bounded_below = std::isfinite(lo), bounded_above = std::isfinite(hi);
+    if (bounded_below && bounded_above) {
+      return fmt::format("in {}{:g}, {:g}{}", lo_open ? '(' : '[', lo, hi, hi_open ? ')' : ']');
+    }
+    if (bounded_below) return fmt::format("{} {:g}", lo_open ? ">" : "≥", lo);
+    if (bounded_above) return fmt::format("{} {:g}", hi_open ? "<" : "≤", hi);
+    return "finite";
+  }
+};
+
+inline constexpr Interval any_finite{};
+inline constexpr Interval positive{.lo = 0.0, .lo_open = true};
+inline constexpr Interval non_negative{.lo = 0.0};
+inline constexpr Interval unit_interval{.lo = 0.0, .hi = 1.0};
+inline constexpr Interval below_one{.lo = 0.0, .hi = 1.0, .hi_open = true};    ///< [0, 1)
+inline constexpr Interval open_unit{.lo = 0.0, .hi = 1.0, .lo_open = true, .hi_open = true};
+
+/// A real-valued field in an SI unit ("" for a ratio).
+template <class S>
+struct NumberField {
+  std::string_view key;
+  double S::*member;
+  std::string_view unit;
+  Interval range;
+  std::string_view meaning;
+  bool required = false;  ///< A file must give it (in the table that does not inherit it).
+};
+
+/// An integer field with its closed range; the value of a file is checked before it is narrowed.
+template <class S>
+struct IntegerField {
+  std::string_view key;
+  int S::*member;
+  std::int64_t lo;
+  std::int64_t hi;
+  std::string_view meaning;
+};
+
+/// One of a closed set of named values, stored as the enum E.
+template <class S, class E, std::size_t N>
+struct ChoiceField {
+  std::string_view key;
+  E S::*member;
+  std::array<std::pair<std::string_view, E>, N> names;
+  std::string_view meaning;
+
+  [[nodiscard]] constexpr std::optional<E> parse(std::string_view name) const {
+    for (const auto& [n, value] : names) {
+      if (n == name) return value;
+    }
+    return std::nullopt;
+  }
+  [[nodiscard]] constexpr std::string_view name_of(E value) const {
+    for (const auto& [n, v] : names) {
+      if (v == value) return n;
+    }
+    return {};
+  }
+};
+
+template <class S>
+NumberField(std::string_view, double S::*, std::string_view, Interval, std::string_view) -> NumberField<S>;
+template <class S>
+NumberField(std::string_view, double S::*, std::string_view, Interval, std::string_view, bool)
+    -> NumberField<S>;
+template <class S>
+IntegerField(std::string_view, int S::*, std::int64_t, std::int64_t, std::string_view) -> IntegerField<S>;
+template <class S, class E, std::size_t N>
+ChoiceField(std::string_view, E S::*, std::array<std::pair<std::string_view, E>, N>, std::string_view)
+    -> ChoiceField<S, E, N>;
+
+/// A struct that declares its fields.
+template <class S>
+concept Configuration = requires { S::fields(); };
+
+/// Calls f(field) for every declared field of S, in declaration order.
+template <Configuration S, class F>
+constexpr void for_each_field(F&& f) {
+  std::apply([&](const auto&... field) { (f(field), ...); }, S::fields());
+}
+
+/// The value of `field` in `s` as a message shows it: "1e-10 s", "8", "\"force\"".
+template <class S>
+std::string field_value_text(const NumberField<S>& field, const S& s) {
+  return field.unit.empty() ? fmt::format("{}", s.*field.member)
+                            : fmt::format("{} {}", s.*field.member, field.unit);
+}
+template <class S>
+std::string field_value_text(const IntegerField<S>& field, const S& s) {
+  return fmt::format("{}", s.*field.member);
+}
+template <class S, class E, std::size_t N>
+std::string field_value_text(const ChoiceField<S, E, N>& field, const S& s) {
+  return fmt::format("\"{}\"", field.name_of(s.*field.member));
+}
+
+/// The first declared field of `s` outside its range, as "key = value must be rule"; nothing when
+/// all are admissible.
+template <Configuration S>
+std::optional<std::string> first_violation(const S& s) {
+  std::optional<std::string> found;
+  for_each_field<S>([&](const auto& field) {
+    if (found) return;
+    using Field = std::decay_t<decltype(field)>;
+    if constexpr (std::is_same_v<Field, NumberField<S>>) {
+      if (!field.range.contains(s.*field.member)) {
+        found = fmt::format("{} = {} must be {}", field.key, field_value_text(field, s), field.range.describe());
+      }
+    } else if constexpr (std::is_same_v<Field, IntegerField<S>>) {
+      const auto v = static_cast<std::int64_t>(s.*field.member);
+      if (v < field.lo || v > field.hi) {
+        found = fmt::format("{} = {} must be in [{}, {}]", field.key, v, field.lo, field.hi);
+      }
+    } else {
+      if (field.name_of(s.*field.member).empty()) found = fmt::format("{} has no name", field.key);
+    }
+  });
+  return found;
+}
+
+}  // namespace poundsim

@@ -1,0 +1,190 @@
+// docs/input.md documents the fields the reader takes from their declarations (fields.hpp): each
+// declared key is in its table's key table, said to be required exactly when it is, with the
+// struct's default in the default column and its SI unit in the meaning; and the reader
+// accepts each key it declares (a file giving the documented default reads back to the default).
+
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "poundsim/analysis/frequency_response.hpp"
+#include "poundsim/fields.hpp"
+#include "poundsim/integrate/simulator.hpp"
+#include "poundsim/io/input.hpp"
+#include "poundsim/model/gap_element.hpp"
+
+namespace poundsim {
+namespace {
+
+std::string slurp(const std::string& relative) {
+  std::ifstream in(std::string(POUNDSIM_SOURCE_DIR) + "/" + relative);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+std::string trim(const std::string& s) {
+  const auto begin = s.find_first_not_of(' ');
+  if (begin == std::string::npos) return {};
+  return s.substr(begin, s.find_last_not_of(' ') - begin + 1);
+}
+
+/// The rows of the first Markdown table after the line that contains `marker`, by key (the
+/// first column's `key`): the other columns, trimmed.
+std::map<std::string, std::vector<std::string>> key_table(const std::string& doc, const std::string& marker) {
+  std::map<std::string, std::vector<std::string>> rows;
+  std::istringstream in(doc.substr(doc.find(marker)));
+  std::string line;
+  bool inside = false;
+  while (std::getline(in, line)) {
+    if (line.starts_with("|")) {
+      inside = true;
+      std::vector<std::string> cells;
+      std::string cell;
+      // Cells split at " | " (a "\|" inside a cell is an escaped bar).
+      std::string rest = line.substr(1);
+      std::size_t at = 0;
+      while ((at = rest.find('|')) != std::string::npos) {
+        if (at > 0 && rest[at - 1] == '\\') {
+          cell += rest.substr(0, at + 1);
+        } else {
+          cells.push_back(trim(cell + rest.substr(0, at)));
+          cell.clear();
+        }
+        rest = rest.substr(at + 1);
+      }
+      if (cells.size() >= 2 && cells[0].size() > 2 && cells[0].front() == '`' && cells[0].back() == '`') {
+        rows[cells[0].substr(1, cells[0].size() - 2)] = {cells.begin() + 1, cells.end()};
+      }
+    } else if (inside) {
+      break;
+    }
+  }
+  return rows;
+}
+
+/// Checks the documentation of S's fields in the key table after `marker` (columns: required,
+/// default, meaning).
+template <Configuration S>
+void expect_documented(const std::string& marker) {
+  const auto rows = key_table(slurp("docs/input.md"), marker);
+  ASSERT_FALSE(rows.empty()) << "no key table after " << marker;
+  const S defaults{};
+  for_each_field<S>([&](const auto& field) {
+    using Field = std::decay_t<decltype(field)>;
+    const std::string key(field.key);
+    const auto row = rows.find(key);
+    ASSERT_NE(row, rows.end()) << marker << ": docs/input.md does not document " << key;
+    ASSERT_GE(row->second.size(), 3u) << key;
+    const std::string& required = row->second[0];
+    const std::string& shown_default = row->second[1];
+    const std::string& meaning = row->second[2];
+    bool is_required = false;
+    if constexpr (std::is_same_v<Field, NumberField<S>>) is_required = field.required;
+    EXPECT_EQ(required.starts_with("yes"), is_required) << key << ": required column \"" << required << "\"";
+    if (is_required) {
+      EXPECT_EQ(shown_default, "—") << key;
+    } else if constexpr (std::is_same_v<Field, NumberField<S>>) {
+      EXPECT_EQ(std::strtod(shown_default.c_str(), nullptr), defaults.*field.member)
+          << key << ": documented default " << shown_default;
+    } else if constexpr (std::is_same_v<Field, IntegerField<S>>) {
+      EXPECT_EQ(shown_default, std::to_string(defaults.*field.member)) << key;
+    } else {
+      EXPECT_EQ(shown_default, "`\"" + std::string(field.name_of(defaults.*field.member)) + "\"`") << key;
+      for (const auto& [name, value] : field.names) {
+        EXPECT_NE(meaning.find("\"" + std::string(name) + "\""), std::string::npos)
+            << key << ": the choice \"" << name << "\" is not described";
+      }
+    }
+    if constexpr (std::is_same_v<Field, NumberField<S>>) {
+      if (!field.unit.empty()) {
+        EXPECT_NE((required + meaning).find("[" + std::string(field.unit) + "]"), std::string::npos)
+            << key << ": the unit [" << field.unit << "] is not given";
+      }
+    }
+  });
+}
+
+TEST(InputDocs, AnalysisKeysAreDocumentedAsDeclared) {
+  expect_documented<TimeHistoryOptions>("## `[analysis]`");
+}
+TEST(InputDocs, FrequencyResponseKeysAreDocumentedAsDeclared) {
+  expect_documented<SteadyStateOptions>("## `[frf]`");
+}
+TEST(InputDocs, GapElementKeysAreDocumentedAsDeclared) {
+  expect_documented<GapProperties>("`[gap_elements]` gives every element's properties");
+}
+
+// The reader takes its fields from the same declarations: a file that sets every declared field
+// of [analysis], [frf] and [gap_elements] to a value other than its default reads them all back,
+// and one outside a field's range is refused with the rule the declaration states.
+TEST(InputDocs, TheReaderReadsEveryDeclaredField) {
+  const std::string model =
+      "[model]\nstoreys = [1, 1]\n[model.dimensionless]\nlambda2 = 200.0\nalpha = 0.25\nbeta = 1.0\n"
+      "gamma = 0.5\nxi = 0.05\ndelta = 0.25\neta = 0.0\nmu = 0.0\nepsilon = 0.0\nrestitution = 1.0\n";
+  const std::string frf =
+      model +
+      "[analysis]\nkind = \"frf\"\nintegrator = \"exact\"\nevent_tolerance = 2e-10\nlock_time = 3e-6\n"
+      "rest_velocity_ratio = 0.5\nseparation = \"force\"\n"
+      "[frf]\namplitude_g = 0.1\nratios = [1.0]\nsteps_per_period = 64\ntolerance = 1e-5\n"
+      "max_periodicity = 3\nmax_periods = 50\nwindow_periods = 9\n";
+  const io::RunInput in = io::read_input_string(frf, "f.toml", ".");
+  EXPECT_EQ(in.analysis.options.integrator, Integrator::exact);
+  EXPECT_EQ(in.analysis.integrator, "exact");
+  EXPECT_EQ(in.analysis.options.event_tolerance, 2e-10);
+  EXPECT_EQ(in.analysis.options.lock_time, 3e-6);
+  EXPECT_EQ(in.analysis.options.rest_velocity_ratio, 0.5);
+  EXPECT_EQ(in.analysis.options.separation, SeparationCriterion::force);
+  ASSERT_TRUE(in.frf.has_value());
+  EXPECT_EQ(in.frf->steady.steps_per_period, 64);
+  EXPECT_EQ(in.frf->steady.tolerance, 1e-5);
+  EXPECT_EQ(in.frf->steady.max_periodicity, 3);
+  EXPECT_EQ(in.frf->steady.max_periods, 50);
+  EXPECT_EQ(in.frf->steady.window_periods, 9);
+
+  const auto refused = [&](const std::string& text) {
+    try {
+      (void)io::read_input_string(text, "f.toml", ".");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  std::string bad = frf;
+  bad.replace(bad.find("rest_velocity_ratio = 0.5"), 25, "rest_velocity_ratio = 1.0");
+  EXPECT_NE(refused(bad).find("f.toml:19:23: analysis.rest_velocity_ratio: must be in [0, 1) (got 1)"),
+            std::string::npos)
+      << refused(bad);
+  bad = frf;
+  bad.replace(bad.find("tolerance = 1e-5"), 16, "tolerance = 1.0");
+  EXPECT_NE(refused(bad).find("frf.tolerance: must be in (0, 1) (got 1)"), std::string::npos) << refused(bad);
+
+  const std::string physical =
+      "[[frames]]\nstoreys = 1\nmass = 1.0\nstiffness = 100.0\ndamping = 0.0\n"
+      "[[frames]]\nstoreys = 1\nmass = 1.0\nstiffness = 50.0\ndamping = 0.0\n"
+      "[gap_elements]\ngap = 0.01\nstiffness = 10.0\ndamping = 0.5\nshortening = 0.002\nrestitution = 0.6\n"
+      "[analysis]\nkind = \"time_history\"\nduration = 1.0\ndt = 0.01\n[excitation]\nkind = \"none\"\n";
+  const io::RunInput th = io::read_input_string(physical, "p.toml", ".");
+  ASSERT_EQ(th.model.gaps.size(), 1u);
+  const GapProperties& g = th.model.gaps[0].properties;
+  EXPECT_EQ(g.gap, 0.01);
+  EXPECT_EQ(g.stiffness, 10.0);
+  EXPECT_EQ(g.damping, 0.5);
+  EXPECT_EQ(g.shortening, 0.002);
+  EXPECT_EQ(g.restitution, 0.6);
+  bad = physical;
+  bad.replace(bad.find("restitution = 0.6"), 17, "restitution = 1.5");
+  EXPECT_NE(refused(bad).find("gap_elements.restitution: must be in [0, 1] (got 1.5)"), std::string::npos)
+      << refused(bad);
+  bad = physical;
+  bad.replace(bad.find("gap = 0.01\n"), 11, "");
+  EXPECT_NE(refused(bad).find("gap_elements.gap: missing key"), std::string::npos) << refused(bad);
+}
+
+}  // namespace
+}  // namespace poundsim
