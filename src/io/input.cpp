@@ -462,17 +462,7 @@ Model read_dimensionless(TableReader& model_table, RunInput& run) {
   }
   TableReader d = model_table.table("dimensionless");
   DimensionlessParameters p;
-  p.lambda2 = d.positive("lambda2", d.number("lambda2"));
-  p.alpha = d.positive("alpha", d.number("alpha"));
-  p.beta = d.positive("beta", d.number("beta"));
-  p.gamma = d.non_negative("gamma", d.number("gamma"));
-  p.xi = d.non_negative("xi", d.number("xi"));
-  p.delta = d.non_negative("delta", d.number("delta"));
-  p.eta = d.non_negative("eta", d.number("eta"));
-  p.mu = d.non_negative("mu", d.number("mu"));
-  p.epsilon = d.non_negative("epsilon", d.number("epsilon"));
-  p.restitution = d.unit_interval("restitution", d.number("restitution"));
-  p.mass1 = d.positive("mass1", d.number_or("mass1", 1.0));
+  read_fields(d, p);
   if (p.epsilon == 0 && (p.eta > 0 || p.mu > 0)) {
     d.fail("epsilon",
            "is 0 but eta or mu is not: an element without stroke is a rigid stop whose spring and "

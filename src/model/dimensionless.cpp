@@ -9,26 +9,8 @@
 
 namespace poundsim {
 
-namespace {
-void require(bool ok, const char* name, double value, const char* rule) {
-  if (!ok || !std::isfinite(value)) {
-    throw std::invalid_argument(fmt::format("{} = {} must be {}", name, value, rule));
-  }
-}
-}  // namespace
-
 PhysicalParameters to_physical(const DimensionlessParameters& p) {
-  require(p.lambda2 > 0, "lambda2", p.lambda2, "> 0");
-  require(p.alpha > 0, "alpha", p.alpha, "> 0");
-  require(p.beta > 0, "beta", p.beta, "> 0");
-  require(p.gamma >= 0, "gamma", p.gamma, "≥ 0");
-  require(p.xi >= 0, "xi", p.xi, "≥ 0");
-  require(p.delta >= 0, "delta", p.delta, "≥ 0");
-  require(p.eta >= 0, "eta", p.eta, "≥ 0");
-  require(p.mu >= 0, "mu", p.mu, "≥ 0");
-  require(p.epsilon >= 0, "epsilon", p.epsilon, "≥ 0");
-  require(p.restitution >= 0 && p.restitution <= 1, "restitution", p.restitution, "in [0, 1]");
-  require(p.mass1 > 0, "mass1", p.mass1, "> 0");
+  if (const auto violation = first_violation(p)) throw std::invalid_argument(*violation);
 
   const double lambda = std::sqrt(p.lambda2);
   PhysicalParameters out{};

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -16,6 +17,7 @@
 #include "poundsim/fields.hpp"
 #include "poundsim/integrate/simulator.hpp"
 #include "poundsim/io/input.hpp"
+#include "poundsim/model/dimensionless.hpp"
 #include "poundsim/model/gap_element.hpp"
 
 namespace poundsim {
@@ -68,10 +70,17 @@ std::map<std::string, std::vector<std::string>> key_table(const std::string& doc
   return rows;
 }
 
-/// Checks the documentation of S's fields in the key table after `marker` (columns: required,
-/// default, meaning).
+/// Where a key table says what: its columns after the key. A table without a default column
+/// says "no, …, default X" in its required column.
+struct Columns {
+  std::size_t required = 0;
+  std::optional<std::size_t> shown_default = 1;
+};
+
+/// Checks the documentation of S's fields in the key table after `marker`; the meaning is the
+/// text of all columns.
 template <Configuration S>
-void expect_documented(const std::string& marker) {
+void expect_documented(const std::string& marker, Columns columns = {}) {
   const auto rows = key_table(slurp("docs/input.md"), marker);
   ASSERT_FALSE(rows.empty()) << "no key table after " << marker;
   const S defaults{};
@@ -80,10 +89,15 @@ void expect_documented(const std::string& marker) {
     const std::string key(field.key);
     const auto row = rows.find(key);
     ASSERT_NE(row, rows.end()) << marker << ": docs/input.md does not document " << key;
-    ASSERT_GE(row->second.size(), 3u) << key;
-    const std::string& required = row->second[0];
-    const std::string& shown_default = row->second[1];
-    const std::string& meaning = row->second[2];
+    ASSERT_GT(row->second.size(), std::max(columns.required, columns.shown_default.value_or(0))) << key;
+    const std::string& required = row->second[columns.required];
+    std::string shown_default = "—", meaning;
+    for (const std::string& cell : row->second) meaning += cell + " | ";
+    if (columns.shown_default) {
+      shown_default = row->second[*columns.shown_default];
+    } else if (const auto at = required.find("default "); at != std::string::npos) {
+      shown_default = required.substr(at + 8);
+    }
     bool is_required = false;
     if constexpr (std::is_same_v<Field, NumberField<S>>) is_required = field.required;
     EXPECT_EQ(required.starts_with("yes"), is_required) << key << ": required column \"" << required << "\"";
@@ -102,8 +116,10 @@ void expect_documented(const std::string& marker) {
       }
     }
     if constexpr (std::is_same_v<Field, NumberField<S>>) {
+      EXPECT_NE(meaning.find(field.range.describe()), std::string::npos)
+          << key << ": the rule \"" << field.range.describe() << "\" is not stated";
       if (!field.unit.empty()) {
-        EXPECT_NE((required + meaning).find("[" + std::string(field.unit) + "]"), std::string::npos)
+        EXPECT_NE(meaning.find("[" + std::string(field.unit) + "]"), std::string::npos)
             << key << ": the unit [" << field.unit << "] is not given";
       }
     }
@@ -115,6 +131,9 @@ TEST(InputDocs, AnalysisKeysAreDocumentedAsDeclared) {
 }
 TEST(InputDocs, FrequencyResponseKeysAreDocumentedAsDeclared) {
   expect_documented<SteadyStateOptions>("## `[frf]`");
+}
+TEST(InputDocs, DimensionlessKeysAreDocumentedAsDeclared) {
+  expect_documented<DimensionlessParameters>("## Dimensionless form", {.required = 0, .shown_default = {}});
 }
 TEST(InputDocs, GapElementKeysAreDocumentedAsDeclared) {
   expect_documented<GapProperties>("`[gap_elements]` gives every element's properties");

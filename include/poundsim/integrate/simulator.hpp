@@ -251,7 +251,6 @@ class Simulator {
   ResponseMonitor monitor_;  ///< Peaks and counts.
 
   std::unique_ptr<detail::Stepper> stepper_;  ///< Newmark or exact (options_.integrator)
-  std::optional<SimulationStatus> failure_;   ///< Once the integration has failed
   KinematicState state_;
   std::vector<double> g_lo_, g_hi_, g_work_, dg_lo_, dg_hi_, dg_work_;
   double grid_origin_ = 0.0;
@@ -259,6 +258,7 @@ class Simulator {
   int events_this_step_ = 0;
   std::vector<int> impacts_;
   std::function<void(const Event&)> on_event_;
+  std::optional<SimulationStatus> failure_;  ///< Once the integration has failed
 };
 
 }  // namespace poundsim

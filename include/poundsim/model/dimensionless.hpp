@@ -19,6 +19,7 @@
 
 #include <array>
 
+#include "poundsim/fields.hpp"
 #include "poundsim/model/model.hpp"
 
 namespace poundsim {
@@ -35,6 +36,24 @@ struct DimensionlessParameters {
   double epsilon = 0.0;       ///< ε̄ = ε λ²/g, ≥ 0.
   double restitution = 1.0;   ///< e ∈ [0, 1].
   double mass1 = 1.0;         ///< M1 [kg], > 0: sets the scale of masses, forces and energies.
+
+  /// The fields of a model file's [model.dimensionless] (fields.hpp); all but mass1 required.
+  static constexpr auto fields() {
+    using P = DimensionlessParameters;
+    return std::tuple{
+        NumberField{"lambda2", &P::lambda2, "s⁻²", positive, "λ² = K1/M1", true},
+        NumberField{"alpha", &P::alpha, "", positive, "α = K2/K1", true},
+        NumberField{"beta", &P::beta, "", positive, "β = M2/M1", true},
+        NumberField{"gamma", &P::gamma, "", non_negative, "γ = C2/C1", true},
+        NumberField{"xi", &P::xi, "", non_negative, "ξ̄ = C1/(2 M1 λ)", true},
+        NumberField{"delta", &P::delta, "", non_negative, "δ̄ = δ λ²/g", true},
+        NumberField{"eta", &P::eta, "", non_negative, "η = k/K1", true},
+        NumberField{"mu", &P::mu, "", non_negative, "μ = c/(M1 λ)", true},
+        NumberField{"epsilon", &P::epsilon, "", non_negative, "ε̄ = ε λ²/g", true},
+        NumberField{"restitution", &P::restitution, "", unit_interval, "e", true},
+        NumberField{"mass1", &P::mass1, "kg", positive, "M1, the scale of masses, forces and energies"},
+    };
+  }
 };
 
 /// Physical values of the dimensionless description.
