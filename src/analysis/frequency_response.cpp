@@ -20,11 +20,8 @@
 namespace poundsim {
 
 std::string_view to_string(SweepMode mode) {
-  switch (mode) {
-    case SweepMode::from_rest: return "rest";
-    case SweepMode::up: return "up";
-    case SweepMode::down: return "down";
-    case SweepMode::both: return "both";
+  for (const auto& [name, value] : sweep_mode_names) {
+    if (value == mode) return name;
   }
   return "?";
 }

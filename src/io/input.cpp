@@ -896,7 +896,7 @@ void read_band(TableReader& t, const std::string& each, double& lo, double& hi) 
 
 FrfSettings read_frf(TableReader& t, TableReader& analysis, const Model& model, const AnalysisSettings& a) {
   FrfSettings f;
-  f.amplitude_g = t.number("amplitude_g");
+  read_fields(t, f);
   const bool listed = t.has("ratios");
   const bool range = t.has("ratio_min") || t.has("ratio_max") || t.has("points");
   if (listed == range) {
@@ -915,11 +915,6 @@ FrfSettings read_frf(TableReader& t, TableReader& analysis, const Model& model, 
     for (int i = 0; i < n; ++i) f.ratios.push_back(n == 1 ? lo : lo + (hi - lo) * i / (n - 1));
   }
   std::sort(f.ratios.begin(), f.ratios.end());
-  const std::string sweep = t.choice("sweep", {"rest", "up", "down", "both"}, std::string("rest"));
-  f.sweep = sweep == "up"     ? SweepMode::up
-            : sweep == "down" ? SweepMode::down
-            : sweep == "both" ? SweepMode::both
-                              : SweepMode::from_rest;
   SteadyStateOptions& s = f.steady;
   read_fields(t, s);
   if (s.max_periods < 2 * s.max_periodicity + 2) {

@@ -17,6 +17,7 @@
 /// show. The frames without gap elements are linear: their amplitudes are computed in closed form
 /// from (K − ω̄²M + iω̄C) U = −M 1 A, frame by frame.
 
+#include <array>
 #include <functional>
 #include <string>
 #include <vector>
@@ -33,6 +34,10 @@ enum class SweepMode : std::uint8_t {
   down,       ///< decreasing frequency, likewise
   both,       ///< up and down sweeps, both reported
 };
+
+/// The names of the sweep modes in a model file (frf.sweep) and in outputs.
+inline constexpr std::array<std::pair<std::string_view, SweepMode>, 4> sweep_mode_names{{
+    {"rest", SweepMode::from_rest}, {"up", SweepMode::up}, {"down", SweepMode::down}, {"both", SweepMode::both}}};
 
 [[nodiscard]] std::string_view to_string(SweepMode mode);
 

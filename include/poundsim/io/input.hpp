@@ -90,6 +90,17 @@ struct FrfSettings {
   SweepMode sweep = SweepMode::from_rest;
   SteadyStateOptions steady;
   int threads = 0;                    ///< 0: all cores
+
+  /// The fields of [frf] read as declared (fields.hpp); the ratios, the steady-state options and
+  /// the threads are read with their own rules.
+  static constexpr auto fields() {
+    using F = FrfSettings;
+    return std::tuple{
+        NumberField{"amplitude_g", &F::amplitude_g, "g", any_finite, "A of a_g = A g sin(ω̄t)", true},
+        ChoiceField{"sweep", &F::sweep, sweep_mode_names,
+                    "every point from rest, or a sweep up, down or both ways through the ratios"},
+    };
+  }
 };
 
 /// One varied input key of a parametric study.
