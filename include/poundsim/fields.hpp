@@ -20,6 +20,7 @@
 #include <string>
 #include <string_view>
 #include <tuple>
+#include <type_traits>
 #include <utility>
 
 #include <fmt/format.h>
@@ -72,11 +73,12 @@ struct NumberField {
   bool required = false;  ///< A file must give it (in the table that does not inherit it).
 };
 
-/// An integer field with its closed range; the value of a file is checked before it is narrowed.
-template <class S>
+/// An integer field with its closed range (within T's); the value of a file is checked before it
+/// is narrowed to T.
+template <class S, class T = int>
 struct IntegerField {
   std::string_view key;
-  int S::*member;
+  T S::*member;
   std::int64_t lo;
   std::int64_t hi;
   std::string_view meaning;
@@ -109,8 +111,17 @@ NumberField(std::string_view, double S::*, std::string_view, Interval, std::stri
 template <class S>
 NumberField(std::string_view, double S::*, std::string_view, Interval, std::string_view, bool)
     -> NumberField<S>;
+template <class S, class T>
+IntegerField(std::string_view, T S::*, std::int64_t, std::int64_t, std::string_view) -> IntegerField<S, T>;
+
+template <class F>
+inline constexpr bool is_number_field = false;
 template <class S>
-IntegerField(std::string_view, int S::*, std::int64_t, std::int64_t, std::string_view) -> IntegerField<S>;
+inline constexpr bool is_number_field<NumberField<S>> = true;
+template <class F>
+inline constexpr bool is_integer_field = false;
+template <class S, class T>
+inline constexpr bool is_integer_field<IntegerField<S, T>> = true;
 template <class S, class E, std::size_t N>
 ChoiceField(std::string_view, E S::*, std::array<std::pair<std::string_view, E>, N>, std::string_view)
     -> ChoiceField<S, E, N>;
@@ -131,8 +142,8 @@ std::string field_value_text(const NumberField<S>& field, const S& s) {
   return field.unit.empty() ? fmt::format("{}", s.*field.member)
                             : fmt::format("{} {}", s.*field.member, field.unit);
 }
-template <class S>
-std::string field_value_text(const IntegerField<S>& field, const S& s) {
+template <class S, class T>
+std::string field_value_text(const IntegerField<S, T>& field, const S& s) {
   return fmt::format("{}", s.*field.member);
 }
 template <class S, class E, std::size_t N>
@@ -148,11 +159,11 @@ std::optional<std::string> first_violation(const S& s) {
   for_each_field<S>([&](const auto& field) {
     if (found) return;
     using Field = std::decay_t<decltype(field)>;
-    if constexpr (std::is_same_v<Field, NumberField<S>>) {
+    if constexpr (is_number_field<Field>) {
       if (!field.range.contains(s.*field.member)) {
         found = fmt::format("{} = {} must be {}", field.key, field_value_text(field, s), field.range.describe());
       }
-    } else if constexpr (std::is_same_v<Field, IntegerField<S>>) {
+    } else if constexpr (is_integer_field<Field>) {
       const auto v = static_cast<std::int64_t>(s.*field.member);
       if (v < field.lo || v > field.hi) {
         found = fmt::format("{} = {} must be in [{}, {}]", field.key, v, field.lo, field.hi);

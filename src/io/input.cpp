@@ -293,19 +293,20 @@ void read_fields(TableReader& t, S& s, Presence presence = Presence::as_declared
   for_each_field<S>([&](const auto& field) {
     using Field = std::decay_t<decltype(field)>;
     if (!t.has(field.key)) {
-      if constexpr (std::is_same_v<Field, NumberField<S>>) {
+      if constexpr (is_number_field<Field>) {
         if (field.required && presence == Presence::as_declared) t.require(field.key);
       }
       return;
     }
-    if constexpr (std::is_same_v<Field, NumberField<S>>) {
+    if constexpr (is_number_field<Field>) {
       const double v = t.number(field.key);
       if (!field.range.contains(v)) {
         t.fail(field.key, fmt::format("must be {} (got {})", field.range.describe(), v));
       }
       s.*field.member = v;
-    } else if constexpr (std::is_same_v<Field, IntegerField<S>>) {
-      s.*field.member = t.integer(field.key, field.lo, field.hi);
+    } else if constexpr (is_integer_field<Field>) {
+      using T = std::remove_reference_t<decltype(s.*field.member)>;
+      s.*field.member = t.integer<T>(field.key, field.lo, field.hi);
     } else {
       const std::string name = t.string(field.key);
       const auto value = field.parse(name);
@@ -1050,11 +1051,7 @@ OptimizeSettings read_optimize(TableReader& t) {
   if (o.global_algorithm == "none" && o.local_algorithm == "none") {
     t.fail(t.has("local") ? "local" : "global", "both stages are \"none\": nothing would be optimised");
   }
-  o.global_evaluations = t.optional_integer("global_evaluations", 1, limits::evaluations).value_or(o.global_evaluations);
-  o.local_evaluations = t.optional_integer("local_evaluations", 1, limits::evaluations).value_or(o.local_evaluations);
-  o.relative_tolerance = t.number_or("relative_tolerance", o.relative_tolerance);
-  if (!(o.relative_tolerance > 0)) t.fail("relative_tolerance", "must be > 0");
-  o.seed = t.optional_integer<unsigned>("seed", 0, limits::seed).value_or(o.seed);
+  read_fields(t, o);
   o.threads = read_threads(t, o.threads);
   for (TableReader& v : t.tables("variable")) {
     OptimizeVariable var;

@@ -37,8 +37,25 @@ std::string trim(const std::string& s) {
   return s.substr(begin, s.find_last_not_of(' ') - begin + 1);
 }
 
+/// The items of "`a`, `b`" (keys: each must be in backticks, else nothing) or of "x, y".
+std::vector<std::string> split_list(const std::string& cell, bool keys = true) {
+  std::vector<std::string> items;
+  std::size_t begin = 0;
+  for (;;) {
+    const std::size_t comma = cell.find(", ", begin);
+    std::string item = trim(cell.substr(begin, comma == std::string::npos ? std::string::npos : comma - begin));
+    if (keys) {
+      if (item.size() < 3 || item.front() != '`' || item.back() != '`') return {};
+      item = item.substr(1, item.size() - 2);
+    }
+    items.push_back(item);
+    if (comma == std::string::npos) return items;
+    begin = comma + 2;
+  }
+}
+
 /// The rows of the first Markdown table after the line that contains `marker`, by key (the
-/// first column's `key`): the other columns, trimmed.
+/// first column's `key`, or each of its `a`, `b`): the other columns, trimmed.
 std::map<std::string, std::vector<std::string>> key_table(const std::string& doc, const std::string& marker) {
   std::map<std::string, std::vector<std::string>> rows;
   std::istringstream in(doc.substr(doc.find(marker)));
@@ -61,8 +78,15 @@ std::map<std::string, std::vector<std::string>> key_table(const std::string& doc
         }
         rest = rest.substr(at + 1);
       }
-      if (cells.size() >= 2 && cells[0].size() > 2 && cells[0].front() == '`' && cells[0].back() == '`') {
-        rows[cells[0].substr(1, cells[0].size() - 2)] = {cells.begin() + 1, cells.end()};
+      // "`a`, `b`" documents two keys; a default column "x, y" gives each its own.
+      const std::vector<std::string> keys = split_list(cells[0]);
+      if (cells.size() < 2 || keys.empty()) continue;
+      std::vector<std::string> defaults;
+      if (cells.size() > 2) defaults = split_list(cells[2], false);
+      for (std::size_t k = 0; k < keys.size(); ++k) {
+        std::vector<std::string> row(cells.begin() + 1, cells.end());
+        if (keys.size() > 1 && defaults.size() == keys.size()) row[1] = defaults[k];
+        rows[keys[k]] = row;
       }
     } else if (inside) {
       break;
@@ -81,15 +105,16 @@ struct Columns {
 /// Checks the documentation of S's fields in the key table after `marker`; the meaning is the
 /// text of all columns.
 template <Configuration S>
-void expect_documented(const std::string& marker, Columns columns = {}) {
-  const auto rows = key_table(slurp("docs/input.md"), marker);
+void expect_documented(const std::string& marker, Columns columns = {},
+                       const std::string& page = "docs/input.md") {
+  const auto rows = key_table(slurp(page), marker);
   ASSERT_FALSE(rows.empty()) << "no key table after " << marker;
   const S defaults{};
   for_each_field<S>([&](const auto& field) {
     using Field = std::decay_t<decltype(field)>;
     const std::string key(field.key);
     const auto row = rows.find(key);
-    ASSERT_NE(row, rows.end()) << marker << ": docs/input.md does not document " << key;
+    ASSERT_NE(row, rows.end()) << marker << ": " << page << " does not document " << key;
     ASSERT_GT(row->second.size(), std::max(columns.required, columns.shown_default.value_or(0))) << key;
     const std::string& required = row->second[columns.required];
     std::string shown_default = "—", meaning;
@@ -100,14 +125,14 @@ void expect_documented(const std::string& marker, Columns columns = {}) {
       shown_default = required.substr(at + 8);
     }
     bool is_required = false;
-    if constexpr (std::is_same_v<Field, NumberField<S>>) is_required = field.required;
+    if constexpr (is_number_field<Field>) is_required = field.required;
     EXPECT_EQ(required.starts_with("yes"), is_required) << key << ": required column \"" << required << "\"";
     if (is_required) {
       EXPECT_EQ(shown_default, "—") << key;
-    } else if constexpr (std::is_same_v<Field, NumberField<S>>) {
+    } else if constexpr (is_number_field<Field>) {
       EXPECT_EQ(std::strtod(shown_default.c_str(), nullptr), defaults.*field.member)
           << key << ": documented default " << shown_default;
-    } else if constexpr (std::is_same_v<Field, IntegerField<S>>) {
+    } else if constexpr (is_integer_field<Field>) {
       EXPECT_EQ(shown_default, std::to_string(defaults.*field.member)) << key;
     } else {
       EXPECT_EQ(shown_default, "`\"" + std::string(field.name_of(defaults.*field.member)) + "\"`") << key;
@@ -116,7 +141,7 @@ void expect_documented(const std::string& marker, Columns columns = {}) {
             << key << ": the choice \"" << name << "\" is not described";
       }
     }
-    if constexpr (std::is_same_v<Field, NumberField<S>>) {
+    if constexpr (is_number_field<Field>) {
       if (std::isfinite(field.range.lo) || std::isfinite(field.range.hi)) {
         EXPECT_NE(meaning.find(field.range.describe()), std::string::npos)
             << key << ": the rule \"" << field.range.describe() << "\" is not stated";
@@ -138,6 +163,9 @@ TEST(InputDocs, FrequencyResponseKeysAreDocumentedAsDeclared) {
 }
 TEST(InputDocs, DimensionlessKeysAreDocumentedAsDeclared) {
   expect_documented<DimensionlessParameters>("## Dimensionless form", {.required = 0, .shown_default = {}});
+}
+TEST(InputDocs, OptimiserKeysAreDocumentedAsDeclared) {
+  expect_documented<io::OptimizeSettings>("## `analysis.kind = \"optimize\"`", {}, "docs/studies.md");
 }
 TEST(InputDocs, GapElementKeysAreDocumentedAsDeclared) {
   expect_documented<GapProperties>("`[gap_elements]` gives every element's properties");
@@ -206,6 +234,22 @@ TEST(InputDocs, TheReaderReadsEveryDeclaredField) {
   bad.replace(bad.find("restitution = 0.6"), 17, "restitution = 1.5");
   EXPECT_NE(refused(bad).find("gap_elements.restitution: must be in [0, 1] (got 1.5)"), std::string::npos)
       << refused(bad);
+  const std::string example = std::string(POUNDSIM_SOURCE_DIR) + "/examples/optimize_gap_elements.toml";
+  const std::vector<std::string> settings{"optimize.global_evaluations=7", "optimize.local_evaluations=5",
+                                          "optimize.relative_tolerance=0.01", "optimize.seed=4294967295"};
+  const io::RunInput optimize = io::read_input(example, settings);
+  ASSERT_TRUE(optimize.optimize.has_value());
+  EXPECT_EQ(optimize.optimize->global_evaluations, 7);
+  EXPECT_EQ(optimize.optimize->local_evaluations, 5);
+  EXPECT_EQ(optimize.optimize->relative_tolerance, 0.01);
+  EXPECT_EQ(optimize.optimize->seed, 4294967295u);
+  try {
+    (void)io::read_input(example, std::vector<std::string>{"optimize.seed=4294967296"});
+    ADD_FAILURE() << "a seed beyond 32 bits was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("optimize.seed: must be ≤ 4294967295 (got 4294967296)"), std::string::npos)
+        << e.what();
+  }
   bad = physical;
   bad.replace(bad.find("gap = 0.01\n"), 11, "");
   EXPECT_NE(refused(bad).find("gap_elements.gap: missing key"), std::string::npos) << refused(bad);

@@ -146,6 +146,20 @@ struct OptimizeSettings {
   double relative_tolerance = 1e-4;         ///< Local stage: stop when the objective changes less.
   unsigned seed = 1;                        ///< For stochastic NLopt algorithms.
   int threads = 0;                          ///< Threads of each evaluation's frequency response.
+
+  /// The fields of [optimize] read as declared (fields.hpp); the others have rules of their own.
+  static constexpr auto fields() {
+    using O = OptimizeSettings;
+    return std::tuple{
+        IntegerField{"global_evaluations", &O::global_evaluations, 1, limits::evaluations,
+                     "the budget of the global stage"},
+        IntegerField{"local_evaluations", &O::local_evaluations, 1, limits::evaluations,
+                     "the budget of the local stage"},
+        NumberField{"relative_tolerance", &O::relative_tolerance, "", positive,
+                    "the local stage stops when the objective changes less"},
+        IntegerField{"seed", &O::seed, 0, limits::seed, "for stochastic NLopt algorithms"},
+    };
+  }
 };
 
 /// Everything a run needs, in SI.
