@@ -82,6 +82,15 @@ struct IntegerField {
   std::int64_t lo;
   std::int64_t hi;
   std::string_view meaning;
+  std::string_view hint = {};  ///< Added to a message about the range ("0 means all cores").
+};
+
+/// A yes/no field.
+template <class S>
+struct BoolField {
+  std::string_view key;
+  bool S::*member;
+  std::string_view meaning;
 };
 
 /// One of a closed set of named values, stored as the enum E.
@@ -113,6 +122,11 @@ NumberField(std::string_view, double S::*, std::string_view, Interval, std::stri
     -> NumberField<S>;
 template <class S, class T>
 IntegerField(std::string_view, T S::*, std::int64_t, std::int64_t, std::string_view) -> IntegerField<S, T>;
+template <class S, class T>
+IntegerField(std::string_view, T S::*, std::int64_t, std::int64_t, std::string_view, std::string_view)
+    -> IntegerField<S, T>;
+template <class S>
+BoolField(std::string_view, bool S::*, std::string_view) -> BoolField<S>;
 
 template <class F>
 inline constexpr bool is_number_field = false;
@@ -122,6 +136,10 @@ template <class F>
 inline constexpr bool is_integer_field = false;
 template <class S, class T>
 inline constexpr bool is_integer_field<IntegerField<S, T>> = true;
+template <class F>
+inline constexpr bool is_bool_field = false;
+template <class S>
+inline constexpr bool is_bool_field<BoolField<S>> = true;
 template <class S, class E, std::size_t N>
 ChoiceField(std::string_view, E S::*, std::array<std::pair<std::string_view, E>, N>, std::string_view)
     -> ChoiceField<S, E, N>;
@@ -146,6 +164,10 @@ template <class S, class T>
 std::string field_value_text(const IntegerField<S, T>& field, const S& s) {
   return fmt::format("{}", s.*field.member);
 }
+template <class S>
+std::string field_value_text(const BoolField<S>& field, const S& s) {
+  return s.*field.member ? "true" : "false";
+}
 template <class S, class E, std::size_t N>
 std::string field_value_text(const ChoiceField<S, E, N>& field, const S& s) {
   return fmt::format("\"{}\"", field.name_of(s.*field.member));
@@ -168,7 +190,7 @@ std::optional<std::string> first_violation(const S& s) {
       if (v < field.lo || v > field.hi) {
         found = fmt::format("{} = {} must be in [{}, {}]", field.key, v, field.lo, field.hi);
       }
-    } else {
+    } else if constexpr (!is_bool_field<Field>) {
       if (field.name_of(s.*field.member).empty()) found = fmt::format("{} has no name", field.key);
     }
   });

@@ -306,7 +306,11 @@ void read_fields(TableReader& t, S& s, Presence presence = Presence::as_declared
       s.*field.member = v;
     } else if constexpr (is_integer_field<Field>) {
       using T = std::remove_reference_t<decltype(s.*field.member)>;
-      s.*field.member = t.integer<T>(field.key, field.lo, field.hi);
+      s.*field.member = bounded_integer<T>(t.require(field.key), field.lo, field.hi, "", [&](const std::string& m) {
+        t.fail(field.key, field.hint.empty() ? m : m + "; " + std::string(field.hint));
+      });
+    } else if constexpr (is_bool_field<Field>) {
+      s.*field.member = t.boolean_or(field.key, s.*field.member);
     } else {
       const std::string name = t.string(field.key);
       const auto value = field.parse(name);
@@ -876,13 +880,6 @@ void read_time_history(TableReader& t, AnalysisSettings& a) {
   }
 }
 
-/// `threads`: worker threads, 0 for all cores.
-int read_threads(TableReader& t, int fallback) {
-  if (!t.has("threads")) return fallback;
-  return bounded_integer(t.require("threads"), 0, limits::threads, "",
-                         [&](const std::string& m) { t.fail("threads", m + "; 0 means all cores"); });
-}
-
 /// `band = [ratio_min, ratio_max]`: the ω̄/ω₁ range that an FRF objective looks at.
 void read_band(TableReader& t, const std::string& each, double& lo, double& hi) {
   if (!t.has("band")) return;
@@ -921,7 +918,6 @@ FrfSettings read_frf(TableReader& t, TableReader& analysis, const Model& model, 
   if (s.max_periods < 2 * s.max_periodicity + 2) {
     t.fail("max_periods", "must be at least 2 × max_periodicity + 2");
   }
-  f.threads = read_threads(t, f.threads);
   // The shortest step: the highest frequency's period over steps_per_period.
   const double shortest = 2 * std::numbers::pi / (f.ratios.back() * reference_frequency(model)) /
                           s.steps_per_period;
@@ -978,8 +974,7 @@ StudySettings read_study(TableReader& t) {
     s.seed = t.optional_integer<unsigned>("seed", 0, limits::seed).value_or(s.seed);
   }
   read_band(t, s.each, s.band_min, s.band_max);
-  s.baseline = t.boolean_or("baseline", s.baseline);
-  s.threads = read_threads(t, s.threads);
+  read_fields(t, s);
   std::size_t list_length = 0;
   double grid_points = 1;
   for (TableReader& p : t.tables("parameter")) {
@@ -1052,7 +1047,6 @@ OptimizeSettings read_optimize(TableReader& t) {
     t.fail(t.has("local") ? "local" : "global", "both stages are \"none\": nothing would be optimised");
   }
   read_fields(t, o);
-  o.threads = read_threads(t, o.threads);
   for (TableReader& v : t.tables("variable")) {
     OptimizeVariable var;
     var.key = v.string("key");
@@ -1126,8 +1120,7 @@ EnsembleSettings read_ensemble(TableReader& t, const std::filesystem::path& base
   for (const std::filesystem::path& r : e.records) {
     if (!std::filesystem::is_regular_file(r)) t.fail(listed ? "records" : "folder", fmt::format("{}: no such file", r.string()));
   }
-  e.threads = read_threads(t, e.threads);
-  e.baseline = t.boolean_or("baseline", e.baseline);
+  read_fields(t, e);
   t.finish();
   return e;
 }

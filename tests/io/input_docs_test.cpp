@@ -134,6 +134,8 @@ void expect_documented(const std::string& marker, Columns columns = {},
           << key << ": documented default " << shown_default;
     } else if constexpr (is_integer_field<Field>) {
       EXPECT_EQ(shown_default, std::to_string(defaults.*field.member)) << key;
+    } else if constexpr (is_bool_field<Field>) {
+      EXPECT_EQ(shown_default, defaults.*field.member ? "true" : "false") << key;
     } else {
       EXPECT_EQ(shown_default, "`\"" + std::string(field.name_of(defaults.*field.member)) + "\"`") << key;
       for (const auto& [name, value] : field.names) {
@@ -167,6 +169,10 @@ TEST(InputDocs, DimensionlessKeysAreDocumentedAsDeclared) {
 TEST(InputDocs, OptimiserKeysAreDocumentedAsDeclared) {
   expect_documented<io::OptimizeSettings>("## `analysis.kind = \"optimize\"`", {}, "docs/studies.md");
 }
+TEST(InputDocs, StudyAndEnsembleKeysAreDocumentedAsDeclared) {
+  expect_documented<io::StudySettings>("## `analysis.kind = \"study\"`", {}, "docs/studies.md");
+  expect_documented<io::EnsembleSettings>("## Ensembles", {}, "docs/records.md");
+}
 TEST(InputDocs, GapElementKeysAreDocumentedAsDeclared) {
   expect_documented<GapProperties>("`[gap_elements]` gives every element's properties");
 }
@@ -183,7 +189,7 @@ TEST(InputDocs, TheReaderReadsEveryDeclaredField) {
       "[analysis]\nkind = \"frf\"\nintegrator = \"exact\"\nevent_tolerance = 2e-10\nlock_time = 3e-6\n"
       "rest_velocity_ratio = 0.5\nseparation = \"force\"\n"
       "[frf]\namplitude_g = 0.1\nratios = [1.0]\nsweep = \"down\"\nsteps_per_period = 64\ntolerance = 1e-5\n"
-      "max_periodicity = 3\nmax_periods = 50\nwindow_periods = 9\n";
+      "max_periodicity = 3\nmax_periods = 50\nwindow_periods = 9\nthreads = 3\n";
   const io::RunInput in = io::read_input_string(frf, "f.toml", ".");
   EXPECT_EQ(in.analysis.options.integrator, Integrator::exact);
   EXPECT_EQ(in.analysis.integrator, "exact");
@@ -199,6 +205,7 @@ TEST(InputDocs, TheReaderReadsEveryDeclaredField) {
   EXPECT_EQ(in.frf->steady.max_periodicity, 3);
   EXPECT_EQ(in.frf->steady.max_periods, 50);
   EXPECT_EQ(in.frf->steady.window_periods, 9);
+  EXPECT_EQ(in.frf->threads, 3);
 
   const auto refused = [&](const std::string& text) {
     try {
@@ -236,13 +243,15 @@ TEST(InputDocs, TheReaderReadsEveryDeclaredField) {
       << refused(bad);
   const std::string example = std::string(POUNDSIM_SOURCE_DIR) + "/examples/optimize_gap_elements.toml";
   const std::vector<std::string> settings{"optimize.global_evaluations=7", "optimize.local_evaluations=5",
-                                          "optimize.relative_tolerance=0.01", "optimize.seed=4294967295"};
+                                          "optimize.relative_tolerance=0.01", "optimize.seed=4294967295",
+                                          "optimize.threads=2"};
   const io::RunInput optimize = io::read_input(example, settings);
   ASSERT_TRUE(optimize.optimize.has_value());
   EXPECT_EQ(optimize.optimize->global_evaluations, 7);
   EXPECT_EQ(optimize.optimize->local_evaluations, 5);
   EXPECT_EQ(optimize.optimize->relative_tolerance, 0.01);
   EXPECT_EQ(optimize.optimize->seed, 4294967295u);
+  EXPECT_EQ(optimize.optimize->threads, 2);
   try {
     (void)io::read_input(example, std::vector<std::string>{"optimize.seed=4294967296"});
     ADD_FAILURE() << "a seed beyond 32 bits was accepted";

@@ -69,6 +69,15 @@ struct EnsembleSettings {
   std::vector<std::filesystem::path> records;  ///< Resolved, in the order given (or sorted).
   int threads = 0;                             ///< 0: all cores.
   bool baseline = false;                       ///< Also run bare pounding for each record.
+
+  /// The fields of [ensemble] read as declared (fields.hpp); the records have rules of their own.
+  static constexpr auto fields() {
+    using E = EnsembleSettings;
+    return std::tuple{
+        IntegerField{"threads", &E::threads, 0, limits::threads, "records run in parallel", "0 means all cores"},
+        BoolField{"baseline", &E::baseline, "also run bare pounding for each record"},
+    };
+  }
 };
 
 /// [analysis]: what to run. Time-history keys apply to kind = "time_history".
@@ -91,14 +100,15 @@ struct FrfSettings {
   SteadyStateOptions steady;
   int threads = 0;                    ///< 0: all cores
 
-  /// The fields of [frf] read as declared (fields.hpp); the ratios, the steady-state options and
-  /// the threads are read with their own rules.
+  /// The fields of [frf] read as declared (fields.hpp); the ratios and the steady-state options
+  /// are read with their own rules.
   static constexpr auto fields() {
     using F = FrfSettings;
     return std::tuple{
         NumberField{"amplitude_g", &F::amplitude_g, "g", any_finite, "A of a_g = A g sin(ω̄t)", true},
         ChoiceField{"sweep", &F::sweep, sweep_mode_names,
                     "every point from rest, or a sweep up, down or both ways through the ratios"},
+        IntegerField{"threads", &F::threads, 0, limits::threads, "worker threads", "0 means all cores"},
     };
   }
 };
@@ -123,6 +133,15 @@ struct StudySettings {
   double band_min = 0.0, band_max = 0.0;  ///< Frequency band of the peak metrics (ω̄/ω₁).
   bool baseline = true;              ///< Also run bare pounding (k = c = ε = 0) for the ratios.
   int threads = 0;                   ///< 0: all cores.
+
+  /// The fields of [study] read as declared (fields.hpp); the others have rules of their own.
+  static constexpr auto fields() {
+    using S = StudySettings;
+    return std::tuple{
+        BoolField{"baseline", &S::baseline, "also run bare pounding for the ratio_to_bare metrics"},
+        IntegerField{"threads", &S::threads, 0, limits::threads, "points run in parallel", "0 means all cores"},
+    };
+  }
 };
 
 /// One design variable of the optimiser.
@@ -158,6 +177,8 @@ struct OptimizeSettings {
         NumberField{"relative_tolerance", &O::relative_tolerance, "", positive,
                     "the local stage stops when the objective changes less"},
         IntegerField{"seed", &O::seed, 0, limits::seed, "for stochastic NLopt algorithms"},
+        IntegerField{"threads", &O::threads, 0, limits::threads, "threads of each evaluation's frequency response",
+                     "0 means all cores"},
     };
   }
 };
