@@ -5,7 +5,7 @@
 
 #include <cmath>
 #include <cstdlib>
-#include <fstream>
+#include <filesystem>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -20,15 +20,14 @@
 #include "poundsim/io/input.hpp"
 #include "poundsim/model/dimensionless.hpp"
 #include "poundsim/model/gap_element.hpp"
+#include "../test_files.hpp"
 
 namespace poundsim {
 namespace {
 
-std::string slurp(const std::string& relative) {
-  std::ifstream in(std::string(POUNDSIM_SOURCE_DIR) + "/" + relative);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
+/// A file of the repository.
+std::string source_file(const std::string& relative) {
+  return testing::slurp(std::filesystem::path(POUNDSIM_SOURCE_DIR) / relative);
 }
 
 std::string trim(const std::string& s) {
@@ -107,7 +106,7 @@ struct Columns {
 template <Configuration S>
 void expect_documented(const std::string& marker, Columns columns = {},
                        const std::string& page = "docs/input.md") {
-  const auto rows = key_table(slurp(page), marker);
+  const auto rows = key_table(source_file(page), marker);
   ASSERT_FALSE(rows.empty()) << "no key table after " << marker;
   const S defaults{};
   for_each_field<S>([&](const auto& field) {
