@@ -128,7 +128,7 @@ nlohmann::json to_json(const FrequencyResponseResult& result) {
                {"title", input.title},
                {"analysis",
                 {{"kind", "frf"},
-                 {"integrator", input.analysis.integrator},
+                 {"integrator", std::string(to_string(input.analysis.options.integrator))},
                  {"amplitude_g", f.amplitude_g},
                  {"points", f.ratios.size()},
                  {"ratio_min", f.ratios.front()},

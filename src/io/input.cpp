@@ -819,7 +819,6 @@ void read_excitation(TableReader& t, const Model& model, const std::filesystem::
 void read_integration(TableReader& t, AnalysisSettings& a) {
   TimeHistoryOptions& o = a.options;
   read_fields(t, o);
-  a.integrator = std::string(to_string(o.integrator));
   if (!(o.lock_time >= 10 * o.event_tolerance)) {
     t.fail("lock_time", fmt::format("{} s must be at least 10 × event_tolerance", o.lock_time));
   }

@@ -272,7 +272,7 @@ json to_json(const TimeHistoryResult& result) {
               {"max_relative_residual", result.max_relative_residual}};
   const TimeHistoryOptions& o = result.options;
   json analysis{{"kind", input.analysis.kind},
-                {"integrator", input.analysis.integrator},
+                {"integrator", std::string(to_string(input.analysis.options.integrator))},
                 {"duration_s", input.analysis.duration},
                 {"dt_s", o.dt},
                 {"output_dt_s", input.analysis.output_dt},

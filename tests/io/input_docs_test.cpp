@@ -191,7 +191,6 @@ TEST(InputDocs, TheReaderReadsEveryDeclaredField) {
       "max_periodicity = 3\nmax_periods = 50\nwindow_periods = 9\nthreads = 3\n";
   const io::RunInput in = io::read_input_string(frf, "f.toml", ".");
   EXPECT_EQ(in.analysis.options.integrator, Integrator::exact);
-  EXPECT_EQ(in.analysis.integrator, "exact");
   EXPECT_EQ(in.analysis.options.event_tolerance, 2e-10);
   EXPECT_EQ(in.analysis.options.lock_time, 3e-6);
   EXPECT_EQ(in.analysis.options.rest_velocity_ratio, 0.5);

@@ -85,8 +85,7 @@ struct AnalysisSettings {
   std::string kind = "time_history";  ///< "time_history", "frf", "study", "optimize" or "ensemble"
   double duration = 0.0;        ///< [s]
   double output_dt = 0.0;       ///< Spacing of history rows [s], a multiple of dt.
-  std::string integrator = "newmark";
-  TimeHistoryOptions options;   ///< dt, event_tolerance, lock_time, separation, integrator.
+  TimeHistoryOptions options;   ///< dt, integrator, event_tolerance, lock_time, separation, …
   /// The most integration steps (time history: duration/dt; frequency response: the worst case
   /// over all points) and history rows the input may ask for.
   double max_steps = limits::max_steps;
