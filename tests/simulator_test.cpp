@@ -361,6 +361,14 @@ TEST(SimulatorStatus, RunToSaysWhyItStopped) {
   } catch (const SimulationError& e) {
     EXPECT_EQ(e.reason(), StopReason::non_finite);
   }
+  // Nor can a frequency sweep continue from it under a new excitation.
+  try {
+    huge.restart(HarmonicExcitation{9.81, 5.0}, 1e-3);
+    ADD_FAILURE() << "restart continued after a failure";
+  } catch (const SimulationError& e) {
+    EXPECT_EQ(e.reason(), StopReason::non_finite);
+    EXPECT_EQ(std::string(e.what()), overflow.message);  // the failure itself, not a new one
+  }
 
   // A stiff spring (contact π/√(k/m̄) = 2.2 ms) closes at 0.5 ms and reopens at 2.7 ms, within
   // the first step of 10 ms: two events, which the exact integrator locates in that step.

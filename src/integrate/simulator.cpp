@@ -176,6 +176,8 @@ void Simulator::settle_state() {
 }
 
 void Simulator::restart(Excitation excitation, double dt) {
+  // A failed simulation has no state to continue from.
+  if (failure_) throw SimulationError(failure_->message, failure_->reason);
   validate(excitation);
   TimeHistoryOptions options = options_;
   options.dt = dt;
@@ -189,7 +191,12 @@ void Simulator::restart(Excitation excitation, double dt) {
   grid_index_ = 0;
   phases_.clear();  // factorised for the old step
   stepper_->phases_cleared();
-  settle_state();
+  try {
+    settle_state();
+  } catch (const SimulationError& e) {
+    failure_ = SimulationStatus{e.reason(), state_.t, e.what()};
+    throw;
+  }
   reset_statistics();
 }
 

@@ -57,7 +57,9 @@ std::vector<std::string> split_list(const std::string& cell, bool keys = true) {
 /// first column's `key`, or each of its `a`, `b`): the other columns, trimmed.
 std::map<std::string, std::vector<std::string>> key_table(const std::string& doc, const std::string& marker) {
   std::map<std::string, std::vector<std::string>> rows;
-  std::istringstream in(doc.substr(doc.find(marker)));
+  const std::size_t start = doc.find(marker);
+  if (start == std::string::npos) return rows;  // the caller reports an empty table
+  std::istringstream in(doc.substr(start));
   std::string line;
   bool inside = false;
   while (std::getline(in, line)) {
@@ -78,8 +80,9 @@ std::map<std::string, std::vector<std::string>> key_table(const std::string& doc
         rest = rest.substr(at + 1);
       }
       // "`a`, `b`" documents two keys; a default column "x, y" gives each its own.
+      if (cells.size() < 2) continue;
       const std::vector<std::string> keys = split_list(cells[0]);
-      if (cells.size() < 2 || keys.empty()) continue;
+      if (keys.empty()) continue;
       std::vector<std::string> defaults;
       if (cells.size() > 2) defaults = split_list(cells[2], false);
       for (std::size_t k = 0; k < keys.size(); ++k) {
@@ -129,8 +132,11 @@ void expect_documented(const std::string& marker, Columns columns = {},
     if (is_required) {
       EXPECT_EQ(shown_default, "—") << key;
     } else if constexpr (is_number_field<Field>) {
-      EXPECT_EQ(std::strtod(shown_default.c_str(), nullptr), defaults.*field.member)
-          << key << ": documented default " << shown_default;
+      char* end = nullptr;
+      const double shown = std::strtod(shown_default.c_str(), &end);
+      EXPECT_TRUE(!shown_default.empty() && *end == '\0') << key << ": the default \"" << shown_default
+                                                            << "\" is not a number";
+      EXPECT_EQ(shown, defaults.*field.member) << key << ": documented default " << shown_default;
     } else if constexpr (is_integer_field<Field>) {
       EXPECT_EQ(shown_default, std::to_string(defaults.*field.member)) << key;
     } else if constexpr (is_bool_field<Field>) {

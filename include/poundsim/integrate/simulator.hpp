@@ -121,7 +121,9 @@ struct InitialConditions {
 /// How a run to a time ended: the simulation loop's answer to "why did you stop?".
 struct SimulationStatus {
   StopReason reason = StopReason::reached_time;
-  double time = 0.0;    ///< [s] The time reached, or the instant of the failure.
+  /// [s] The time reached; after a failure, the time of the last state the loop had accepted
+  /// (the start of the failed step when an event could not be located or a phase factorised).
+  double time = 0.0;
   std::string message;  ///< What failed and where; empty when the time was reached.
   [[nodiscard]] bool ok() const { return reason == StopReason::reached_time; }
 };
@@ -149,7 +151,9 @@ class Simulator {
 
   /// Continues from the current state (displacements, velocities, contact configuration, locked
   /// links) under a new excitation and step, with the clock reset to 0 — a frequency sweep's next
-  /// point. Statistics and the energy balance start afresh.
+  /// point. Statistics and the energy balance start afresh. After a failure it throws that
+  /// failure again (there is no state to continue from); a failure while it settles the state
+  /// fails the simulator like one in advance_to.
   void restart(Excitation excitation, double dt);
 
   /// Forgets the peaks and counts gathered so far (e.g. after a transient).
