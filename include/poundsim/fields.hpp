@@ -93,6 +93,15 @@ struct BoolField {
   std::string_view meaning;
 };
 
+/// A key read by its table's own rules (a list, a sub-table, a key whose default depends on
+/// others): declared so that the table's keys are all in one place, documented and checked.
+template <class S>
+struct CustomField {
+  std::string_view key;
+  std::string_view meaning;
+  bool is_table = false;  ///< An array of tables ([[table.key]]), documented in a section of its own.
+};
+
 /// One of a closed set of named values, stored as the enum E.
 template <class S, class E, std::size_t N>
 struct ChoiceField {
@@ -127,6 +136,8 @@ IntegerField(std::string_view, T S::*, std::int64_t, std::int64_t, std::string_v
     -> IntegerField<S, T>;
 template <class S>
 BoolField(std::string_view, bool S::*, std::string_view) -> BoolField<S>;
+template <class S>
+CustomField(std::string_view, std::string_view) -> CustomField<S>;
 
 template <class F>
 inline constexpr bool is_number_field = false;
@@ -136,6 +147,10 @@ template <class F>
 inline constexpr bool is_integer_field = false;
 template <class S, class T>
 inline constexpr bool is_integer_field<IntegerField<S, T>> = true;
+template <class F>
+inline constexpr bool is_custom_field = false;
+template <class S>
+inline constexpr bool is_custom_field<CustomField<S>> = true;
 template <class F>
 inline constexpr bool is_bool_field = false;
 template <class S>
@@ -154,7 +169,8 @@ constexpr void for_each_field(F&& f) {
   std::apply([&](const auto&... field) { (f(field), ...); }, S::fields());
 }
 
-/// The value of `field` in `s` as a message shows it: "1e-10 s", "8", "\"force\"".
+/// The value of `field` in `s` as a message shows it: "1e-10 s", "8", "\"force\"" (not for a
+/// CustomField, which names no member).
 template <class S>
 std::string field_value_text(const NumberField<S>& field, const S& s) {
   return field.unit.empty() ? fmt::format("{}", s.*field.member)
@@ -190,7 +206,7 @@ std::optional<std::string> first_violation(const S& s) {
       if (v < field.lo || v > field.hi) {
         found = fmt::format("{} = {} must be in [{}, {}]", field.key, v, field.lo, field.hi);
       }
-    } else if constexpr (!is_bool_field<Field>) {
+    } else if constexpr (!is_bool_field<Field> && !is_custom_field<Field>) {
       if (field.name_of(s.*field.member).empty()) found = fmt::format("{} has no name", field.key);
     }
   });

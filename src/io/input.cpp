@@ -292,11 +292,13 @@ template <Configuration S>
 void read_fields(TableReader& t, S& s, Presence presence = Presence::as_declared) {
   for_each_field<S>([&](const auto& field) {
     using Field = std::decay_t<decltype(field)>;
-    if (!t.has(field.key)) {
-      if constexpr (is_number_field<Field>) {
-        if (field.required && presence == Presence::as_declared) t.require(field.key);
+    if constexpr (!is_custom_field<Field>) {  // a custom field is read by the table's own rules
+      if (!t.has(field.key)) {
+        if constexpr (is_number_field<Field>) {
+          if (field.required && presence == Presence::as_declared) t.require(field.key);
+        }
+        return;
       }
-      return;
     }
     if constexpr (is_number_field<Field>) {
       const double v = t.number(field.key);
@@ -311,7 +313,7 @@ void read_fields(TableReader& t, S& s, Presence presence = Presence::as_declared
       });
     } else if constexpr (is_bool_field<Field>) {
       s.*field.member = t.boolean_or(field.key, s.*field.member);
-    } else {
+    } else if constexpr (!is_custom_field<Field>) {
       const std::string name = t.string(field.key);
       const auto value = field.parse(name);
       if (!value) {
@@ -822,10 +824,7 @@ void read_integration(TableReader& t, AnalysisSettings& a) {
   if (!(o.lock_time >= 10 * o.event_tolerance)) {
     t.fail("lock_time", fmt::format("{} s must be at least 10 × event_tolerance", o.lock_time));
   }
-  a.max_steps = t.number_or("max_steps", a.max_steps);
-  if (!(a.max_steps >= 1 && a.max_steps <= limits::max_steps_limit)) {
-    t.fail("max_steps", fmt::format("must be in [1, {:g}] (got {})", limits::max_steps_limit, a.max_steps));
-  }
+  read_fields(t, a);
 }
 
 /// Newmark brackets an event inside its step, in the time τ ∈ [0, h] since the step's start;

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -112,9 +113,16 @@ void expect_documented(const std::string& marker, Columns columns = {},
   const auto rows = key_table(source_file(page), marker);
   ASSERT_FALSE(rows.empty()) << "no key table after " << marker;
   const S defaults{};
+  const std::string text = source_file(page);
   for_each_field<S>([&](const auto& field) {
     using Field = std::decay_t<decltype(field)>;
     const std::string key(field.key);
+    if constexpr (is_custom_field<Field>) {
+      if (field.is_table) {
+        EXPECT_NE(text.find("." + key + "]]"), std::string::npos) << page << " has no [[….." << key << "]]";
+        return;
+      }
+    }
     const auto row = rows.find(key);
     ASSERT_NE(row, rows.end()) << marker << ": " << page << " does not document " << key;
     ASSERT_GT(row->second.size(), std::max(columns.required, columns.shown_default.value_or(0))) << key;
@@ -126,57 +134,82 @@ void expect_documented(const std::string& marker, Columns columns = {},
     } else if (const auto at = required.find("default "); at != std::string::npos) {
       shown_default = required.substr(at + 8);
     }
-    bool is_required = false;
-    if constexpr (is_number_field<Field>) is_required = field.required;
-    EXPECT_EQ(required.starts_with("yes"), is_required) << key << ": required column \"" << required << "\"";
-    if (is_required) {
-      EXPECT_EQ(shown_default, "—") << key;
-    } else if constexpr (is_number_field<Field>) {
-      char* end = nullptr;
-      const double shown = std::strtod(shown_default.c_str(), &end);
-      EXPECT_TRUE(!shown_default.empty() && *end == '\0') << key << ": the default \"" << shown_default
-                                                            << "\" is not a number";
-      EXPECT_EQ(shown, defaults.*field.member) << key << ": documented default " << shown_default;
-    } else if constexpr (is_integer_field<Field>) {
-      EXPECT_EQ(shown_default, std::to_string(defaults.*field.member)) << key;
-    } else if constexpr (is_bool_field<Field>) {
-      EXPECT_EQ(shown_default, defaults.*field.member ? "true" : "false") << key;
-    } else {
-      EXPECT_EQ(shown_default, "`\"" + std::string(field.name_of(defaults.*field.member)) + "\"`") << key;
-      for (const auto& [name, value] : field.names) {
-        EXPECT_NE(meaning.find("\"" + std::string(name) + "\""), std::string::npos)
-            << key << ": the choice \"" << name << "\" is not described";
+    if constexpr (!is_custom_field<Field>) {  // a custom field has its own rules: documented is all
+      bool is_required = false;
+      if constexpr (is_number_field<Field>) is_required = field.required;
+      EXPECT_EQ(required.starts_with("yes"), is_required) << key << ": required column \"" << required << "\"";
+      if (is_required) {
+        EXPECT_EQ(shown_default, "—") << key;
+      } else if constexpr (is_number_field<Field>) {
+        char* end = nullptr;
+        const double shown = std::strtod(shown_default.c_str(), &end);
+        EXPECT_TRUE(!shown_default.empty() && *end == '\0') << key << ": the default \"" << shown_default
+                                                              << "\" is not a number";
+        EXPECT_EQ(shown, defaults.*field.member) << key << ": documented default " << shown_default;
+      } else if constexpr (is_integer_field<Field>) {
+        EXPECT_EQ(shown_default, std::to_string(defaults.*field.member)) << key;
+      } else if constexpr (is_bool_field<Field>) {
+        EXPECT_EQ(shown_default, defaults.*field.member ? "true" : "false") << key;
+      } else {
+        EXPECT_EQ(shown_default, "`\"" + std::string(field.name_of(defaults.*field.member)) + "\"`") << key;
+        for (const auto& [name, value] : field.names) {
+          EXPECT_NE(meaning.find("\"" + std::string(name) + "\""), std::string::npos)
+              << key << ": the choice \"" << name << "\" is not described";
+        }
       }
-    }
-    if constexpr (is_number_field<Field>) {
-      if (std::isfinite(field.range.lo) || std::isfinite(field.range.hi)) {
-        EXPECT_NE(meaning.find(field.range.describe()), std::string::npos)
-            << key << ": the rule \"" << field.range.describe() << "\" is not stated";
-      }
-      if (!field.unit.empty()) {
-        EXPECT_NE(meaning.find("[" + std::string(field.unit) + "]"), std::string::npos)
-            << key << ": the unit [" << field.unit << "] is not given";
+      if constexpr (is_number_field<Field>) {
+        if (std::isfinite(field.range.lo) || std::isfinite(field.range.hi)) {
+          EXPECT_NE(meaning.find(field.range.describe()), std::string::npos)
+              << key << ": the rule \"" << field.range.describe() << "\" is not stated";
+        }
+        if (!field.unit.empty()) {
+          EXPECT_NE(meaning.find("[" + std::string(field.unit) + "]"), std::string::npos)
+              << key << ": the unit [" << field.unit << "] is not given";
+        }
       }
     }
   });
 }
 
+/// The keys a table's key table documents are exactly those its structs declare (but the arrays
+/// of tables, documented in sections of their own).
+template <Configuration... S>
+void expect_exactly_documented(const std::string& marker, const std::string& page = "docs/input.md") {
+  std::set<std::string> declared, documented;
+  const auto collect = [&](const auto& field) {
+    using Field = std::decay_t<decltype(field)>;
+    if constexpr (is_custom_field<Field>) {
+      if (field.is_table) return;
+    }
+    declared.insert(std::string(field.key));
+  };
+  (for_each_field<S>(collect), ...);
+  for (const auto& [key, row] : key_table(source_file(page), marker)) documented.insert(key);
+  EXPECT_EQ(documented, declared) << page << ", " << marker;
+}
+
 TEST(InputDocs, AnalysisKeysAreDocumentedAsDeclared) {
   expect_documented<TimeHistoryOptions>("## `[analysis]`");
+  expect_documented<io::AnalysisSettings>("## `[analysis]`");
+  expect_exactly_documented<TimeHistoryOptions, io::AnalysisSettings>("## `[analysis]`");
 }
 TEST(InputDocs, FrequencyResponseKeysAreDocumentedAsDeclared) {
   expect_documented<io::FrfSettings>("## `[frf]`");
   expect_documented<SteadyStateOptions>("## `[frf]`");
+  expect_exactly_documented<io::FrfSettings, SteadyStateOptions>("## `[frf]`");
 }
 TEST(InputDocs, DimensionlessKeysAreDocumentedAsDeclared) {
   expect_documented<DimensionlessParameters>("## Dimensionless form", {.required = 0, .shown_default = {}});
 }
 TEST(InputDocs, OptimiserKeysAreDocumentedAsDeclared) {
   expect_documented<io::OptimizeSettings>("## `analysis.kind = \"optimize\"`", {}, "docs/studies.md");
+  expect_exactly_documented<io::OptimizeSettings>("## `analysis.kind = \"optimize\"`", "docs/studies.md");
 }
 TEST(InputDocs, StudyAndEnsembleKeysAreDocumentedAsDeclared) {
   expect_documented<io::StudySettings>("## `analysis.kind = \"study\"`", {}, "docs/studies.md");
   expect_documented<io::EnsembleSettings>("## Ensembles", {}, "docs/records.md");
+  expect_exactly_documented<io::StudySettings>("## `analysis.kind = \"study\"`", "docs/studies.md");
+  expect_exactly_documented<io::EnsembleSettings>("## Ensembles", "docs/records.md");
 }
 TEST(InputDocs, GapElementKeysAreDocumentedAsDeclared) {
   expect_documented<GapProperties>("`[gap_elements]` gives every element's properties");

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "poundsim/fields.hpp"
 #include "poundsim/model/dimensionless.hpp"
 #include "poundsim/model/excitation.hpp"
 #include "poundsim/analysis/frequency_response.hpp"
@@ -73,7 +74,11 @@ struct EnsembleSettings {
   /// The fields of [ensemble] read as declared (fields.hpp); the records have rules of their own.
   static constexpr auto fields() {
     using E = EnsembleSettings;
+    using C = CustomField<E>;
     return std::tuple{
+        C{"records", "the record files"},
+        C{"folder", "a folder of records"},
+        C{"pattern", "the names of its files to run (* and ?)"},
         IntegerField{"threads", &E::threads, 0, limits::threads, "records run in parallel", "0 means all cores"},
         BoolField{"baseline", &E::baseline, "also run bare pounding for each record"},
     };
@@ -89,6 +94,20 @@ struct AnalysisSettings {
   /// The most integration steps (time history: duration/dt; frequency response: the worst case
   /// over all points) and history rows the input may ask for.
   double max_steps = limits::max_steps;
+
+  /// The keys of [analysis] besides the integration options (TimeHistoryOptions::fields()).
+  static constexpr auto fields() {
+    using A = AnalysisSettings;
+    using C = CustomField<A>;
+    return std::tuple{
+        C{"kind", "the analysis: time_history, frf, ensemble, study or optimize"},
+        C{"duration", "simulated time; a record's length when absent"},
+        C{"dt", "the Newmark step of a time history"},
+        C{"output_dt", "the spacing of history rows, a multiple of dt (default dt)"},
+        NumberField{"max_steps", &A::max_steps, "", Interval{.lo = 1.0, .hi = limits::max_steps_limit},
+                    "the most steps (and history rows) a run may take"},
+    };
+  }
 };
 
 /// [frf] of a frequency-response analysis.
@@ -105,6 +124,10 @@ struct FrfSettings {
     using F = FrfSettings;
     return std::tuple{
         NumberField{"amplitude_g", &F::amplitude_g, "g", any_finite, "A of a_g = A g sin(ω̄t)", true},
+        CustomField<F>{"ratios", "the list of ω̄/ω₁"},
+        CustomField<F>{"ratio_min", "the first of `points` evenly spaced ratios"},
+        CustomField<F>{"ratio_max", "the last of them"},
+        CustomField<F>{"points", "how many"},
         ChoiceField{"sweep", &F::sweep, sweep_mode_names,
                     "every point from rest, or a sweep up, down or both ways through the ratios"},
         IntegerField{"threads", &F::threads, 0, limits::threads, "worker threads", "0 means all cores"},
@@ -136,7 +159,14 @@ struct StudySettings {
   /// The fields of [study] read as declared (fields.hpp); the others have rules of their own.
   static constexpr auto fields() {
     using S = StudySettings;
+    using C = CustomField<S>;
     return std::tuple{
+        C{"each", "what each point runs"},
+        C{"sampling", "grid, list or random"},
+        C{"samples", "random sampling: the number of points"},
+        C{"seed", "random sampling: the seed"},
+        C{"band", "the frequency band of the peak metrics"},
+        C{"parameter", "a varied key", true},
         BoolField{"baseline", &S::baseline, "also run bare pounding for the ratio_to_bare metrics"},
         IntegerField{"threads", &S::threads, 0, limits::threads, "points run in parallel", "0 means all cores"},
     };
@@ -168,7 +198,14 @@ struct OptimizeSettings {
   /// The fields of [optimize] read as declared (fields.hpp); the others have rules of their own.
   static constexpr auto fields() {
     using O = OptimizeSettings;
+    using C = CustomField<O>;
     return std::tuple{
+        C{"each", "what each evaluation runs"},
+        C{"objective", "max_peak or max_ratio_to_free"},
+        C{"band", "the frequency band of the objective"},
+        C{"global", "the global NLopt algorithm, or none"},
+        C{"local", "the local NLopt algorithm, or none"},
+        C{"variable", "a design variable", true},
         IntegerField{"global_evaluations", &O::global_evaluations, 1, limits::evaluations,
                      "the budget of the global stage"},
         IntegerField{"local_evaluations", &O::local_evaluations, 1, limits::evaluations,
