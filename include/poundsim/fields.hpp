@@ -136,8 +136,6 @@ IntegerField(std::string_view, T S::*, std::int64_t, std::int64_t, std::string_v
     -> IntegerField<S, T>;
 template <class S>
 BoolField(std::string_view, bool S::*, std::string_view) -> BoolField<S>;
-template <class S>
-CustomField(std::string_view, std::string_view) -> CustomField<S>;
 
 template <class F>
 inline constexpr bool is_number_field = false;
