@@ -176,8 +176,7 @@ void Simulator::settle_state() {
 }
 
 void Simulator::restart(Excitation excitation, double dt) {
-  // A failed simulation has no state to continue from.
-  if (failure_) throw SimulationError(failure_->message, failure_->reason);
+  throw_if_failed();  // a failed simulation has no state to continue from
   validate(excitation);
   TimeHistoryOptions options = options_;
   options.dt = dt;
@@ -194,7 +193,7 @@ void Simulator::restart(Excitation excitation, double dt) {
   try {
     settle_state();
   } catch (const SimulationError& e) {
-    failure_ = SimulationStatus{e.reason(), state_.t, e.what()};
+    record_failure(e);
     throw;
   }
   reset_statistics();
@@ -264,8 +263,16 @@ void Simulator::activate_phase() {
 
 void Simulator::step() { advance_to(grid_origin_ + static_cast<double>(grid_index_ + 1) * options_.dt); }
 
-void Simulator::advance_to(double t_target) {
+void Simulator::throw_if_failed() const {
   if (failure_) throw SimulationError(failure_->message, failure_->reason);
+}
+
+void Simulator::record_failure(const SimulationError& e) {
+  failure_ = SimulationStatus{e.reason(), state_.t, e.what()};
+}
+
+void Simulator::advance_to(double t_target) {
+  throw_if_failed();
   const double dt = options_.dt, slack = 1e-9 * dt;
   try {
     while (state_.t < t_target - slack) {
@@ -281,7 +288,7 @@ void Simulator::advance_to(double t_target) {
       ++monitor_.counts().steps;
     }
   } catch (const SimulationError& e) {
-    failure_ = SimulationStatus{e.reason(), state_.t, e.what()};
+    record_failure(e);
     throw;
   }
 }

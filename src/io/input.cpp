@@ -245,14 +245,6 @@ class TableReader {
     if (!(v > 0)) fail(key, fmt::format("must be > 0 (got {})", v));
     return v;
   }
-  double non_negative(std::string_view key, double v) {
-    if (!(v >= 0)) fail(key, fmt::format("must be ≥ 0 (got {})", v));
-    return v;
-  }
-  double unit_interval(std::string_view key, double v) {
-    if (!(v >= 0 && v <= 1)) fail(key, fmt::format("must be in [0, 1] (got {})", v));
-    return v;
-  }
 
   /// Every key present and not read is an error. `context` explains why, when the key could be valid elsewhere.
   void finish(const std::string& context = {}) const {

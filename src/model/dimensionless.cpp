@@ -3,8 +3,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include <fmt/format.h>
-
 #include "poundsim/units.hpp"
 
 namespace poundsim {

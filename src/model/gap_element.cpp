@@ -1,6 +1,5 @@
 #include "poundsim/model/gap_element.hpp"
 
-#include <cmath>
 #include <stdexcept>
 
 #include <fmt/format.h>

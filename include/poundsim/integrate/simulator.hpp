@@ -193,6 +193,9 @@ class Simulator {
   void activate_phase();
   void integrate_to(double t_end, bool nominal);
   void settle_state();
+  /// A failed simulator throws its failure again; record_failure makes it failed.
+  void throw_if_failed() const;
+  void record_failure(const SimulationError& e);
   void evaluate_guards(const KinematicState& x, std::span<double> g, std::span<double> dg);
   /// λ of the locked elements at `x` (stop_reaction_, stop_noise_); evaluate_guards computes them.
   void compute_stop_reactions(const KinematicState& x);

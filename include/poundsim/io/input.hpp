@@ -34,9 +34,7 @@ inline constexpr int floors = 2000;           ///< Floors of all frames together
 inline constexpr double max_steps = 1e8;      ///< Default of analysis.max_steps.
 inline constexpr double max_steps_limit = 1e15;  ///< analysis.max_steps itself (exact in a double).
 inline constexpr int frf_points = 1'000'000;  ///< frf.points.
-/// frf.steps_per_period, max_periods, window_periods.
-inline constexpr int periods = SteadyStateOptions::max_count;
-inline constexpr int periodicity = SteadyStateOptions::largest_periodicity;  ///< frf.max_periodicity.
+// frf.steps_per_period, max_periods, window_periods, max_periodicity: SteadyStateOptions's bounds.
 inline constexpr int study_points = 1'000'000;  ///< Points of a study (all parameters together).
 inline constexpr int evaluations = 1'000'000;   ///< Each stage of the optimiser.
 inline constexpr int threads = 1024;          ///< Any `threads` key.
@@ -46,6 +44,12 @@ inline constexpr std::int64_t seed = 4294967295;  ///< Seeds are unsigned 32-bit
 /// there: analysis.event_tolerance ≥ event_tolerance_ulps · 2⁻⁵² · h (h the longest step).
 inline constexpr double event_tolerance_ulps = 64;
 }  // namespace limits
+
+/// A `threads` key: worker threads, 0 for all cores (fields.hpp).
+template <class S>
+constexpr auto threads_field(int S::*member, std::string_view meaning) {
+  return IntegerField{"threads", member, 0, limits::threads, meaning, "0 means all cores"};
+}
 
 /// How the excitation was described, for reports (the Excitation itself is in SI).
 struct ExcitationInfo {
@@ -79,7 +83,7 @@ struct EnsembleSettings {
         C{"records", "the record files"},
         C{"folder", "a folder of records"},
         C{"pattern", "the names of its files to run (* and ?)"},
-        IntegerField{"threads", &E::threads, 0, limits::threads, "records run in parallel", "0 means all cores"},
+        threads_field(&E::threads, "records run in parallel"),
         BoolField{"baseline", &E::baseline, "also run bare pounding for each record"},
     };
   }
@@ -130,7 +134,7 @@ struct FrfSettings {
         CustomField<F>{"points", "how many"},
         ChoiceField{"sweep", &F::sweep, sweep_mode_names,
                     "every point from rest, or a sweep up, down or both ways through the ratios"},
-        IntegerField{"threads", &F::threads, 0, limits::threads, "worker threads", "0 means all cores"},
+        threads_field(&F::threads, "worker threads"),
     };
   }
 };
@@ -168,7 +172,7 @@ struct StudySettings {
         C{"band", "the frequency band of the peak metrics"},
         C{"parameter", "a varied key", true},
         BoolField{"baseline", &S::baseline, "also run bare pounding for the ratio_to_bare metrics"},
-        IntegerField{"threads", &S::threads, 0, limits::threads, "points run in parallel", "0 means all cores"},
+        threads_field(&S::threads, "points run in parallel"),
     };
   }
 };
@@ -213,8 +217,7 @@ struct OptimizeSettings {
         NumberField{"relative_tolerance", &O::relative_tolerance, "", positive,
                     "the local stage stops when the objective changes less"},
         IntegerField{"seed", &O::seed, 0, limits::seed, "for stochastic NLopt algorithms"},
-        IntegerField{"threads", &O::threads, 0, limits::threads, "threads of each evaluation's frequency response",
-                     "0 means all cores"},
+        threads_field(&O::threads, "threads of each evaluation's frequency response"),
     };
   }
 };
