@@ -10,6 +10,7 @@
 #include <numbers>
 #include <set>
 #include <sstream>
+#include <unordered_map>
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
@@ -56,6 +57,9 @@ struct Origin {
   std::string file;
   /// Key path → "key=value" as typed. An override that creates tables on its way also owns them.
   std::map<std::string, std::string> overrides;
+  /// Where each node of the tree being read stands in the file: the tree is a copy of the file
+  /// as parsed, and toml++ does not copy positions (see remember_positions).
+  std::unordered_map<const toml::node*, toml::source_position> positions;
 
   /// The override that set `path` (or created a table on its way to it), or null.
   [[nodiscard]] const std::string* override_of(const std::string& path) const {
@@ -70,9 +74,12 @@ struct Origin {
   [[nodiscard]] std::string locate(const toml::node* node, const std::string& path) const {
     if (const std::string* text = override_of(path)) return fmt::format("{}: --set {}: {}", file, printable(*text), path);
     if (path.empty()) return file;
-    if (node != nullptr && node->source().begin.line > 0) {
-      return fmt::format("{}:{}:{}: {}", file, node->source().begin.line, node->source().begin.column, path);
+    toml::source_position at{};
+    if (node != nullptr) {
+      at = node->source().begin;
+      if (const auto it = positions.find(node); at.line == 0 && it != positions.end()) at = it->second;
     }
+    if (at.line > 0) return fmt::format("{}:{}:{}: {}", file, at.line, at.column, path);
     return fmt::format("{}: {}", file, path);
   }
 
@@ -357,48 +364,56 @@ std::vector<KeySegment> split_key(const std::string& key, const std::string& at)
   return out;
 }
 
-/// Parses the TOML value of an override into holder["v"]. A bare word (force, records/x.at2) is a
-/// string; anything that starts like a number, an array, a table or a quoted string, or holds
-/// blanks or TOML punctuation, must be valid TOML, so that 1e309 or [1, 2 is an error rather than
-/// a string.
-void parse_value(toml::table& holder, const std::string& value, const std::string& at,
-                 const std::string& path) {
-  try {
-    holder = toml::parse("v = " + value);
-  } catch (const toml::parse_error& e) {
-    const bool bare = !value.empty() && value.find_first_of("0123456789+-[{\"'") != 0 &&
-                      value.find_first_of(" \t#=,[]{}\"'") == std::string::npos;
-    if (!bare) {
-      throw InputError(fmt::format("{}: {}: the value is not valid TOML ({})", at, path, e.description()));
-    }
-    holder = toml::table{{"v", value}};
+/// A parsed TOML value as a setting's value; `fail` (which throws) names what it cannot be.
+template <class Fail>
+SettingValue from_node(const toml::node& node, const Fail& fail) {
+  if (node.is_integer()) return {*node.value<std::int64_t>()};
+  if (node.is_floating_point()) return {*node.value<double>()};
+  if (node.is_boolean()) return {*node.value<bool>()};
+  if (node.is_string()) return {std::string(node.as_string()->get())};
+  if (const toml::array* array = node.as_array()) {
+    auto items = std::make_shared<std::vector<SettingValue>>();
+    for (const toml::node& item : *array) items->push_back(from_node(item, fail));
+    return {SettingArray(std::move(items))};
   }
-  if (holder.size() != 1 || !holder.contains("v")) {
-    throw InputError(fmt::format("{}: {}: one value expected", at, path));
-  }
+  if (node.is_table()) fail("a table cannot be set as a whole: set its keys one by one");
+  fail(fmt::format("a {} is not a value of any key", type_name(node)));
+  return {};
 }
 
-/// Applies one override; returns the canonical key path (e.g. "frames[2].mass"). The tables it
-/// creates on its way are registered in `origin`, so that a message about them names the override.
-std::string apply_override(toml::table& root, const std::string& text, Origin& origin) {
-  const std::string at = fmt::format("{}: --set {}", origin.file, printable(text));
-  // The value is the rest of the argument: a line break would let it carry more keys (ignored).
-  if (text.find_first_of("\n\r") != std::string::npos) {
-    throw InputError(at + ": the override contains a line break");
-  }
-  for (const char c : text) {
-    if (static_cast<unsigned char>(c) < 0x20 && c != '\t') {
-      throw InputError(at + ": the override contains a control character");
-    }
-  }
-  const auto eq = text.find('=');
-  if (eq == std::string::npos || eq == 0) {
-    throw InputError(at + ": expected key=value");
-  }
-  const std::string key = text.substr(0, eq);
-  const std::string value = text.substr(eq + 1);
-  const std::vector<KeySegment> segments = split_key(key, at);
+toml::array to_array(const SettingArray& items);
 
+/// Hands `put` the TOML form of a setting's value (a scalar, or a toml::array).
+template <class Put>
+void with_node(const SettingValue& v, const Put& put) {
+  std::visit(
+      [&](const auto& x) {
+        if constexpr (std::is_same_v<std::decay_t<decltype(x)>, SettingArray>) {
+          put(to_array(x));
+        } else {
+          put(x);
+        }
+      },
+      v.value);
+}
+
+toml::array to_array(const SettingArray& items) {
+  toml::array array;
+  for (const SettingValue& item : *items) with_node(item, [&](auto&& node) { array.push_back(node); });
+  return array;
+}
+
+/// The message start of a setting: "model.toml: --set key=value".
+std::string setting_at(const std::string& file, const std::string& text) {
+  return fmt::format("{}: --set {}", file, printable(text));
+}
+
+/// Applies one setting to the parsed file; returns the canonical key path (e.g. "frames[2].mass").
+/// The tables it creates on its way are registered in `origin`, so that a message about them
+/// names the setting.
+std::string apply_setting(toml::table& root, const Setting& setting, Origin& origin) {
+  const std::string at = setting_at(origin.file, setting.text);
+  const std::vector<KeySegment> segments = split_key(setting.key, at);
   toml::table* table = &root;
   std::string path;
   for (std::size_t s = 0; s < segments.size(); ++s) {
@@ -419,15 +434,13 @@ std::string apply_override(toml::table& root, const std::string& text, Origin& o
       continue;
     }
     if (last) {
-      toml::table parsed;
-      parse_value(parsed, value, at, path);
-      table->insert_or_assign(seg.key, std::move(*parsed.get("v")));
+      with_node(setting.value, [&](auto&& node) { table->insert_or_assign(seg.key, node); });
       break;
     }
     toml::node* child = table->get(seg.key);
     if (child == nullptr) {
       table = table->insert_or_assign(seg.key, toml::table{}).first->second.as_table();
-      origin.overrides[path] = text;
+      origin.overrides[path] = setting.text;
     } else if (child->is_table()) {
       table = child->as_table();
     } else {
@@ -938,21 +951,13 @@ FrfSettings read_frf(TableReader& t, TableReader& analysis, const Model& model, 
   return f;
 }
 
-/// A value as --set takes it: numbers in shortest form, strings quoted, booleans as words.
-std::string value_text(TableReader& t, std::string_view key, const toml::node& node) {
-  if (node.is_integer()) return std::to_string(*node.value<std::int64_t>());
-  if (node.is_floating_point()) {
-    const double v = *node.value<double>();
-    if (!std::isfinite(v)) t.fail(key, "values must be finite");
-    return toml_float(v);
+/// A value of a study axis: a number (finite), a string or a yes/no.
+SettingValue axis_value(TableReader& t, std::string_view key, const toml::node& node) {
+  if (node.is_floating_point() && !std::isfinite(*node.value<double>())) t.fail(key, "values must be finite");
+  if (node.is_array() || node.is_table() || node.is_date() || node.is_time() || node.is_date_time()) {
+    t.fail(key, fmt::format("values must be numbers, strings or booleans, not a {}", type_name(node)));
   }
-  if (node.is_boolean()) return *node.value<bool>() ? "true" : "false";
-  if (node.is_string()) {
-    std::ostringstream out;
-    out << *node.as_string();
-    return out.str();
-  }
-  t.fail(key, fmt::format("values must be numbers, strings or booleans, not a {}", type_name(node)));
+  return from_node(node, [&](const std::string& m) { t.fail(key, m); });
 }
 
 StudySettings read_study(TableReader& t) {
@@ -987,7 +992,7 @@ StudySettings read_study(TableReader& t) {
       const toml::node& node = p.require("values");
       const toml::array* values = node.as_array();
       if (values == nullptr || values->empty()) p.fail("values", "expected a non-empty array");
-      for (std::size_t i = 0; i < values->size(); ++i) param.values.push_back(value_text(p, "values", (*values)[i]));
+      for (std::size_t i = 0; i < values->size(); ++i) param.values.push_back(axis_value(p, "values", (*values)[i]));
       if (s.sampling == "list") {
         if (list_length != 0 && param.values.size() != list_length) {
           p.fail("values", fmt::format("list sampling needs the same number of values for every parameter "
@@ -1116,10 +1121,10 @@ EnsembleSettings read_ensemble(TableReader& t, const std::filesystem::path& base
 }
 
 RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::path& base_dir,
-                   std::span<const std::string> overrides) {
-  for (const std::string& text : overrides) {
-    const std::string path = apply_override(root, text, origin);
-    origin.overrides[path] = text;
+                   std::span<const Setting> settings) {
+  for (const Setting& setting : settings) {
+    const std::string path = apply_setting(root, setting, origin);
+    origin.overrides[path] = setting.text;
   }
   RunInput run;
   TableReader top(root, "", origin);
@@ -1247,22 +1252,149 @@ std::string toml_float(double x) {
   return text;
 }
 
+std::string to_text(const SettingValue& value) {
+  return std::visit(
+      [](const auto& x) -> std::string {
+        using T = std::decay_t<decltype(x)>;
+        if constexpr (std::is_same_v<T, SettingArray>) {
+          std::string text = "[";
+          for (std::size_t i = 0; i < x->size(); ++i) text += (i == 0 ? "" : ", ") + to_text((*x)[i]);
+          return text + "]";
+        } else if constexpr (std::is_same_v<T, double>) {
+          return toml_float(x);
+        } else if constexpr (std::is_same_v<T, bool>) {
+          return x ? "true" : "false";
+        } else if constexpr (std::is_same_v<T, std::string>) {
+          std::ostringstream out;
+          out << toml::value<std::string>(x);
+          return out.str();
+        } else {
+          return std::to_string(x);
+        }
+      },
+      value.value);
+}
+
+bool operator==(const SettingValue& a, const SettingValue& b) {
+  const auto* x = std::get_if<SettingArray>(&a.value);
+  const auto* y = std::get_if<SettingArray>(&b.value);
+  if (x != nullptr && y != nullptr) return **x == **y;
+  return a.value == b.value;
+}
+
+Setting make_setting(std::string key, SettingValue value) {
+  std::string text = key + "=" + to_text(value);
+  return {std::move(key), std::move(value), std::move(text)};
+}
+
+Setting parse_setting(const std::string& text, const std::string& file) {
+  const std::string at = setting_at(file, text);
+  // The value is the rest of the argument: a line break would let it carry more keys (ignored).
+  if (text.find_first_of("\n\r") != std::string::npos) {
+    throw InputError(at + ": the override contains a line break");
+  }
+  for (const char c : text) {
+    if (static_cast<unsigned char>(c) < 0x20 && c != '\t') {
+      throw InputError(at + ": the override contains a control character");
+    }
+  }
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0) throw InputError(at + ": expected key=value");
+  Setting setting;
+  setting.key = text.substr(0, eq);
+  setting.text = text;
+  const std::string value = text.substr(eq + 1);
+  std::string path;
+  for (const KeySegment& seg : split_key(setting.key, at)) {
+    path += (path.empty() ? "" : ".") + seg.key + (seg.index > 0 ? fmt::format("[{}]", seg.index) : "");
+  }
+  // A bare word (force, records/x.at2) is a string; anything that starts like a number, an
+  // array, a table or a quoted string, or holds blanks or TOML punctuation, must be valid TOML,
+  // so that 1e309 or [1, 2 is an error rather than a string.
+  toml::table holder;
+  try {
+    holder = toml::parse("v = " + value);
+  } catch (const toml::parse_error& e) {
+    const bool bare = !value.empty() && value.find_first_of("0123456789+-[{\"'") != 0 &&
+                      value.find_first_of(" \t#=,[]{}\"'") == std::string::npos;
+    if (!bare) {
+      throw InputError(fmt::format("{}: {}: the value is not valid TOML ({})", at, path, e.description()));
+    }
+    setting.value = {value};
+    return setting;
+  }
+  if (holder.size() != 1 || !holder.contains("v")) {
+    throw InputError(fmt::format("{}: {}: one value expected", at, path));
+  }
+  setting.value = from_node(*holder.get("v"), [&](const std::string& m) {
+    throw InputError(fmt::format("{}: {}: {}", at, path, m));
+  });
+  return setting;
+}
+
+/// The file as parsed, before any setting.
+struct ParsedInput {
+  toml::table root;
+};
+
+namespace {
+
+/// Records in `positions` where each node of `copy` stands in the file, from `parsed`, of which
+/// it is a copy (a copied toml++ node forgets its position). Nodes a setting replaced are named
+/// by their setting instead.
+void remember_positions(const toml::node& parsed, const toml::node& copy,
+                        std::unordered_map<const toml::node*, toml::source_position>& positions) {
+  if (parsed.type() != copy.type()) return;
+  positions[&copy] = parsed.source().begin;
+  if (const toml::table* table = parsed.as_table()) {
+    for (const auto& [key, node] : *table) {
+      if (const toml::node* other = copy.as_table()->get(key)) remember_positions(node, *other, positions);
+    }
+  } else if (const toml::array* array = parsed.as_array()) {
+    const toml::array& other = *copy.as_array();
+    for (std::size_t i = 0; i < array->size() && i < other.size(); ++i) {
+      remember_positions((*array)[i], other[i], positions);
+    }
+  }
+}
+
+RunInput read_parsed(std::shared_ptr<const ParsedInput> parsed, std::string_view text, const std::string& name,
+                     const std::filesystem::path& base_dir, std::vector<Setting> settings) {
+  Origin origin{name, {}, {}};
+  toml::table root = parsed->root;  // the settings change a copy
+  remember_positions(parsed->root, root, origin.positions);
+  RunInput run = read_root(root, origin, base_dir, settings);
+  run.source = name;
+  run.text = std::string(text);
+  run.parsed = std::move(parsed);
+  run.settings = std::move(settings);
+  run.base_dir = base_dir;
+  return run;
+}
+
+}  // namespace
+
 RunInput read_input_string(std::string_view text, const std::string& name,
                            const std::filesystem::path& base_dir,
                            std::span<const std::string> overrides) {
-  Origin origin{name, {}};
-  toml::table root;
+  auto parsed = std::make_shared<ParsedInput>();
   try {
-    root = toml::parse(text, name);
+    parsed->root = toml::parse(text, name);
   } catch (const toml::parse_error& e) {
     throw InputError(fmt::format("{}:{}:{}: {}", name, e.source().begin.line,
                                  e.source().begin.column, e.description()));
   }
-  RunInput run = read_root(root, origin, base_dir, overrides);
-  run.source = name;
-  run.text = std::string(text);
-  run.overrides.assign(overrides.begin(), overrides.end());
-  run.base_dir = base_dir;
+  std::vector<Setting> settings;
+  for (const std::string& o : overrides) settings.push_back(parse_setting(o, name));
+  return read_parsed(std::move(parsed), text, name, base_dir, std::move(settings));
+}
+
+RunInput with_settings(const RunInput& base, std::span<const Setting> settings) {
+  // The base's own settings first (e.g. --set on the command line), then the new ones.
+  std::vector<Setting> all = base.settings;
+  all.insert(all.end(), settings.begin(), settings.end());
+  RunInput run = read_parsed(base.parsed, base.text, base.source.string(), base.base_dir, std::move(all));
+  run.source = base.source;
   return run;
 }
 

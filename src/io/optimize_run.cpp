@@ -50,7 +50,7 @@ std::pair<std::string, std::string> objective_metric(const std::string& objectiv
 /// The overrides that set the design variables to `x`.
 PointValues point_values(const OptimizeSettings& settings, const std::vector<double>& x) {
   PointValues values;
-  for (std::size_t i = 0; i < x.size(); ++i) values.emplace_back(settings.variables[i].key, toml_float(x[i]));
+  for (std::size_t i = 0; i < x.size(); ++i) values.push_back(make_setting(settings.variables[i].key, {x[i]}));
   return values;
 }
 
@@ -70,7 +70,7 @@ class Problem {
     if (auto it = memo_.find(x); it != memo_.end()) return it->second;
     Evaluation e{x, kRejected, stage, "done", "", json()};
     try {
-      const RunInput point = read_point(input_, point_values(settings_, x));
+      const RunInput point = with_settings(input_, point_values(settings_, x));
       e.metrics = point_metrics(point, settings_.threads, nullptr);
       e.objective = e.metrics[objective_metric(settings_.objective).first].get<double>();
     } catch (const InputError& err) {
@@ -203,7 +203,7 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
 
   OutputTransaction out(out_dir);
   // The optimum's response against bare pounding and the free frames.
-  const RunInput best_point = read_point(input, point_values(s, best->x));
+  const RunInput best_point = with_settings(input, point_values(s, best->x));
   json bare_metrics;
   if (s.each == "frf") {
     // Both responses are written out, so the bare one's metrics come from the same sweep.

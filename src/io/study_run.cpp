@@ -78,6 +78,21 @@ json describe_analysis(const RunInput& in) {
   return a;
 }
 
+/// A setting's value as JSON (a parameter of a study point).
+json to_json(const SettingValue& v) {
+  return std::visit(
+      [](const auto& x) -> json {
+        if constexpr (std::is_same_v<std::decay_t<decltype(x)>, SettingArray>) {
+          json array = json::array();
+          for (const SettingValue& item : *x) array.push_back(to_json(item));
+          return array;
+        } else {
+          return json(x);
+        }
+      },
+      v.value);
+}
+
 /// A parameter's or metric's value as one CSV field (OutputFile::csv_field quotes text).
 void csv_value(OutputFile& f, const json& v) {
   if (v.is_number()) {
@@ -96,22 +111,22 @@ std::vector<PointValues> study_points(const StudySettings& study) {
   const auto& params = study.parameters;
   const auto grid_values = [](const StudyParameter& p) {
     if (!p.values.empty()) return p.values;
-    std::vector<std::string> v;
+    std::vector<SettingValue> v;
     for (int i = 0; i < p.points; ++i) {
       const double f = static_cast<double>(i) / (p.points - 1);
       const double x = p.log ? p.min * std::pow(p.max / p.min, f) : p.min + (p.max - p.min) * f;
-      v.push_back(toml_float(x));
+      v.push_back({x});
     }
     return v;
   };
   if (study.sampling == "grid") {
-    std::vector<std::vector<std::string>> axes;
+    std::vector<std::vector<SettingValue>> axes;
     for (const StudyParameter& p : params) axes.push_back(grid_values(p));
     std::vector<std::size_t> index(axes.size(), 0);
     if (axes.empty()) return points;
     for (;;) {
       PointValues point;
-      for (std::size_t k = 0; k < axes.size(); ++k) point.emplace_back(params[k].key, axes[k][index[k]]);
+      for (std::size_t k = 0; k < axes.size(); ++k) point.push_back(make_setting(params[k].key, axes[k][index[k]]));
       points.push_back(std::move(point));
       // Odometer: the last parameter varies fastest.
       std::size_t k = axes.size();
@@ -127,7 +142,7 @@ std::vector<PointValues> study_points(const StudySettings& study) {
     const std::size_t n = params.empty() ? 0 : params.front().values.size();
     for (std::size_t i = 0; i < n; ++i) {
       PointValues point;
-      for (const StudyParameter& p : params) point.emplace_back(p.key, p.values[i]);
+      for (const StudyParameter& p : params) point.push_back(make_setting(p.key, p.values[i]));
       points.push_back(std::move(point));
     }
     return points;
@@ -139,23 +154,18 @@ std::vector<PointValues> study_points(const StudySettings& study) {
     for (const StudyParameter& p : params) {
       const double f = unit(rng);
       const double x = p.log ? p.min * std::pow(p.max / p.min, f) : p.min + (p.max - p.min) * f;
-      point.emplace_back(p.key, toml_float(x));
+      point.push_back(make_setting(p.key, {x}));
     }
     points.push_back(std::move(point));
   }
   return points;
 }
 
-RunInput read_point(const RunInput& base, const PointValues& values) {
-  // The base's own overrides first (e.g. --set on the command line), then the point's.
-  std::vector<std::string> overrides = base.overrides;
-  for (const auto& [key, value] : values) overrides.push_back(key + "=" + value);
-  return read_input_string(base.text, base.source.string(), base.base_dir, overrides);
-}
-
 std::string fingerprint(const RunInput& input) {
+  json overrides = json::array();
+  for (const Setting& s : input.settings) overrides.push_back(s.text);
   json d{{"model", describe_model(input.model)}, {"analysis", describe_analysis(input)}, {"text", input.text},
-         {"overrides", input.overrides}};
+         {"overrides", overrides}};
   return fnv1a(d.dump());
 }
 
@@ -280,7 +290,8 @@ json ensemble_metrics(const RunInput& point, int threads) {
   std::vector<json> per_record(records.size());
   parallel_for(static_cast<int>(records.size()), threads, [&](int k) {
     const auto r = static_cast<std::size_t>(k);
-    RunInput one = read_point(point, {{"excitation.file", json(records[r].string()).dump()}});
+    const Setting record = make_setting("excitation.file", {records[r].string()});
+    RunInput one = with_settings(point, {&record, 1});
     one.model = point.model;  // the point's model as given (e.g. made bare), the record from the file
     per_record[r] = time_history_metrics(one);
   });
@@ -350,7 +361,7 @@ StudyResult run_ensemble(const RunInput& input, const std::filesystem::path& out
   study.threads = input.ensemble->threads;
   StudyParameter records;
   records.key = "excitation.file";
-  for (const auto& r : input.ensemble->records) records.values.push_back(json(r.string()).dump());
+  for (const auto& r : input.ensemble->records) records.values.push_back({r.string()});
   study.parameters.push_back(std::move(records));
   as_study.study = study;
   return run_points(as_study, out_dir, options, "ensemble");
@@ -479,12 +490,12 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
   for (std::size_t i = 0; i < all.size(); ++i) {
     const long id = static_cast<long>(i);
     try {
-      RunInput point = read_point(input, all[i]);
+      RunInput point = with_settings(input, all[i]);
       std::string key = study.baseline ? baseline_key(point) : std::string();
       todo.push_back({id, std::move(point), std::move(key)});
     } catch (const InputError& e) {
       std::string values;
-      for (const auto& [k, v] : all[i]) values += fmt::format("{}{} = {}", values.empty() ? "" : ", ", k, v);
+      for (const Setting& s : all[i]) values += fmt::format("{}{} = {}", values.empty() ? "" : ", ", s.key, to_text(s.value));
       // An error that a parameter's override caused is reported where the file defines that
       // parameter; any other names the file.
       const std::string message = e.what();
@@ -539,10 +550,7 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
     const Todo& t = todo[static_cast<std::size_t>(k)];
     const auto point_start = std::chrono::steady_clock::now();
     json parameters = json::object();
-    for (const auto& [key, value] : all[static_cast<std::size_t>(t.id)]) {
-      json parsed = json::parse(value, nullptr, false);
-      parameters[key] = parsed.is_discarded() ? json(value) : std::move(parsed);
-    }
+    for (const Setting& s : all[static_cast<std::size_t>(t.id)]) parameters[s.key] = to_json(s.value);
     std::string status = "done", error;
     json metrics = json::object();
     try {

@@ -72,10 +72,12 @@ key = "model.dimensionless.mu"
 values = [2.0]
 )";
   const RunInput study = read(text);
-  const RunInput point = read_point(study, study_points(*study.study)[0]);
+  const RunInput point = with_settings(study, study_points(*study.study)[0]);
   const nlohmann::json bare = baseline_metrics(point, 1);
-  const RunInput made_bare = read_point(study, {{"model.dimensionless.eta", "0.0"}, {"model.dimensionless.mu", "0.0"},
-                                                {"model.dimensionless.epsilon", "0.0"}});
+  const std::vector<Setting> bare_settings{make_setting("model.dimensionless.eta", {0.0}),
+                                           make_setting("model.dimensionless.mu", {0.0}),
+                                           make_setting("model.dimensionless.epsilon", {0.0})};
+  const RunInput made_bare = with_settings(study, bare_settings);
   const nlohmann::json direct = point_metrics(made_bare, 1, nullptr);
   EXPECT_EQ(bare["max_peak_V_W"], direct["max_peak_V_W"]);
   EXPECT_EQ(bare["peak_V2_W"], direct["peak_V2_W"]);

@@ -422,6 +422,9 @@ TEST(InputMessages, NameThePlaceThatIsWrong) {
   EXPECT_TRUE(has(error_of(kDimensionless, {std::string("title=a\x01", 8) + "b"}), "the override contains a control character"));
   EXPECT_TRUE(has(error_of(kPhysical, {"frames[2][3].mass=1.0"}), "'2][3' is not an index"));
   EXPECT_TRUE(has(error_of(kDimensionless, {"analysis.dt.=1"}), "--set analysis.dt.=1: empty key segment"));
+  // A setting is a value, never a whole table (it would silently drop the table's other keys).
+  EXPECT_EQ(error_of(kDimensionless, {"excitation={kind=\"none\"}"}),
+            "model.toml: --set excitation={kind=\"none\"}: excitation: a table cannot be set as a whole: set its keys one by one");
   // Bare words are strings; quoted strings keep their blanks.
   EXPECT_EQ(read(kDimensionless, {"analysis.separation=force"}).analysis.options.separation, SeparationCriterion::force);
   EXPECT_EQ(read(kDimensionless, {"title=\"a b\""}).title, "a b");

@@ -61,18 +61,22 @@ TEST(StudyPoints, GridListAndRandomSampling) {
   const RunInput in = read(kStudy);
   const std::vector<PointValues> grid = study_points(*in.study);
   ASSERT_EQ(grid.size(), 9u);
-  // The first parameter varies slowest; ranges are evenly spaced and printed exactly.
-  EXPECT_EQ(grid[0], (PointValues{{"model.dimensionless.eta", "0.0"}, {"model.dimensionless.mu", "0.5"}}));
-  EXPECT_EQ(grid[1][1].second, "1.25");
-  EXPECT_EQ(grid[3][0].second, "0.125");
-  EXPECT_EQ(grid[8], (PointValues{{"model.dimensionless.eta", "0.25"}, {"model.dimensionless.mu", "2.0"}}));
+  // The first parameter varies slowest; ranges are evenly spaced, values typed.
+  const auto point = [](double eta, double mu) {
+    return PointValues{make_setting("model.dimensionless.eta", {eta}), make_setting("model.dimensionless.mu", {mu})};
+  };
+  EXPECT_EQ(grid[0], point(0.0, 0.5));
+  EXPECT_EQ(grid[1][1].text, "model.dimensionless.mu=1.25");
+  EXPECT_EQ(grid[3][0].text, "model.dimensionless.eta=0.125");
+  EXPECT_EQ(grid[8], point(0.25, 2.0));
+  EXPECT_EQ(grid[8][1].text, "model.dimensionless.mu=2.0");  // a float stays a float
 
   StudySettings list = *in.study;
   list.sampling = "list";
-  list.parameters[1].values = {"0.5", "1.0", "2.0"};
+  list.parameters[1].values = {{0.5}, {1.0}, {2.0}};
   const std::vector<PointValues> zipped = study_points(list);
   ASSERT_EQ(zipped.size(), 3u);
-  EXPECT_EQ(zipped[2], (PointValues{{"model.dimensionless.eta", "0.25"}, {"model.dimensionless.mu", "2.0"}}));
+  EXPECT_EQ(zipped[2], point(0.25, 2.0));
 
   StudySettings random = *in.study;
   random.sampling = "random";
@@ -88,7 +92,7 @@ TEST(StudyPoints, GridListAndRandomSampling) {
   EXPECT_EQ(a, b);  // the same seed, the same points
   double smallest = 1, largest = 0;
   for (const PointValues& p : a) {
-    const double eta = std::stod(p[0].second), mu = std::stod(p[1].second);
+    const double eta = std::get<double>(p[0].value.value), mu = std::get<double>(p[1].value.value);
     EXPECT_GE(eta, 0.01);
     EXPECT_LE(eta, 1.0);
     EXPECT_GE(mu, 0.5);
@@ -99,6 +103,40 @@ TEST(StudyPoints, GridListAndRandomSampling) {
   EXPECT_LT(smallest, 0.05);  // log-uniform: small values are as likely as large decades
   random.seed = 8;
   EXPECT_NE(study_points(random), a);
+}
+
+TEST(StudySettings, PointsAreTypedValuesOnTheParsedFile) {
+  RunInput in = read(kStudy, {"frf.points=3"});
+  // The point is built from the file as parsed: its text is never read again.
+  in.text = "this is not TOML [";
+  const double eta = 0.1 + 0.2;  // 0.30000000000000004: no short decimal reads back to it
+  const std::vector<Setting> settings{make_setting("model.dimensionless.eta", {eta})};
+  const RunInput point = with_settings(in, settings);
+  EXPECT_EQ(point.dimensionless->eta, eta);  // the very double, not a decimal's rounding
+  EXPECT_EQ(point.frf->ratios.size(), 3u);   // after the base's own --set
+  ASSERT_EQ(point.settings.size(), 2u);
+  EXPECT_EQ(point.settings[1].text, "model.dimensionless.eta=0.30000000000000004");
+  // The same model as the command line's --set of that text, bit for bit.
+  const RunInput typed = read(kStudy, {"frf.points=3", point.settings[1].text});
+  ASSERT_EQ(point.model.gaps.size(), typed.model.gaps.size());
+  for (std::size_t k = 0; k < point.model.gaps.size(); ++k) {
+    EXPECT_EQ(point.model.gaps[k].properties.stiffness, typed.model.gaps[k].properties.stiffness);
+    EXPECT_EQ(point.model.gaps[k].properties.damping, typed.model.gaps[k].properties.damping);
+  }
+  // A value the reader refuses names the setting; a key the file holds keeps its line and column.
+  const auto error_of = [&](Setting setting) -> std::string {
+    try {
+      (void)with_settings(in, {&setting, 1});
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  const std::string negative = error_of(make_setting("model.dimensionless.mu", {-1.0}));
+  EXPECT_EQ(negative.rfind("study.toml: --set model.dimensionless.mu=-1.0: model.dimensionless.mu:", 0), 0u) << negative;
+  EXPECT_NE(error_of(make_setting("analysis.kind", {std::int64_t{3}})).find("--set analysis.kind=3: analysis.kind"),
+            std::string::npos);
+  EXPECT_NE(error_of(make_setting("frf.pionts", {std::int64_t{3}})).find("frf.pionts: unknown key"), std::string::npos);
 }
 
 TEST(StudyRun, ResumesWithoutLosingOrRepeatingPoints) {
@@ -138,7 +176,7 @@ TEST(StudyRun, ResumesWithoutLosingOrRepeatingPoints) {
 TEST(StudyRun, PointsKeepTheOverridesOfTheirStudy) {
   // --set on the study applies to every point, under the point's own values.
   const RunInput in = read(kStudy, {"frf.points=3", "model.dimensionless.restitution=0.5"});
-  const RunInput point = read_point(in, study_points(*in.study)[4]);
+  const RunInput point = with_settings(in, study_points(*in.study)[4]);
   EXPECT_EQ(point.frf->ratios.size(), 3u);
   EXPECT_DOUBLE_EQ(point.model.gaps[0].properties.restitution, 0.5);
   EXPECT_DOUBLE_EQ(point.model.gaps[0].properties.stiffness, 0.125 * 200);

@@ -12,7 +12,9 @@
 #include <filesystem>
 #include <optional>
 #include <span>
+#include <memory>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "poundsim/fields.hpp"
@@ -50,6 +52,45 @@ template <class S>
 constexpr auto threads_field(int S::*member, std::string_view meaning) {
   return IntegerField{"threads", member, 0, limits::threads, meaning, "0 means all cores"};
 }
+
+struct SettingValue;
+
+/// The items of an array value, shared: a setting's value never changes once made.
+using SettingArray = std::shared_ptr<const std::vector<SettingValue>>;
+
+/// A value an input key is set to, typed as TOML types it: an integer, a number, a yes/no, a
+/// string or an array of them.
+struct SettingValue {
+  std::variant<std::int64_t, double, bool, std::string, SettingArray> value;
+  /// Equal types and values; arrays item by item.
+  friend bool operator==(const SettingValue& a, const SettingValue& b);
+};
+
+/// One input key set to a value: a `--set` on the command line, a study point's coordinate, an
+/// optimiser's design variable, an ensemble's record. It is applied to the file as parsed
+/// (RunInput::parsed) as a typed value: no TOML text is written and read again.
+struct Setting {
+  std::string key;     ///< Dotted path: `gap_elements.stiffness`, `frames[2].mass` (frames from 1).
+  SettingValue value;
+  /// "key=value": as typed for a --set, as --set would take it otherwise. It names the setting
+  /// in messages and identifies it in a study's fingerprint; it is never parsed again.
+  std::string text;
+  friend bool operator==(const Setting&, const Setting&) = default;
+};
+
+/// A setting of `key` to `value` (its text as --set would take it).
+[[nodiscard]] Setting make_setting(std::string key, SettingValue value);
+
+/// The TOML text of a value: integers and yes/no as words, numbers as toml_float, strings quoted.
+[[nodiscard]] std::string to_text(const SettingValue& value);
+
+/// Reads a `--set key=value` argument: the value is TOML, or a bare word read as a string
+/// (`--set analysis.separation=force`). `file` starts the messages; a key or value it cannot
+/// be is an InputError.
+[[nodiscard]] Setting parse_setting(const std::string& text, const std::string& file);
+
+/// The model file as parsed, before any setting (opaque: TOML stays inside io).
+struct ParsedInput;
 
 /// How the excitation was described, for reports (the Excitation itself is in SI).
 struct ExcitationInfo {
@@ -142,7 +183,7 @@ struct FrfSettings {
 /// One varied input key of a parametric study.
 struct StudyParameter {
   std::string key;                  ///< Any input key, dotted (as --set takes it).
-  std::vector<std::string> values;  ///< Grid or list: each a TOML value, as --set takes it.
+  std::vector<SettingValue> values;  ///< Grid or list: the values, typed as the file gives them.
   double min = 0.0, max = 0.0;      ///< Range (grid with `points`, or random).
   int points = 0;
   bool log = false;                 ///< Logarithmic spacing / sampling of the range.
@@ -225,8 +266,12 @@ struct OptimizeSettings {
 /// Everything a run needs, in SI.
 struct RunInput {
   std::filesystem::path source;  ///< The model file.
-  std::string text;              ///< Its text (studies re-read it with each point's overrides).
-  std::vector<std::string> overrides;  ///< The --set key=value applied to it, in order.
+  /// Its text: with the settings, it identifies the run in a study database (fingerprint).
+  std::string text;
+  /// The file as parsed, before the settings: a study point or an optimiser evaluation applies
+  /// its own settings to a copy of it (with_settings).
+  std::shared_ptr<const ParsedInput> parsed;
+  std::vector<Setting> settings;  ///< The --set applied to it, in order.
   std::filesystem::path base_dir;  ///< Folder that relative paths in it start from.
   std::string title;
   Model model;
@@ -250,6 +295,10 @@ struct RunInput {
   }
   InitialConditions initial;
 };
+
+/// `base` read again with `settings` applied after its own (a study point, an optimiser evaluation,
+/// an ensemble's record): the same checks, on the file as parsed, with typed values.
+RunInput with_settings(const RunInput& base, std::span<const Setting> settings);
 
 /// Reads and validates `file`, after applying the `--set key=value` overrides (dotted keys,
 /// `frames[2].mass` for the second frame; the value is a TOML value, or a bare string).

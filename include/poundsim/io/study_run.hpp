@@ -19,15 +19,12 @@
 
 namespace poundsim::io {
 
-/// The key = value overrides of one point, in parameter order.
-using PointValues = std::vector<std::pair<std::string, std::string>>;
+/// The settings of one point, in parameter order.
+using PointValues = std::vector<Setting>;
 
 /// The points of a study, in a fixed order (ids 0, 1, …): grid (the first parameter varies
 /// slowest), list (zipped) or random (uniform, or log-uniform, from the seed).
 std::vector<PointValues> study_points(const StudySettings& study);
-
-/// `base` (a study or optimiser input) with one point's overrides applied.
-RunInput read_point(const RunInput& base, const PointValues& values);
 
 /// A stable fingerprint of everything that determines a run's results (model, analysis,
 /// excitation, study or optimiser definition): FNV-1a of its canonical description.
