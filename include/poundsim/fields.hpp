@@ -20,6 +20,7 @@
 #include <string>
 #include <string_view>
 #include <tuple>
+#include <vector>
 #include <type_traits>
 #include <utility>
 
@@ -99,7 +100,8 @@ template <class S>
 struct CustomField {
   std::string_view key;
   std::string_view meaning;
-  bool is_table = false;  ///< An array of tables ([[table.key]]), documented in a section of its own.
+  /// A table or an array of tables ([key], [[table.key]]), documented in a section of its own.
+  bool is_table = false;
 };
 
 /// One of a closed set of named values, stored as the enum E.
@@ -165,6 +167,14 @@ concept Configuration = requires { S::fields(); };
 template <Configuration S, class F>
 constexpr void for_each_field(F&& f) {
   std::apply([&](const auto&... field) { (f(field), ...); }, S::fields());
+}
+
+/// The keys the structs S declare, in order: the keys their table's reader accepts.
+template <Configuration... S>
+std::vector<std::string_view> declared_keys() {
+  std::vector<std::string_view> keys;
+  (for_each_field<S>([&](const auto& field) { keys.push_back(field.key); }), ...);
+  return keys;
 }
 
 /// The value of `field` in `s` as a message shows it: "1e-10 s", "8", "\"force\"" (not for a

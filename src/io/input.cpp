@@ -10,6 +10,7 @@
 #include <numbers>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 #include <unordered_map>
 
 #include <fmt/format.h>
@@ -114,7 +115,18 @@ class TableReader {
   [[nodiscard]] std::string key_path(std::string_view key) const {
     return path_.empty() ? std::string(key) : path_ + "." + std::string(key);
   }
-  [[nodiscard]] bool has(std::string_view key) const { return table_->contains(key); }
+  [[nodiscard]] bool has(std::string_view key) const {
+    check_declared(key);
+    return table_->contains(key);
+  }
+
+  /// Accepts only the keys the structs S declare (fields.hpp): finish() refuses the others as
+  /// unknown, and reading a key they do not declare is a logic error of the reader.
+  template <Configuration... S>
+  TableReader& declare() {
+    for (const std::string_view key : declared_keys<S...>()) declared_.insert(std::string(key));
+    return *this;
+  }
 
   [[noreturn]] void fail(std::string_view key, const std::string& message) const {
     const toml::node* node = table_->get(key);
@@ -125,6 +137,7 @@ class TableReader {
   }
 
   const toml::node* find(std::string_view key) {
+    check_declared(key);
     used_.insert(std::string(key));
     return table_->get(key);
   }
@@ -255,6 +268,7 @@ class TableReader {
 
   /// Every key present and not read is an error. `context` explains why, when the key could be valid elsewhere.
   void finish(const std::string& context = {}) const {
+    if (declared_.empty()) throw std::logic_error(fmt::format("the reader of [{}] declares no keys", path_));
     for (const auto& [key, node] : *table_) {
       if (!used_.contains(std::string(key.str()))) {
         origin_->fail(&node, key_path(key.str()),
@@ -264,6 +278,12 @@ class TableReader {
   }
 
  private:
+  void check_declared(std::string_view key) const {
+    if (!declared_.empty() && !declared_.contains(std::string(key))) {
+      throw std::logic_error(fmt::format("the reader of [{}] reads '{}', which its table does not declare",
+                                         path_, key));
+    }
+  }
   double check_finite(std::string_view key, double v) const {
     if (!std::isfinite(v)) fail(key, "must be finite");
     return v;
@@ -277,6 +297,7 @@ class TableReader {
   std::string path_;
   const Origin* origin_;
   std::set<std::string> used_;
+  std::set<std::string, std::less<>> declared_;  ///< Empty until declare().
 };
 
 // --- declared fields (fields.hpp) ---------------------------------------------------------------
@@ -473,6 +494,7 @@ Model read_dimensionless(TableReader& model_table, RunInput& run) {
                                  [&](const std::string& m) { model_table.fail("storeys", m); });
   }
   TableReader d = model_table.table("dimensionless");
+  d.declare<DimensionlessParameters, keys::DimensionlessJoint>();
   DimensionlessParameters p;
   read_fields(d, p);
   if (p.epsilon == 0 && (p.eta > 0 || p.mu > 0)) {
@@ -568,6 +590,7 @@ Model read_physical(TableReader& top, RunInput& run) {
   }
   int floors = 0;
   for (TableReader& f : frame_tables) {
+    f.declare<keys::Frame>();
     Frame frame;
     frame.name = f.string_or("name", "");
     const std::optional<int> storeys = f.optional_integer("storeys", 1, limits::storeys);
@@ -655,11 +678,13 @@ Model read_physical(TableReader& top, RunInput& run) {
     return make_model(std::move(frames), GapProperties{});
   }
   TableReader gaps = top.table("gap_elements");
+  gaps.declare<GapProperties, keys::GapElements>();
   const GapSpec defaults = read_gap_properties(gaps, nullptr);
   std::vector<GapOverride> overrides;
   std::vector<std::optional<double>> override_joints;
   if (gaps.has("override")) {
     for (TableReader& o : gaps.tables("override")) {
+      o.declare<GapProperties, keys::GapOverride>();
       const toml::node& pair_node = o.require("frames");
       const toml::array* pair = pair_node.as_array();
       if (pair == nullptr || pair->size() != 2) {
@@ -707,6 +732,7 @@ Model read_physical(TableReader& top, RunInput& run) {
 }
 
 void read_initial(TableReader& t, const Model& model, InitialConditions& ic) {
+  t.declare<keys::Initial>();
   const auto rows = [&](const char* key, std::vector<std::vector<double>>& out) {
     if (!t.has(key)) return;
     out = t.number_rows(key);
@@ -727,6 +753,7 @@ void read_initial(TableReader& t, const Model& model, InitialConditions& ic) {
 
 void read_excitation(TableReader& t, const Model& model, const std::filesystem::path& base_dir,
                      const Origin& origin, RunInput& run) {
+  t.declare<keys::Excitation>();
   ExcitationInfo& info = run.excitation_info;
   info.kind = t.choice("kind", {"harmonic", "record", "none"});
   info.omega1 = reference_frequency(model);
@@ -973,6 +1000,7 @@ StudySettings read_study(TableReader& t) {
   std::size_t list_length = 0;
   double grid_points = 1;
   for (TableReader& p : t.tables("parameter")) {
+    p.declare<keys::StudyParameter>();
     StudyParameter param;
     param.key = p.string("key");
     param.where = p.where("key");
@@ -1043,6 +1071,7 @@ OptimizeSettings read_optimize(TableReader& t) {
   }
   read_fields(t, o);
   for (TableReader& v : t.tables("variable")) {
+    v.declare<keys::OptimizeVariable>();
     OptimizeVariable var;
     var.key = v.string("key");
     var.where = v.where("key");
@@ -1128,6 +1157,7 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
   }
   RunInput run;
   TableReader top(root, "", origin);
+  top.declare<keys::File>();
   run.title = top.string_or("title", "");
   const bool dimensionless = top.has("model"), physical = top.has("frames");
   if (dimensionless && physical) {
@@ -1141,6 +1171,7 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
   try {
     if (dimensionless) {
       TableReader model = top.table("model");
+      model.declare<keys::DimensionlessModel>();
       run.model = read_dimensionless(model, run);
     } else {
       run.model = read_physical(top, run);
@@ -1150,15 +1181,18 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
   }
   if (auto initial = top.optional_table("initial")) read_initial(*initial, run.model, run.initial);
   TableReader analysis = top.table("analysis");
+  analysis.declare<TimeHistoryOptions, AnalysisSettings>();
   run.analysis.kind = analysis.choice("kind", {"time_history", "frf", "study", "optimize", "ensemble"});
   const std::string context = fmt::format("for kind = \"{}\"", run.analysis.kind);
   std::string each = run.analysis.kind;
   if (run.analysis.kind == "study") {
     TableReader study = top.table("study");
+    study.declare<StudySettings>();
     run.study = read_study(study);
     each = run.study->each;
   } else if (run.analysis.kind == "optimize") {
     TableReader optimize = top.table("optimize");
+    optimize.declare<OptimizeSettings>();
     run.optimize = read_optimize(optimize);
     each = run.optimize->each;
   } else {
@@ -1169,6 +1203,7 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
   if (run.analysis.kind == "ensemble") each = "ensemble";
   if (each == "ensemble") {
     TableReader ensemble = top.table("ensemble");
+    ensemble.declare<EnsembleSettings>();
     run.ensemble = read_ensemble(ensemble, base_dir);
     each = "time_history";
   } else if (top.has("ensemble")) {
@@ -1206,6 +1241,7 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
     }
     if (top.has("initial")) top.fail("initial", "a frequency response starts from rest or from the previous point");
     TableReader frf = top.table("frf");
+    frf.declare<FrfSettings, SteadyStateOptions>();
     run.frf = read_frf(frf, analysis, run.model, run.analysis);
     run.excitation_info.kind = "harmonic";
     run.excitation_info.amplitude_g = run.frf->amplitude_g;

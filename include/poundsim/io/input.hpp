@@ -92,6 +92,131 @@ struct Setting {
 /// The model file as parsed, before any setting (opaque: TOML stays inside io).
 struct ParsedInput;
 
+/// The keys of the model file's tables that are read by rules of their own (arrays with one
+/// value per floor, either-or keys, sub-tables), declared once (fields.hpp): each table's reader
+/// accepts exactly its declared keys (a key it reads without declaring it is a logic_error), and
+/// tests/io/input_docs_test.cpp checks that docs/input.md documents exactly these keys.
+namespace keys {
+/// The top level of the file.
+struct File {
+  static constexpr auto fields() {
+    using C = CustomField<File>;
+    return std::tuple{
+        C{"title", "free text, copied to summary.json"},
+        C{"model", "the dimensionless form", true},
+        C{"frames", "the physical form: one table per frame", true},
+        C{"gap_elements", "the physical form's gap elements", true},
+        C{"initial", "initial displacements and velocities", true},
+        C{"excitation", "the ground acceleration", true},
+        C{"analysis", "what to run", true},
+        C{"frf", "a frequency response", true},
+        C{"study", "a parametric study", true},
+        C{"optimize", "an optimisation", true},
+        C{"ensemble", "the records of an ensemble", true},
+    };
+  }
+};
+/// [model] of the dimensionless form (its parameters: DimensionlessParameters).
+struct DimensionlessModel {
+  static constexpr auto fields() {
+    using C = CustomField<DimensionlessModel>;
+    return std::tuple{
+        C{"storeys", "the storeys of frames 1 and 2"},
+        C{"storey_height", "h [m] of every storey of both frames"},
+        C{"dimensionless", "the paper's parameters", true},
+    };
+  }
+};
+/// [model.dimensionless]'s key besides the paper's parameters (DimensionlessParameters).
+struct DimensionlessJoint {
+  static constexpr auto fields() {
+    return std::tuple{CustomField<DimensionlessJoint>{"joint_width", "w̄ = w λ²/g, the joint's width"}};
+  }
+};
+/// [[frames]].
+struct Frame {
+  static constexpr auto fields() {
+    using C = CustomField<Frame>;
+    return std::tuple{
+        C{"name", "a label for messages"},
+        C{"storeys", "the number of floors"},
+        C{"storey_height", "h_i [m] of each storey"},
+        C{"mass", "floor masses M_i [kg]"},
+        C{"stiffness", "storey stiffnesses K_i [N/m]"},
+        C{"damping", "storey dashpots C_i [N·s/m]"},
+        C{"damping_ratio", "ζ of stiffness-proportional damping"},
+    };
+  }
+};
+/// [gap_elements]' keys besides the element's properties (GapProperties).
+struct GapElements {
+  static constexpr auto fields() {
+    using C = CustomField<GapElements>;
+    return std::tuple{
+        C{"joint_width", "w [m], the joint's width"},
+        C{"override", "changes to single elements", true},
+    };
+  }
+};
+/// [[gap_elements.override]]'s keys besides the element's properties (GapProperties).
+struct GapOverride {
+  static constexpr auto fields() {
+    using C = CustomField<GapOverride>;
+    return std::tuple{
+        C{"frames", "the two neighbouring frames"},
+        C{"floor", "the floor, from 1"},
+        C{"joint_width", "w [m], the joint's width"},
+    };
+  }
+};
+/// [initial].
+struct Initial {
+  static constexpr auto fields() {
+    using C = CustomField<Initial>;
+    return std::tuple{
+        C{"displacement", "u [m] per frame and floor"},
+        C{"velocity", "u̇ [m/s] per frame and floor"},
+    };
+  }
+};
+/// [excitation].
+struct Excitation {
+  static constexpr auto fields() {
+    using C = CustomField<Excitation>;
+    return std::tuple{
+        C{"kind", "harmonic, record or none"},
+        C{"amplitude_g", "A [g]"},
+        C{"ratio", "ω̄/ω₁"},
+        C{"omega", "ω̄ [rad/s]"},
+        C{"frequency_hz", "ω̄/(2π) [Hz]"},
+        C{"file", "the record file"},
+        C{"format", "the record's format"},
+        C{"units", "the record's units"},
+        C{"scale", "a factor on the accelerations"},
+        C{"target_pga_g", "the peak to scale the record to [g]"},
+        C{"dt", "the sampling interval of a one-column file [s]"},
+        C{"column", "the acceleration column"},
+    };
+  }
+};
+/// [[study.parameter]].
+struct StudyParameter {
+  static constexpr auto fields() {
+    using C = CustomField<StudyParameter>;
+    return std::tuple{C{"key", "any input key"}, C{"values", "the values"}, C{"min", "the range's start"},
+                      C{"max", "the range's end"}, C{"points", "a grid's points"}, C{"scale", "linear or log"}};
+  }
+};
+/// [[optimize.variable]].
+struct OptimizeVariable {
+  static constexpr auto fields() {
+    using C = CustomField<OptimizeVariable>;
+    return std::tuple{C{"key", "any input key"}, C{"min", "the lower bound"}, C{"max", "the upper bound"},
+                      C{"start", "the starting value"}};
+  }
+};
+}  // namespace keys
+
 /// How the excitation was described, for reports (the Excitation itself is in SI).
 struct ExcitationInfo {
   std::string kind;                   ///< "none", "harmonic" or "record".
