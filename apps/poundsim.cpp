@@ -165,11 +165,13 @@ int main(int argc, char** argv) {
     }
     const long max_points = run->count("--max-points") > 0 ? parse_max_points(max_points_text) : 0;
     const poundsim::io::RunInput input = poundsim::io::read_input(model_file, overrides);
-    const bool study = input.analysis.kind == "study" || input.analysis.kind == "ensemble";
+    using poundsim::io::AnalysisKind;
+    const AnalysisKind kind = input.analysis.kind;
+    const bool study = kind == AnalysisKind::study || kind == AnalysisKind::ensemble;
     if (max_points > 0 && !study) {
       throw poundsim::InputError(
           fmt::format("--max-points applies to studies and ensembles only, not to analysis.kind = \"{}\"",
-                      input.analysis.kind));
+                      to_string(kind)));
     }
     ProgressBar bar(!quiet && ::isatty(STDERR_FILENO) != 0);
     const auto progress = [&bar](int done, int total) { bar.update(done, total); };
@@ -177,20 +179,20 @@ int main(int argc, char** argv) {
       poundsim::io::StudyRunOptions options;
       if (max_points > 0) options.max_points = max_points;
       options.progress = progress;
-      const poundsim::io::StudyResult result = input.analysis.kind == "ensemble"
+      const poundsim::io::StudyResult result = kind == AnalysisKind::ensemble
                                                    ? poundsim::io::run_ensemble(input, out_dir, options)
                                                    : poundsim::io::run_study(input, out_dir, options);
       bar.finish();
       if (!quiet) fmt::print("{}", poundsim::io::report(result, out_dir));
       return 0;
     }
-    if (input.analysis.kind == "optimize") {
+    if (kind == AnalysisKind::optimize) {
       const poundsim::io::OptimizationResult result = poundsim::io::run_optimization(input, out_dir, progress);
       bar.finish();
       if (!quiet) fmt::print("{}", poundsim::io::report(result, out_dir));
       return 0;
     }
-    if (input.analysis.kind == "frf") {
+    if (kind == AnalysisKind::frf) {
       const poundsim::io::FrequencyResponseResult result =
           poundsim::io::run_frequency_response(input, out_dir, progress);
       bar.finish();

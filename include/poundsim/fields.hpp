@@ -111,6 +111,7 @@ struct ChoiceField {
   E S::*member;
   std::array<std::pair<std::string_view, E>, N> names;
   std::string_view meaning;
+  bool required = false;  ///< The file must give it (else the member's initialiser is the default).
 
   [[nodiscard]] constexpr std::optional<E> parse(std::string_view name) const {
     for (const auto& [n, value] : names) {
@@ -158,6 +159,22 @@ inline constexpr bool is_bool_field<BoolField<S>> = true;
 template <class S, class E, std::size_t N>
 ChoiceField(std::string_view, E S::*, std::array<std::pair<std::string_view, E>, N>, std::string_view)
     -> ChoiceField<S, E, N>;
+template <class S, class E, std::size_t N>
+ChoiceField(std::string_view, E S::*, std::array<std::pair<std::string_view, E>, N>, std::string_view, bool)
+    -> ChoiceField<S, E, N>;
+template <class F>
+inline constexpr bool is_choice_field = false;
+template <class S, class E, std::size_t N>
+inline constexpr bool is_choice_field<ChoiceField<S, E, N>> = true;
+
+/// The name of `value` in a closed set of named values ("?" if it has none).
+template <class E, std::size_t N>
+[[nodiscard]] constexpr std::string_view name_in(const std::array<std::pair<std::string_view, E>, N>& names, E value) {
+  for (const auto& [name, v] : names) {
+    if (v == value) return name;
+  }
+  return "?";
+}
 
 /// A struct that declares its fields.
 template <class S>

@@ -314,7 +314,7 @@ void read_fields(TableReader& t, S& s, Presence presence = Presence::as_declared
     using Field = std::decay_t<decltype(field)>;
     if constexpr (!is_custom_field<Field>) {  // a custom field is read by the table's own rules
       if (!t.has(field.key)) {
-        if constexpr (is_number_field<Field>) {
+        if constexpr (is_number_field<Field> || is_choice_field<Field>) {
           if (field.required && presence == Presence::as_declared) t.require(field.key);
         }
         return;
@@ -856,7 +856,6 @@ void read_integration(TableReader& t, AnalysisSettings& a) {
   if (!(o.lock_time >= 10 * o.event_tolerance)) {
     t.fail("lock_time", fmt::format("{} s must be at least 10 × event_tolerance", o.lock_time));
   }
-  read_fields(t, a);
 }
 
 /// Newmark brackets an event inside its step, in the time τ ∈ [0, h] since the step's start;
@@ -911,9 +910,9 @@ void read_time_history(TableReader& t, AnalysisSettings& a) {
 }
 
 /// `band = [ratio_min, ratio_max]`: the ω̄/ω₁ range that an FRF objective looks at.
-void read_band(TableReader& t, const std::string& each, double& lo, double& hi) {
+void read_band(TableReader& t, PointRun each, double& lo, double& hi) {
   if (!t.has("band")) return;
-  if (each != "frf") t.fail("band", "only for each = \"frf\"");
+  if (each != PointRun::frf) t.fail("band", "only for each = \"frf\"");
   const std::vector<double> band = t.numbers("band");
   if (band.size() != 2 || !(band[0] > 0) || !(band[1] > band[0])) {
     t.fail("band", "expected [ratio_min, ratio_max] with 0 < ratio_min < ratio_max");
@@ -989,14 +988,12 @@ SettingValue axis_value(TableReader& t, std::string_view key, const toml::node& 
 
 StudySettings read_study(TableReader& t) {
   StudySettings s;
-  s.each = t.choice("each", {"frf", "time_history", "ensemble"});
-  s.sampling = t.choice("sampling", {"grid", "list", "random"}, std::string("grid"));
-  if (s.sampling == "random") {
+  read_fields(t, s);
+  if (s.sampling == Sampling::random) {
     s.samples = t.integer("samples", 1, limits::study_points);
     s.seed = t.optional_integer<unsigned>("seed", 0, limits::seed).value_or(s.seed);
   }
   read_band(t, s.each, s.band_min, s.band_max);
-  read_fields(t, s);
   std::size_t list_length = 0;
   double grid_points = 1;
   for (TableReader& p : t.tables("parameter")) {
@@ -1010,18 +1007,18 @@ StudySettings read_study(TableReader& t) {
     }
     const bool has_values = p.has("values");
     const bool has_range = p.has("min") || p.has("max") || p.has("points");
-    if (s.sampling == "random") {
+    if (s.sampling == Sampling::random) {
       if (has_values || p.has("points")) p.fail_table("random sampling takes min and max (and scale), not values or points");
     } else if (has_values == has_range) {
       p.fail_table("give either values = [...] or min, max and points");
     }
-    if (s.sampling == "list" && !has_values) p.fail_table("list sampling takes values = [...]");
+    if (s.sampling == Sampling::list && !has_values) p.fail_table("list sampling takes values = [...]");
     if (has_values) {
       const toml::node& node = p.require("values");
       const toml::array* values = node.as_array();
       if (values == nullptr || values->empty()) p.fail("values", "expected a non-empty array");
       for (std::size_t i = 0; i < values->size(); ++i) param.values.push_back(axis_value(p, "values", (*values)[i]));
-      if (s.sampling == "list") {
+      if (s.sampling == Sampling::list) {
         if (list_length != 0 && param.values.size() != list_length) {
           p.fail("values", fmt::format("list sampling needs the same number of values for every parameter "
                                        "({} here, {} before)", param.values.size(), list_length));
@@ -1034,16 +1031,16 @@ StudySettings read_study(TableReader& t) {
       if (!(param.max > param.min)) p.fail("max", "must be larger than min");
       param.log = p.choice("scale", {"linear", "log"}, std::string("linear")) == "log";
       if (param.log && !(param.min > 0)) p.fail("min", "must be > 0 on a log scale");
-      if (s.sampling == "grid") param.points = p.integer("points", 2, limits::study_points);
+      if (s.sampling == Sampling::grid) param.points = p.integer("points", 2, limits::study_points);
     }
     // A grid has the product of its axes' points: bounded before study_points() lists them.
-    if (s.sampling == "grid") {
+    if (s.sampling == Sampling::grid) {
       grid_points *= static_cast<double>(has_values ? param.values.size() : static_cast<std::size_t>(param.points));
       if (grid_points > limits::study_points) {
         p.fail(has_values ? "values" : "points",
                fmt::format("the grid has {:.4g} points with this parameter: at most {}", grid_points, limits::study_points));
       }
-    } else if (s.sampling == "list" && param.values.size() > static_cast<std::size_t>(limits::study_points)) {
+    } else if (s.sampling == Sampling::list && param.values.size() > static_cast<std::size_t>(limits::study_points)) {
       p.fail("values", fmt::format("{} values: at most {}", param.values.size(), limits::study_points));
     }
     p.finish();
@@ -1055,8 +1052,7 @@ StudySettings read_study(TableReader& t) {
 
 OptimizeSettings read_optimize(TableReader& t) {
   OptimizeSettings o;
-  o.each = t.choice("each", {"frf", "time_history", "ensemble"});
-  o.objective = t.choice("objective", {"max_peak", "max_ratio_to_free"}, std::string("max_peak"));
+  read_fields(t, o);
   read_band(t, o.each, o.band_min, o.band_max);
   o.global_algorithm = t.string_or("global", o.global_algorithm);
   o.local_algorithm = t.string_or("local", o.local_algorithm);
@@ -1069,7 +1065,6 @@ OptimizeSettings read_optimize(TableReader& t) {
   if (o.global_algorithm == "none" && o.local_algorithm == "none") {
     t.fail(t.has("local") ? "local" : "global", "both stages are \"none\": nothing would be optimised");
   }
-  read_fields(t, o);
   for (TableReader& v : t.tables("variable")) {
     v.declare<keys::OptimizeVariable>();
     OptimizeVariable var;
@@ -1182,15 +1177,18 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
   if (auto initial = top.optional_table("initial")) read_initial(*initial, run.model, run.initial);
   TableReader analysis = top.table("analysis");
   analysis.declare<TimeHistoryOptions, AnalysisSettings>();
-  run.analysis.kind = analysis.choice("kind", {"time_history", "frf", "study", "optimize", "ensemble"});
-  const std::string context = fmt::format("for kind = \"{}\"", run.analysis.kind);
-  std::string each = run.analysis.kind;
-  if (run.analysis.kind == "study") {
+  read_fields(analysis, run.analysis);
+  const AnalysisKind kind = run.analysis.kind;
+  const std::string context = fmt::format("for kind = \"{}\"", to_string(kind));
+  PointRun each = kind == AnalysisKind::frf        ? PointRun::frf
+                  : kind == AnalysisKind::ensemble ? PointRun::ensemble
+                                                   : PointRun::time_history;
+  if (kind == AnalysisKind::study) {
     TableReader study = top.table("study");
     study.declare<StudySettings>();
     run.study = read_study(study);
     each = run.study->each;
-  } else if (run.analysis.kind == "optimize") {
+  } else if (kind == AnalysisKind::optimize) {
     TableReader optimize = top.table("optimize");
     optimize.declare<OptimizeSettings>();
     run.optimize = read_optimize(optimize);
@@ -1200,16 +1198,15 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
       if (top.has(table)) top.fail(table, fmt::format("only for analysis.kind = \"{}\"", table));
     }
   }
-  if (run.analysis.kind == "ensemble") each = "ensemble";
-  if (each == "ensemble") {
+  if (each == PointRun::ensemble) {
     TableReader ensemble = top.table("ensemble");
     ensemble.declare<EnsembleSettings>();
     run.ensemble = read_ensemble(ensemble, base_dir);
-    each = "time_history";
+    each = PointRun::time_history;
   } else if (top.has("ensemble")) {
     top.fail("ensemble", "only for analysis.kind = \"ensemble\" or each = \"ensemble\"");
   }
-  if (each == "time_history") {
+  if (each == PointRun::time_history) {
     read_time_history(analysis, run.analysis);
     TableReader excitation = top.table("excitation");
     read_excitation(excitation, run.model, base_dir, origin, run);

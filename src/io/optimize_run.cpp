@@ -42,8 +42,8 @@ nlopt::algorithm algorithm(const std::string& name, const RunInput& input, const
 }
 
 /// The metric that `objective` minimises, and what it measures.
-std::pair<std::string, std::string> objective_metric(const std::string& objective) {
-  if (objective == "max_peak") return {"max_peak_V_W", "the larger of the frames' peak base shear V/W"};
+std::pair<std::string, std::string> objective_metric(Objective objective) {
+  if (objective == Objective::max_peak) return {"max_peak_V_W", "the larger of the frames' peak base shear V/W"};
   return {"max_ratio_to_free", "the larger of the frames' peak V/W divided by the same frame's peak without gap elements"};
 }
 
@@ -205,7 +205,7 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
   // The optimum's response against bare pounding and the free frames.
   const RunInput best_point = with_settings(input, point_values(s, best->x));
   json bare_metrics;
-  if (s.each == "frf") {
+  if (s.each == PointRun::frf) {
     // Both responses are written out, so the bare one's metrics come from the same sweep.
     FrequencyResponseOptions o = frequency_response_options(best_point);
     o.threads = s.threads;
@@ -279,7 +279,7 @@ json to_json(const OptimizationResult& result) {
   json summary{{"poundsim_version", POUNDSIM_VERSION},
                {"input", result.source.string()},
                {"title", result.title},
-               {"analysis", {{"kind", "optimize"}, {"each", s.each}, {"objective", s.objective},
+               {"analysis", {{"kind", "optimize"}, {"each", to_string(s.each)}, {"objective", to_string(s.objective)},
                              {"band", {s.band_min, s.band_max}}}},
                {"variables", json::array()},
                {"optimum", optimum_values(result)},
@@ -301,7 +301,7 @@ std::string report(const OptimizationResult& r, const std::filesystem::path& out
   text += fmt::format("  bare pounding at the joint width and restitution: {} = {:.4f}\n", r.metric,
                       r.bare_objective());
   text += fmt::format("  wrote {}/optimize.json, evaluations.csv{}\n", out_dir.string(),
-                      r.settings.each == "frf" ? ", optimum_frf.csv, bare_frf.csv" : "");
+                      r.settings.each == PointRun::frf ? ", optimum_frf.csv, bare_frf.csv" : "");
   return text;
 }
 

@@ -53,7 +53,7 @@ json describe_model(const Model& model) {
 
 json describe_analysis(const RunInput& in) {
   const TimeHistoryOptions& o = in.analysis.options;
-  json a{{"each", in.each()},
+  json a{{"each", to_string(in.each())},
          {"integrator", to_string(o.integrator)},
          {"event_tolerance", o.event_tolerance},
          {"lock_time", o.lock_time},
@@ -119,7 +119,7 @@ std::vector<PointValues> study_points(const StudySettings& study) {
     }
     return v;
   };
-  if (study.sampling == "grid") {
+  if (study.sampling == Sampling::grid) {
     std::vector<std::vector<SettingValue>> axes;
     for (const StudyParameter& p : params) axes.push_back(grid_values(p));
     std::vector<std::size_t> index(axes.size(), 0);
@@ -138,7 +138,7 @@ std::vector<PointValues> study_points(const StudySettings& study) {
       }
     }
   }
-  if (study.sampling == "list") {
+  if (study.sampling == Sampling::list) {
     const std::size_t n = params.empty() ? 0 : params.front().values.size();
     for (std::size_t i = 0; i < n; ++i) {
       PointValues point;
@@ -313,9 +313,9 @@ std::pair<double, double> band_of(const RunInput& point) {
 
 json point_metrics(const RunInput& point, int threads, const json* baseline) {
   const auto [lo, hi] = band_of(point);
-  const std::string each = point.each();
-  json m = each == "frf"        ? frf_metrics_of(point, threads, lo, hi)
-           : each == "ensemble" ? ensemble_metrics(point, threads)
+  const PointRun each = point.each();
+  json m = each == PointRun::frf        ? frf_metrics_of(point, threads, lo, hi)
+           : each == PointRun::ensemble ? ensemble_metrics(point, threads)
                                 : time_history_metrics(point);
   if (baseline != nullptr) {
     double max_ratio = 0;
@@ -340,13 +340,13 @@ json baseline_metrics(const RunInput& point, int threads) {
 
 namespace {
 StudyResult run_points(const RunInput& input, const std::filesystem::path& out_dir, const StudyRunOptions& options,
-                       const std::string& stem);
+                       AnalysisKind kind);
 }
 
 StudyResult run_study(const RunInput& input, const std::filesystem::path& out_dir,
                       const StudyRunOptions& options) {
   if (!input.study) throw InputError(fmt::format("{}: no [study] table", input.source.string()));
-  return run_points(input, out_dir, options, "study");
+  return run_points(input, out_dir, options, AnalysisKind::study);
 }
 
 StudyResult run_ensemble(const RunInput& input, const std::filesystem::path& out_dir,
@@ -355,8 +355,8 @@ StudyResult run_ensemble(const RunInput& input, const std::filesystem::path& out
   // An ensemble is a study over the record file, one time history per record.
   RunInput as_study = input;
   StudySettings study;
-  study.each = "time_history";
-  study.sampling = "list";
+  study.each = PointRun::time_history;
+  study.sampling = Sampling::list;
   study.baseline = input.ensemble->baseline;
   study.threads = input.ensemble->threads;
   StudyParameter records;
@@ -364,7 +364,7 @@ StudyResult run_ensemble(const RunInput& input, const std::filesystem::path& out
   for (const auto& r : input.ensemble->records) records.values.push_back({r.string()});
   study.parameters.push_back(std::move(records));
   as_study.study = study;
-  return run_points(as_study, out_dir, options, "ensemble");
+  return run_points(as_study, out_dir, options, AnalysisKind::ensemble);
 }
 
 json to_json(const StudyResult& result) {
@@ -377,7 +377,7 @@ json to_json(const StudyResult& result) {
   json summary{{"poundsim_version", POUNDSIM_VERSION},
                {"input", result.source.string()},
                {"title", result.title},
-               {"analysis", {{"kind", result.kind}, {"each", study.each}, {"sampling", study.sampling},
+               {"analysis", {{"kind", to_string(result.kind)}, {"each", to_string(study.each)}, {"sampling", to_string(study.sampling)},
                              {"band", {study.band_min, study.band_max}}, {"baseline", study.baseline}}},
                {"parameters", result.parameters},
                {"points", result.points},
@@ -389,7 +389,7 @@ json to_json(const StudyResult& result) {
                {"lowest_max_peak", best},
                {"database", result.database.string()},
                {"run_time_s", result.run_time}};
-  if (result.kind == "ensemble") {
+  if (result.kind == AnalysisKind::ensemble) {
     json per_record = json::array();
     for (const StudyDatabase::Row& r : result.rows) {
       json entry{{"record", r.parameters.value("excitation.file", json())}, {"status", r.status}};
@@ -412,9 +412,9 @@ json to_json(const StudyResult& result) {
 }
 
 std::string report(const StudyResult& r, const std::filesystem::path& out_dir) {
-  const bool ensemble = r.kind == "ensemble";
+  const bool ensemble = r.kind == AnalysisKind::ensemble;
   std::string text = fmt::format("poundsim {}: {} ({}, {} {}: {} finished, {} of them now, {} failed; {:.3f} s)\n",
-                                 POUNDSIM_VERSION, r.source.string(), r.kind, r.points, ensemble ? "records" : "points",
+                                 POUNDSIM_VERSION, r.source.string(), to_string(r.kind), r.points, ensemble ? "records" : "points",
                                  r.finished, r.run_this_time, r.failed, r.run_time);
   const char* incomplete = r.complete() ? "" : " (incomplete: run again to go on)";
   if (ensemble) {
@@ -475,7 +475,8 @@ void write_study_csv(OutputFile& f, const std::vector<std::string>& parameters,
 }
 
 StudyResult run_points(const RunInput& input, const std::filesystem::path& out_dir, const StudyRunOptions& options,
-                       const std::string& stem) {
+                       AnalysisKind kind) {
+  const std::string stem(to_string(kind));  // the files' names: study.sqlite, ensemble.csv
   const StudySettings& study = *input.study;
   const auto start = std::chrono::steady_clock::now();
   const std::vector<PointValues> all = study_points(study);
@@ -505,14 +506,14 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
           where = p.where;
         }
       }
-      throw InputError(fmt::format("{}: {} {} ({}): {}", where, stem == "ensemble" ? "ensemble record" : "study point",
+      throw InputError(fmt::format("{}: {} {} ({}): {}", where, kind == AnalysisKind::ensemble ? "ensemble record" : "study point",
                                    id + 1, values, message));
     }
   }
   OutputTransaction out(out_dir);  // creates the folder for the database too
   std::vector<std::string> parameter_keys;
   for (const StudyParameter& p : study.parameters) parameter_keys.push_back(p.key);
-  const json definition{{"input", input.source.string()}, {"each", study.each}, {"sampling", study.sampling},
+  const json definition{{"input", input.source.string()}, {"each", to_string(study.each)}, {"sampling", to_string(study.sampling)},
                         {"points", all.size()}, {"parameters", parameter_keys}};
   StudyDatabase db(out_dir / (stem + ".sqlite"), fingerprint(input), definition);
   const std::set<long> finished = db.finished();
@@ -568,7 +569,7 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
 
   const double run_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   StudyResult result;
-  result.kind = stem;
+  result.kind = kind;
   result.source = input.source;
   result.title = input.title;
   result.study = study;
@@ -593,7 +594,7 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
       result.lowest_max_peak = BestPoint{r.id + 1, r.parameters, r.metrics};
     }
   }
-  if (stem == "ensemble" && !done_metrics.empty()) {
+  if (kind == AnalysisKind::ensemble && !done_metrics.empty()) {
     Aggregate all_records = aggregate(done_metrics);
     result.mean = std::move(all_records.mean);
     result.max = std::move(all_records.max);

@@ -271,7 +271,7 @@ json to_json(const TimeHistoryResult& result) {
               {"relative_residual", result.relative_residual},
               {"max_relative_residual", result.max_relative_residual}};
   const TimeHistoryOptions& o = result.options;
-  json analysis{{"kind", input.analysis.kind},
+  json analysis{{"kind", to_string(input.analysis.kind)},
                 {"integrator", std::string(to_string(input.analysis.options.integrator))},
                 {"duration_s", input.analysis.duration},
                 {"dt_s", o.dt},

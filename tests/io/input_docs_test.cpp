@@ -137,7 +137,7 @@ void expect_documented(const std::string& marker, Columns columns = {},
     }
     if constexpr (!is_custom_field<Field>) {  // a custom field has its own rules: documented is all
       bool is_required = false;
-      if constexpr (is_number_field<Field>) is_required = field.required;
+      if constexpr (is_number_field<Field> || is_choice_field<Field>) is_required = field.required;
       EXPECT_EQ(required.starts_with("yes"), is_required) << key << ": required column \"" << required << "\"";
       if (is_required) {
         EXPECT_EQ(shown_default, "—") << key;

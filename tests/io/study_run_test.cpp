@@ -72,14 +72,14 @@ TEST(StudyPoints, GridListAndRandomSampling) {
   EXPECT_EQ(grid[8][1].text, "model.dimensionless.mu=2.0");  // a float stays a float
 
   StudySettings list = *in.study;
-  list.sampling = "list";
+  list.sampling = Sampling::list;
   list.parameters[1].values = {{0.5}, {1.0}, {2.0}};
   const std::vector<PointValues> zipped = study_points(list);
   ASSERT_EQ(zipped.size(), 3u);
   EXPECT_EQ(zipped[2], point(0.25, 2.0));
 
   StudySettings random = *in.study;
-  random.sampling = "random";
+  random.sampling = Sampling::random;
   random.samples = 50;
   random.seed = 7;
   random.parameters[0] = StudyParameter{};

@@ -255,9 +255,46 @@ struct EnsembleSettings {
   }
 };
 
+/// What an input runs (analysis.kind).
+enum class AnalysisKind : std::uint8_t { time_history, frf, ensemble, study, optimize };
+inline constexpr std::array<std::pair<std::string_view, AnalysisKind>, 5> analysis_kind_names{{
+    {"time_history", AnalysisKind::time_history},
+    {"frf", AnalysisKind::frf},
+    {"ensemble", AnalysisKind::ensemble},
+    {"study", AnalysisKind::study},
+    {"optimize", AnalysisKind::optimize},
+}};
+[[nodiscard]] constexpr std::string_view to_string(AnalysisKind kind) { return name_in(analysis_kind_names, kind); }
+
+/// What one point of a study, or one evaluation of the optimiser, runs (`each`).
+enum class PointRun : std::uint8_t { frf, time_history, ensemble };
+inline constexpr std::array<std::pair<std::string_view, PointRun>, 3> point_run_names{{
+    {"frf", PointRun::frf},
+    {"time_history", PointRun::time_history},
+    {"ensemble", PointRun::ensemble},
+}};
+[[nodiscard]] constexpr std::string_view to_string(PointRun run) { return name_in(point_run_names, run); }
+
+/// How a study chooses its points (study.sampling).
+enum class Sampling : std::uint8_t { grid, list, random };
+inline constexpr std::array<std::pair<std::string_view, Sampling>, 3> sampling_names{{
+    {"grid", Sampling::grid},
+    {"list", Sampling::list},
+    {"random", Sampling::random},
+}};
+[[nodiscard]] constexpr std::string_view to_string(Sampling sampling) { return name_in(sampling_names, sampling); }
+
+/// What the optimiser minimises (optimize.objective).
+enum class Objective : std::uint8_t { max_peak, max_ratio_to_free };
+inline constexpr std::array<std::pair<std::string_view, Objective>, 2> objective_names{{
+    {"max_peak", Objective::max_peak},
+    {"max_ratio_to_free", Objective::max_ratio_to_free},
+}};
+[[nodiscard]] constexpr std::string_view to_string(Objective objective) { return name_in(objective_names, objective); }
+
 /// [analysis]: what to run. Time-history keys apply to kind = "time_history".
 struct AnalysisSettings {
-  std::string kind = "time_history";  ///< "time_history", "frf", "study", "optimize" or "ensemble"
+  AnalysisKind kind = AnalysisKind::time_history;
   double duration = 0.0;        ///< [s]
   double output_dt = 0.0;       ///< Spacing of history rows [s], a multiple of dt.
   TimeHistoryOptions options;   ///< dt, integrator, event_tolerance, lock_time, separation, …
@@ -270,7 +307,7 @@ struct AnalysisSettings {
     using A = AnalysisSettings;
     using C = CustomField<A>;
     return std::tuple{
-        C{"kind", "the analysis: time_history, frf, ensemble, study or optimize"},
+        ChoiceField{"kind", &A::kind, analysis_kind_names, "the analysis", true},
         C{"duration", "simulated time; a record's length when absent"},
         C{"dt", "the Newmark step of a time history"},
         C{"output_dt", "the spacing of history rows, a multiple of dt (default dt)"},
@@ -317,8 +354,8 @@ struct StudyParameter {
 
 /// [study] (analysis.kind = "study").
 struct StudySettings {
-  std::string each = "frf";          ///< What each point runs: "frf", "time_history" or "ensemble".
-  std::string sampling = "grid";     ///< "grid" (all combinations), "list" (zipped) or "random".
+  PointRun each = PointRun::frf;     ///< What each point runs.
+  Sampling sampling = Sampling::grid;
   std::vector<StudyParameter> parameters;
   int samples = 0;                   ///< Random sampling: number of points.
   unsigned seed = 1;                 ///< Random sampling: seed (same seed, same points).
@@ -331,8 +368,8 @@ struct StudySettings {
     using S = StudySettings;
     using C = CustomField<S>;
     return std::tuple{
-        C{"each", "what each point runs"},
-        C{"sampling", "grid, list or random"},
+        ChoiceField{"each", &S::each, point_run_names, "what each point runs", true},
+        ChoiceField{"sampling", &S::sampling, sampling_names, "grid, list or random"},
         C{"samples", "random sampling: the number of points"},
         C{"seed", "random sampling: the seed"},
         C{"band", "the frequency band of the peak metrics"},
@@ -353,8 +390,8 @@ struct OptimizeVariable {
 
 /// [optimize] (analysis.kind = "optimize").
 struct OptimizeSettings {
-  std::string each = "frf";                 ///< Each evaluation: "frf", "time_history" or "ensemble".
-  std::string objective = "max_peak";       ///< "max_peak" or "max_ratio_to_free".
+  PointRun each = PointRun::frf;            ///< What each evaluation runs.
+  Objective objective = Objective::max_peak;
   double band_min = 0.0, band_max = 0.0;    ///< Band of the frequency-response objective.
   std::vector<OptimizeVariable> variables;
   std::string global_algorithm = "GN_DIRECT_L";  ///< NLopt name; "none" skips the global stage.
@@ -370,8 +407,8 @@ struct OptimizeSettings {
     using O = OptimizeSettings;
     using C = CustomField<O>;
     return std::tuple{
-        C{"each", "what each evaluation runs"},
-        C{"objective", "max_peak or max_ratio_to_free"},
+        ChoiceField{"each", &O::each, point_run_names, "what each evaluation runs", true},
+        ChoiceField{"objective", &O::objective, objective_names, "max_peak or max_ratio_to_free"},
         C{"band", "the frequency band of the objective"},
         C{"global", "the global NLopt algorithm, or none"},
         C{"local", "the local NLopt algorithm, or none"},
@@ -414,9 +451,10 @@ struct RunInput {
   std::optional<OptimizeSettings> optimize;  ///< For kind = "optimize".
   /// What one point of the analysis runs: kind itself, or study.each / optimize.each; an
   /// ensemble's points are time histories.
-  [[nodiscard]] std::string each() const {
-    if (analysis.kind == "ensemble") return "time_history";
-    return study ? study->each : optimize ? optimize->each : analysis.kind;
+  [[nodiscard]] PointRun each() const {
+    if (study) return study->each;
+    if (optimize) return optimize->each;
+    return analysis.kind == AnalysisKind::frf ? PointRun::frf : PointRun::time_history;
   }
   InitialConditions initial;
 };

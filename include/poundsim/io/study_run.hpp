@@ -65,7 +65,7 @@ struct BestPoint {
 /// (report) are both written from it. The parameters and metrics of a point stay name → value
 /// maps: they are the columns of the study table, which the input chooses.
 struct StudyResult {
-  std::string kind;                       ///< "study" or "ensemble".
+  AnalysisKind kind = AnalysisKind::study;  ///< study or ensemble.
   std::filesystem::path source;           ///< The input file.
   std::string title;
   StudySettings study;                    ///< As run (an ensemble's: a list over its records).
