@@ -93,7 +93,7 @@ std::string report(const FrequencyResponseResult& r, const std::filesystem::path
                           f + 1, p.peak_v_w, p.peak_ratio, p.peak_free_v_w, p.peak_free_ratio);
     }
   }
-  text += fmt::format("  wrote {}/frf.csv, summary.json\n", out_dir.string());
+  text += fmt::format("  wrote {}/frf.csv, summary.json, input.toml\n", out_dir.string());
   return text;
 }
 
@@ -171,6 +171,7 @@ FrequencyResponseResult run_frequency_response(const RunInput& input, const std:
   OutputTransaction out(out_dir);
   write_frf_table(out.open("frf.csv"), input.model, result.points);
   out.write_json("summary.json", to_json(result));
+  out.open("input.toml").text(to_toml(input));
   out.commit();
   return result;
 }

@@ -802,6 +802,7 @@ void read_excitation(TableReader& t, const Model& model, const std::filesystem::
     if (run.ensemble && !(t.has("file") && origin.overrides.contains("excitation.file"))) {
       if (t.has("file")) t.fail("file", "an ensemble takes its records from [ensemble]");
       info.record_units = o.units;
+      info.record_options = o;
       t.finish(context);
       return;
     }
@@ -809,6 +810,7 @@ void read_excitation(TableReader& t, const Model& model, const std::filesystem::
     std::filesystem::path path(file);
     if (path.is_relative()) path = base_dir / path;
     info.record_file = path;
+    info.record_options = o;
     try {
       const GroundMotionRecord r = read_ground_motion(path, o);
       run.excitation = r.excitation;
@@ -1363,6 +1365,202 @@ Setting parse_setting(const std::string& text, const std::string& file) {
     throw InputError(fmt::format("{}: {}: {}", at, path, m));
   });
   return setting;
+}
+
+namespace {
+
+/// Writes every declared field of S (fields.hpp) that is not read by rules of its own.
+template <Configuration S>
+void write_fields(toml::table& t, const S& s) {
+  for_each_field<S>([&](const auto& field) {
+    using Field = std::decay_t<decltype(field)>;
+    if constexpr (is_number_field<Field> || is_bool_field<Field>) {
+      t.insert_or_assign(field.key, s.*field.member);
+    } else if constexpr (is_integer_field<Field>) {
+      t.insert_or_assign(field.key, static_cast<std::int64_t>(s.*field.member));
+    } else if constexpr (is_choice_field<Field>) {
+      t.insert_or_assign(field.key, std::string(field.name_of(s.*field.member)));
+    }
+  });
+}
+
+/// Whether every declared number of a and b is the same double.
+template <Configuration S>
+bool same_fields(const S& a, const S& b) {
+  bool same = true;
+  for_each_field<S>([&](const auto& field) {
+    if constexpr (is_number_field<std::decay_t<decltype(field)>>) same = same && a.*field.member == b.*field.member;
+  });
+  return same;
+}
+
+toml::array number_array(std::span<const double> values) {
+  toml::array a;
+  for (const double v : values) a.push_back(v);
+  return a;
+}
+
+toml::array number_rows(const std::vector<std::vector<double>>& rows) {
+  toml::array a;
+  for (const auto& row : rows) a.push_back(number_array(row));
+  return a;
+}
+
+toml::table model_tables(const RunInput& in, toml::table& root) {
+  toml::array frames;
+  for (const Frame& f : in.model.frames) {
+    toml::table t;
+    if (!f.name.empty()) t.insert("name", f.name);
+    t.insert("storeys", f.storeys());
+    t.insert("mass", number_array(f.mass));
+    t.insert("stiffness", number_array(f.stiffness));
+    t.insert("damping", number_array(f.damping));
+    if (!f.storey_height.empty()) t.insert("storey_height", number_array(f.storey_height));
+    frames.push_back(std::move(t));
+  }
+  root.insert("frames", std::move(frames));
+  toml::table gaps;
+  if (in.model.gaps.empty()) return gaps;
+  const auto joint = [&](std::size_t k) {
+    return in.joint_widths.empty() ? in.model.gaps[k].properties.gap : in.joint_widths[k];
+  };
+  // The first element's properties for all, then an override for every element that differs
+  // from them or stands in a wider joint: each keeps the exact values it ran with.
+  // A joint as wide as the element's gap is the default (an explicit one must also hold the
+  // shortening): it is written only when it is wider.
+  const auto put_joint = [&](toml::table& t, std::size_t k) {
+    if (joint(k) != in.model.gaps[k].properties.gap) t.insert("joint_width", joint(k));
+  };
+  write_fields(gaps, in.model.gaps.front().properties);  // no joint here: overrides inherit it
+  toml::array overrides;
+  for (std::size_t k = 0; k < in.model.gaps.size(); ++k) {
+    const GapElement& g = in.model.gaps[k];
+    if (same_fields(g.properties, in.model.gaps.front().properties) && joint(k) == g.properties.gap) continue;
+    toml::table o;
+    o.insert("frames", toml::array{g.left_frame + 1, g.left_frame + 2});
+    o.insert("floor", g.floor + 1);
+    write_fields(o, g.properties);
+    put_joint(o, k);
+    overrides.push_back(std::move(o));
+  }
+  if (!overrides.empty()) gaps.insert("override", std::move(overrides));
+  return gaps;
+}
+
+toml::table excitation_table(const RunInput& in) {
+  const ExcitationInfo& info = in.excitation_info;
+  toml::table e;
+  e.insert("kind", info.kind);
+  if (info.kind == "harmonic") {
+    e.insert("amplitude_g", info.amplitude_g);
+    e.insert("omega", info.omega);
+  } else if (info.kind == "record") {
+    const RecordOptions& o = info.record_options;
+    constexpr std::array formats{"auto", "at2", "cosmos", "columns", "single"};
+    e.insert("format", formats[static_cast<std::size_t>(o.format)]);
+    if (!o.units.empty()) e.insert("units", o.units);
+    if (o.target_pga_g) {
+      e.insert("target_pga_g", *o.target_pga_g);
+    } else {
+      e.insert("scale", o.scale);
+    }
+    if (o.format == RecordFormat::single) e.insert("dt", o.dt);
+    if (o.column != RecordOptions{}.column) e.insert("column", o.column);
+    if (!in.ensemble) e.insert("file", std::filesystem::absolute(info.record_file).lexically_normal().string());
+  }
+  return e;
+}
+
+toml::array band(double lo, double hi) { return toml::array{lo, hi}; }
+
+toml::table study_table(const StudySettings& s) {
+  toml::table t;
+  write_fields(t, s);
+  if (s.sampling == Sampling::random) {
+    t.insert("samples", s.samples);
+    t.insert("seed", static_cast<std::int64_t>(s.seed));
+  }
+  if (s.each == PointRun::frf) t.insert("band", band(s.band_min, s.band_max));
+  toml::array parameters;
+  for (const StudyParameter& p : s.parameters) {
+    toml::table axis{{"key", p.key}};
+    if (p.values.empty()) {
+      axis.insert("min", p.min);
+      axis.insert("max", p.max);
+      axis.insert("scale", p.log ? "log" : "linear");
+      if (s.sampling == Sampling::grid) axis.insert("points", p.points);
+    } else {
+      toml::array values;
+      for (const SettingValue& v : p.values) with_node(v, [&](auto&& node) { values.push_back(node); });
+      axis.insert("values", std::move(values));
+    }
+    parameters.push_back(std::move(axis));
+  }
+  t.insert("parameter", std::move(parameters));
+  return t;
+}
+
+toml::table optimize_table(const OptimizeSettings& o) {
+  toml::table t{{"global", o.global_algorithm}, {"local", o.local_algorithm}};
+  write_fields(t, o);
+  if (o.each == PointRun::frf) t.insert("band", band(o.band_min, o.band_max));
+  toml::array variables;
+  for (const OptimizeVariable& v : o.variables) {
+    toml::table variable{{"key", v.key}, {"min", v.min}, {"max", v.max}};
+    if (v.start) variable.insert("start", *v.start);
+    variables.push_back(std::move(variable));
+  }
+  t.insert("variable", std::move(variables));
+  return t;
+}
+
+}  // namespace
+
+std::string to_toml(const RunInput& in) {
+  toml::table root;
+  if (!in.title.empty()) root.insert("title", in.title);
+  toml::table gaps = model_tables(in, root);
+  if (!gaps.empty()) root.insert("gap_elements", std::move(gaps));
+  const AnalysisKind kind = in.analysis.kind;
+  toml::table analysis;
+  write_fields(analysis, in.analysis);
+  write_fields(analysis, in.analysis.options);
+  if (in.frf) {
+    toml::table f;
+    write_fields(f, *in.frf);
+    write_fields(f, in.frf->steady);
+    f.insert("ratios", number_array(in.frf->ratios));
+    root.insert("frf", std::move(f));
+  } else {
+    if (in.analysis.duration > 0) analysis.insert("duration", in.analysis.duration);
+    analysis.insert("dt", in.analysis.options.dt);
+    analysis.insert("output_dt", in.analysis.output_dt);
+    root.insert("excitation", excitation_table(in));
+    if (!in.initial.displacement.empty() || !in.initial.velocity.empty()) {
+      toml::table initial;
+      if (!in.initial.displacement.empty()) initial.insert("displacement", number_rows(in.initial.displacement));
+      if (!in.initial.velocity.empty()) initial.insert("velocity", number_rows(in.initial.velocity));
+      root.insert("initial", std::move(initial));
+    }
+  }
+  root.insert("analysis", std::move(analysis));
+  if (kind == AnalysisKind::study && in.study) root.insert("study", study_table(*in.study));
+  if (kind == AnalysisKind::optimize && in.optimize) root.insert("optimize", optimize_table(*in.optimize));
+  if (in.ensemble) {
+    toml::table t;
+    write_fields(t, *in.ensemble);
+    toml::array records;
+    for (const auto& r : in.ensemble->records) {
+      records.push_back(std::filesystem::absolute(r).lexically_normal().string());
+    }
+    t.insert("records", std::move(records));
+    root.insert("ensemble", std::move(t));
+  }
+  std::ostringstream out;
+  out << "# The input as poundsim " POUNDSIM_VERSION " ran it (docs/output.md): run it again with\n"
+         "# poundsim run input.toml --out DIR\n\n"
+      << root << '\n';
+  return out.str();
 }
 
 /// The file as parsed, before any setting.

@@ -139,7 +139,7 @@ std::string report(const TimeHistoryResult& r, const std::filesystem::path& out_
                       r.max_gap_force(), r.max_impact_impulse());
   text += fmt::format("  energy: input {:.6g} J, relative balance residual {:.2e}\n", r.energy.input,
                       r.max_relative_residual);
-  text += fmt::format("  wrote {}/history.csv, events.csv, summary.json\n", out_dir.string());
+  text += fmt::format("  wrote {}/history.csv, events.csv, summary.json, input.toml\n", out_dir.string());
   return text;
 }
 
@@ -395,6 +395,7 @@ TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem:
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   TimeHistoryResult result = time_history_result(input, *sim, free ? &*free : nullptr, run_time);
   out.write_json("summary.json", to_json(result));
+  out.open("input.toml").text(to_toml(input));
   out.commit();
   return result;
 }

@@ -23,6 +23,7 @@
 #include "poundsim/analysis/frequency_response.hpp"
 #include "poundsim/model/model.hpp"
 #include "poundsim/integrate/simulator.hpp"
+#include "poundsim/io/ground_motion.hpp"
 
 namespace poundsim::io {
 
@@ -233,6 +234,7 @@ struct ExcitationInfo {
   double record_pga_file_g = 0.0;     ///< Record: PGA of the file, in g.
   double record_pga_g = 0.0;          ///< Record: PGA applied, in g.
   double record_duration = 0.0;       ///< Record: last sample time [s].
+  RecordOptions record_options;       ///< Record: the keys that read it (format, units, scale, …).
 };
 
 /// [ensemble]: the records one model is run against.
@@ -471,6 +473,12 @@ RunInput read_input(const std::filesystem::path& file, std::span<const std::stri
 /// The TOML text of `x` for a `--set` value: the shortest form that reads back to the same double,
 /// with ".0" added when needed so that it stays a float (1 → "1.0").
 [[nodiscard]] std::string toml_float(double x);
+
+/// The input as run, as a model file: every key with the value used (defaults, --set and study
+/// values applied, the model in the physical form and SI, record paths absolute). Reading it
+/// gives the same RunInput; each run writes it to DIR/input.toml, so that the run can be
+/// repeated from its outputs alone (docs/output.md).
+[[nodiscard]] std::string to_toml(const RunInput& input);
 
 /// Like read_input, from TOML text; `name` is used in messages and `base_dir` resolves paths.
 RunInput read_input_string(std::string_view text, const std::string& name,
