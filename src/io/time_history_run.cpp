@@ -109,22 +109,6 @@ double TimeHistoryResult::max_impact_impulse() const {
   return m;
 }
 
-TimeHistoryResult time_history_result(const RunInput& input, const Simulator& sim,
-                                      const ResponseStatistics* free, double run_time) {
-  TimeHistoryResult r{.input = input,
-                      .model = sim.model(),
-                      .layout = sim.layout(),
-                      .options = sim.options(),
-                      .statistics = sim.statistics(),
-                      .free = free != nullptr ? std::optional<ResponseStatistics>(*free) : std::nullopt,
-                      .energy = sim.energy(),
-                      .relative_residual = sim.energy_meter().relative_residual(),
-                      .max_relative_residual = sim.energy_meter().max_relative_residual(),
-                      .end_time = sim.time(),
-                      .run_time = run_time};
-  return r;
-}
-
 std::string report(const TimeHistoryResult& r, const std::filesystem::path& out_dir) {
   std::string text = fmt::format("poundsim {}: {} ({} s simulated, {} steps, {} events, {:.3f} s)\n",
                                  POUNDSIM_VERSION, r.input.source.string(), r.end_time, r.statistics.steps,
@@ -305,15 +289,21 @@ json to_json(const TimeHistoryResult& result) {
 
 TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem::path& out_dir) {
   const auto start = std::chrono::steady_clock::now();
-  std::unique_ptr<Simulator> sim;
-  try {
-    sim = std::make_unique<Simulator>(input.model, input.excitation, input.analysis.options,
-                                      input.initial);
-  } catch (const std::invalid_argument& e) {
-    throw InputError(fmt::format("{}: {}", input.source.string(), e.what()));
+  const TimeHistoryProblem problem{.model = input.model,
+                                   .excitation = input.excitation,
+                                   .options = input.analysis.options,
+                                   .initial = input.initial,
+                                   .duration = input.analysis.duration,
+                                   .output_dt = input.analysis.output_dt};
+  // read_input bounds the rows by analysis.max_steps; an input built otherwise is checked here.
+  const double row_count = output_instants(problem.duration, problem.output_dt);
+  if (!(row_count >= 0 && row_count <= input.analysis.max_steps)) {
+    throw InputError(fmt::format("{}: analysis.output_dt: {} s over the duration {} s makes {} rows, more than "
+                                 "analysis.max_steps = {}", input.source.string(), problem.output_dt,
+                                 problem.duration, row_count, input.analysis.max_steps));
   }
-  const DofLayout& layout = sim->layout();
-  const Model& model = sim->model();
+  const Model& model = input.model;
+  const DofLayout layout(model);
 
   OutputTransaction out(out_dir);
   OutputFile& history = out.open("history.csv");
@@ -333,14 +323,14 @@ TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem:
   history.text(",E_input,E_kinetic,E_storey_strain,E_gap_strain,E_storey_damping,E_gap_damping,E_impact,E_residual\n");
 
   events.text("t,frame_left,frame_right,floor,kind,relative_velocity_before,relative_velocity_after,impulse\n");
-  sim->set_event_handler([&](const Event& e) {
+  TimeHistoryObserver observer;
+  observer.on_event = [&](const Event& e) {
     const GapElement& g = model.gaps[static_cast<std::size_t>(e.gap)];
     events.print("{},{},{},{},{},{},{},{}\n", e.time, g.left_frame + 1, g.left_frame + 2,
                  g.floor + 1, to_string(e.kind), e.rate_before, e.rate_after, e.impulse);
-  });
-
-  const auto write_row = [&] {
-    const KinematicState& x = sim->state();
+  };
+  observer.on_output = [&](const Simulator& sim) {
+    const KinematicState& x = sim.state();
     history.number(x.t);
     for (const Eigen::VectorXd* q : {&x.u, &x.v, &x.a}) {
       for (const int d : dofs) {
@@ -350,13 +340,13 @@ TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem:
     }
     for (int f = 0; f < model.frame_count(); ++f) {
       history.character(',');
-      history.number(sim->base_shear(f));
+      history.number(sim.base_shear(f));
     }
     for (int p = 0; p < model.gap_count(); ++p) {
       history.character(',');
-      history.number(sim->gap_force(p));
+      history.number(sim.gap_force(p));
     }
-    const EnergyBalance& e = sim->energy();
+    const EnergyBalance& e = sim.energy();
     for (const double term : {e.input, e.kinetic, e.storey_strain, e.gap_strain, e.storey_damping,
                               e.gap_damping, e.impact_loss, e.residual()}) {
       history.character(',');
@@ -364,36 +354,14 @@ TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem:
     }
     history.character('\n');
   };
-
-  const double duration = input.analysis.duration, output_dt = input.analysis.output_dt;
-  // read_input bounds the rows by analysis.max_steps; an input built otherwise is checked here,
-  // before the count becomes an integer.
-  const double row_count = std::floor(duration / output_dt + 1e-9);
-  if (!(row_count >= 0 && row_count <= input.analysis.max_steps)) {
-    throw InputError(fmt::format("{}: analysis.output_dt: {} s over the duration {} s makes {} rows, more than "
-                                 "analysis.max_steps = {}", input.source.string(), output_dt, duration, row_count,
-                                 input.analysis.max_steps));
+  std::optional<TimeHistoryAnalysis> analysis;
+  try {
+    analysis.emplace(analyse_time_history(problem, observer));
+  } catch (const std::invalid_argument& e) {
+    throw InputError(fmt::format("{}: {}", input.source.string(), e.what()));
   }
-  const auto rows = static_cast<std::int64_t>(row_count);
-  write_row();
-  for (std::int64_t k = 1; k <= rows; ++k) {
-    sim->advance_to(static_cast<double>(k) * output_dt);
-    write_row();
-  }
-  if (sim->time() < duration - 1e-9 * output_dt) {
-    sim->advance_to(duration);
-    write_row();
-  }
-  // The same frames without gap elements, for amplifications and separation distances.
-  std::optional<ResponseStatistics> free;
-  if (model.gap_count() > 0) {
-    Simulator alone(free_frames(model), input.excitation, input.analysis.options, input.initial);
-    alone.advance_to(sim->time());
-    free = alone.statistics();
-  }
-  const double run_time =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  TimeHistoryResult result = time_history_result(input, *sim, free ? &*free : nullptr, run_time);
+  const TimeHistoryResult result{std::move(*analysis), input,
+                                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()};
   out.write_json("summary.json", to_json(result));
   out.open("input.toml").text(to_toml(input));
   out.commit();

@@ -1,7 +1,8 @@
 #pragma once
 /// @file
-/// The time-history analysis as the command line runs it: integrate, write DIR/history.csv,
-/// DIR/events.csv and DIR/summary.json (formats in docs/output.md), all or nothing.
+/// The time-history analysis as the command line runs it: analyse_time_history
+/// (analysis/time_history.hpp), writing DIR/history.csv and DIR/events.csv as it runs and
+/// DIR/summary.json and DIR/input.toml at the end (formats in docs/output.md), all or nothing.
 
 #include <filesystem>
 #include <optional>
@@ -9,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "poundsim/analysis/time_history.hpp"
 #include "poundsim/io/input.hpp"
 #include "poundsim/integrate/simulator.hpp"
 
@@ -16,36 +18,20 @@ namespace poundsim::io {
 
 /// What a time-history run found, typed: summary.json (to_json) and the console report (report)
 /// are both written from it; nothing reads the JSON back.
-struct TimeHistoryResult {
+struct TimeHistoryResult : TimeHistoryAnalysis {
   RunInput input;        ///< What was run; summary.json echoes its model, excitation and analysis.
-  Model model;           ///< The model as the simulator integrated it.
-  DofLayout layout;      ///< Its degrees of freedom (frame, floor).
-  TimeHistoryOptions options;             ///< As the simulator applied them.
-  ResponseStatistics statistics;          ///< Peaks and counts of the interacting frames.
-  /// The same frames without gap elements over the same time (amplifications, separation
-  /// distances); none when the model has no gap element.
-  std::optional<ResponseStatistics> free;
-  EnergyBalance energy;                   ///< At the end [J].
-  double relative_residual = 0;           ///< Energy balance residual ÷ scale, at the end.
-  double max_relative_residual = 0;       ///< The largest over the run.
-  double end_time = 0;                    ///< [s]
-  double run_time = 0;                    ///< [s] wall clock, reported as is.
+  double run_time = 0;   ///< [s] wall clock, reported as is.
 
   [[nodiscard]] int impacts() const;               ///< Over every gap element.
   [[nodiscard]] double max_gap_force() const;      ///< [N] over every gap element.
   [[nodiscard]] double max_impact_impulse() const; ///< [N·s] over every gap element.
 };
 
-/// Runs `input` and writes its files into `out_dir`. Returns what it found (to_json of which is
-/// the summary that was written). Throws InputError for a model the simulator rejects,
-/// SimulationError when integration fails, std::runtime_error when a file cannot be written; in
-/// every case no output file is left.
+/// Runs `input` (analyse_time_history) and writes its files into `out_dir`. Returns what it
+/// found (to_json of which is the summary that was written). Throws InputError for a model the
+/// simulator rejects, SimulationError when integration fails, std::runtime_error when a file
+/// cannot be written; in every case no output file is left.
 TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem::path& out_dir);
-
-/// The result of a finished (or advanced) simulation; `free`: the statistics of the same frames
-/// without gap elements, or null; `run_time` [s] is reported as is.
-TimeHistoryResult time_history_result(const RunInput& input, const Simulator& sim,
-                                      const ResponseStatistics* free, double run_time);
 
 /// summary.json (docs/output.md).
 nlohmann::json to_json(const TimeHistoryResult& result);

@@ -1,0 +1,64 @@
+#pragma once
+/// @file
+/// A time history of a model under an excitation, without files: the simulator integrates to the
+/// duration, an observer sees the state at every output instant and every event (the command
+/// line writes them to history.csv and events.csv, io/time_history_run.hpp), and the result holds
+/// the peaks, the energy balance and the same frames' response without gap elements
+/// (amplifications and separation distances are taken from it).
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+
+#include "poundsim/dynamics/energy.hpp"
+#include "poundsim/dynamics/event.hpp"
+#include "poundsim/integrate/response_monitor.hpp"
+#include "poundsim/integrate/simulator.hpp"
+#include "poundsim/model/excitation.hpp"
+#include "poundsim/model/model.hpp"
+
+namespace poundsim {
+
+/// What to integrate, in SI.
+struct TimeHistoryProblem {
+  Model model;
+  Excitation excitation;
+  TimeHistoryOptions options;
+  InitialConditions initial;
+  double duration = 0.0;   ///< [s], > 0.
+  double output_dt = 0.0;  ///< Spacing of the output instants [s], > 0.
+};
+
+/// The output instants of a problem after t = 0: output_dt, 2 output_dt, … up to the duration
+/// (a last one at the duration when it is not a multiple), as a double so that a caller can
+/// bound it before it becomes an integer.
+[[nodiscard]] double output_instants(double duration, double output_dt);
+
+/// What a time history shows its caller while it runs. Either may be empty.
+struct TimeHistoryObserver {
+  /// At t = 0, at every multiple of output_dt up to the duration, and at the duration.
+  std::function<void(const Simulator&)> on_output;
+  /// At every event (contact, impact, separation, lock, unlock), in time order.
+  std::function<void(const Event&)> on_event;
+};
+
+/// What a time history found.
+struct TimeHistoryAnalysis {
+  Model model;                     ///< As the simulator integrated it.
+  DofLayout layout;                ///< Its degrees of freedom (frame, floor).
+  TimeHistoryOptions options;      ///< As the simulator applied them.
+  ResponseStatistics statistics;   ///< Peaks and counts of the interacting frames.
+  /// The same frames without gap elements over the same time; none without gap elements.
+  std::optional<ResponseStatistics> free;
+  EnergyBalance energy;             ///< At the end [J].
+  double relative_residual = 0;     ///< Energy balance residual ÷ scale, at the end.
+  double max_relative_residual = 0; ///< The largest over the run.
+  double end_time = 0;              ///< [s]
+};
+
+/// Integrates `problem` to its duration. Throws std::invalid_argument for a model or options the
+/// simulator refuses (or more output instants than an int64 holds), SimulationError when the
+/// integration fails.
+TimeHistoryAnalysis analyse_time_history(const TimeHistoryProblem& problem, const TimeHistoryObserver& observer = {});
+
+}  // namespace poundsim
