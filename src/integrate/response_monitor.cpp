@@ -89,6 +89,8 @@ void ResponseMonitor::observe_step(const KinematicState& a, const KinematicState
     const int below = layout_.below(i);
     if (below >= 0) {
       refine(fr.drift, a.u(i) - a.u(below), a.v(i) - a.v(below), b.u(i) - b.u(below), b.v(i) - b.v(below));
+    } else {
+      refine(fr.drift, a.u(i), a.v(i), b.u(i), b.v(i));  // a first storey's drift is its floor's displacement
     }
   }
   for (std::size_t k = 0; k < stats_.neighbours.size(); ++k) {
@@ -143,7 +145,10 @@ void ResponseMonitor::observe_step(const KinematicState& from, const KinematicSt
     if (va * vb < 0) {
       extremum([i](const KinematicState& x) { return x.v(i); }, a, b, va);
       fr.displacement.update(node_.u(i), node_.t);
-      if (first) stats_.base_shear[f].update(first_storey_[f].stiffness * node_.u(i), node_.t);
+      if (first) {
+        fr.drift.update(node_.u(i), node_.t);  // a first storey's drift is its floor's displacement
+        stats_.base_shear[f].update(first_storey_[f].stiffness * node_.u(i), node_.t);
+      }
     }
     if (first) {
       const double k = first_storey_[f].stiffness, c = first_storey_[f].damping;
