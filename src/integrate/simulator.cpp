@@ -63,6 +63,11 @@ std::string_view to_string(EventKind kind) {
   return "?";
 }
 
+std::optional<std::string> TimeHistoryOptions::lock_time_violation() const {
+  if (lock_time >= 10 * event_tolerance) return std::nullopt;
+  return fmt::format("{} s must be at least 10 × event_tolerance = {} s", lock_time, 10 * event_tolerance);
+}
+
 void TimeHistoryOptions::validate() const {
   if (!std::isfinite(dt) || dt <= 0) {
     throw std::invalid_argument(fmt::format("dt = {} s must be > 0", dt));
@@ -73,11 +78,7 @@ void TimeHistoryOptions::validate() const {
     throw std::invalid_argument(fmt::format(
         "event_tolerance = {} s must be smaller than dt = {} s", event_tolerance, dt));
   }
-  if (lock_time < 10 * event_tolerance) {
-    throw std::invalid_argument(fmt::format(
-        "lock_time = {} s must be at least 10 × event_tolerance = {} s", lock_time,
-        10 * event_tolerance));
-  }
+  if (const auto violation = lock_time_violation()) throw std::invalid_argument("lock_time = " + *violation);
   if (max_events_per_step < 1) throw std::invalid_argument("max_events_per_step must be ≥ 1");
   if (phase_cache_size < 1) throw std::invalid_argument("phase_cache_size must be ≥ 1");
 }

@@ -855,9 +855,7 @@ void read_excitation(TableReader& t, const Model& model, const std::filesystem::
 void read_integration(TableReader& t, AnalysisSettings& a) {
   TimeHistoryOptions& o = a.options;
   read_fields(t, o);
-  if (!(o.lock_time >= 10 * o.event_tolerance)) {
-    t.fail("lock_time", fmt::format("{} s must be at least 10 × event_tolerance", o.lock_time));
-  }
+  if (const auto violation = o.lock_time_violation()) t.fail("lock_time", *violation);
 }
 
 /// Newmark brackets an event inside its step, in the time τ ∈ [0, h] since the step's start;

@@ -109,6 +109,10 @@ struct TimeHistoryOptions {
 
   /// Throws std::invalid_argument naming the field that is out of range.
   void validate() const;
+
+  /// The rule between lock_time and event_tolerance, when broken: "X s must be at least
+  /// 10 × event_tolerance = Y s" (validate() throws it; the reader names the key and the line).
+  [[nodiscard]] std::optional<std::string> lock_time_violation() const;
 };
 
 /// Initial floor displacements [m] and velocities [m/s] relative to the ground, per frame and
