@@ -78,6 +78,7 @@ struct NumberField {
 /// is narrowed to T.
 template <class S, class T = int>
 struct IntegerField {
+  using Value = T;  ///< The member's type: [lo, hi] must fit it (InputDocs.IntegerRangesFitTheirTypes).
   std::string_view key;
   T S::*member;
   std::int64_t lo;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <optional>
 #include <set>
@@ -237,6 +238,29 @@ TEST(InputDocs, StudyAndEnsembleKeysAreDocumentedAsDeclared) {
 }
 TEST(InputDocs, GapElementKeysAreDocumentedAsDeclared) {
   expect_documented<GapProperties>("`[gap_elements]` gives every element's properties");
+}
+
+/// Every declared integer's range fits the type it is stored in (the reader narrows to it after
+/// checking the range on the 64-bit value: a range wider than the type would wrap).
+template <Configuration... S>
+void expect_integer_ranges_fit() {
+  const auto check = [](const auto& field) {
+    using Field = std::decay_t<decltype(field)>;
+    if constexpr (is_integer_field<Field>) {
+      using T = typename Field::Value;
+      EXPECT_GE(field.lo, static_cast<std::int64_t>(std::numeric_limits<T>::min())) << field.key;
+      EXPECT_LE(static_cast<std::uint64_t>(field.hi), static_cast<std::uint64_t>(std::numeric_limits<T>::max()))
+          << field.key;
+      EXPECT_LE(field.lo, field.hi) << field.key;
+    }
+  };
+  (for_each_field<S>(check), ...);
+}
+
+TEST(InputDocs, IntegerRangesFitTheirTypes) {
+  expect_integer_ranges_fit<TimeHistoryOptions, SteadyStateOptions, GapProperties, DimensionlessParameters,
+                            io::AnalysisSettings, io::FrfSettings, io::StudySettings, io::OptimizeSettings,
+                            io::EnsembleSettings>();
 }
 
 // The reader takes its fields from the same declarations: a file that sets every declared field
