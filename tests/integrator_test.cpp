@@ -21,7 +21,8 @@ TEST(IntegratorSupport, ExactNeedsPiecewiseLinearLawsNewmarkTakesAny) {
   EXPECT_TRUE(supports(Integrator::newmark, laws));
   const IntegratorSupport exact = supports(Integrator::exact, laws);
   EXPECT_FALSE(exact);
-  EXPECT_NE(exact.reason.find("link 3 has a smooth contact law"), std::string::npos) << exact.reason;
+  EXPECT_NE(exact.reason.find("link 3 (a smooth contact law) is not piecewise linear"), std::string::npos)
+      << exact.reason;
   EXPECT_NE(exact.reason.find("analysis.integrator = \"newmark\""), std::string::npos) << exact.reason;
   EXPECT_TRUE(supports(Integrator::exact, std::span(laws).first(2)));
 }
@@ -30,8 +31,19 @@ TEST(IntegratorSupport, BothIntegrateThePapersModels) {
   const Model model = make_model(testing::fig2('c'), {4, 4});
   const std::vector<Link> links = make_links(model, DofLayout(model));
   EXPECT_EQ(links.size(), 8u + 4u);  // eight storeys, four gap elements
-  EXPECT_TRUE(supports(Integrator::newmark, links));
-  EXPECT_TRUE(supports(Integrator::exact, links));
+  EXPECT_TRUE(supports(Integrator::newmark, links, DofLayout(model)));
+  EXPECT_TRUE(supports(Integrator::exact, links, DofLayout(model)));
+}
+
+// A link is named by its floors and its law in every message about it.
+TEST(LinkDescription, NamesTheFloorsAndTheLaw) {
+  const Model model = make_model(testing::fig2('c'), {2, 3});
+  const DofLayout layout(model);
+  const std::vector<Link> links = make_links(model, layout);
+  ASSERT_EQ(links.size(), 5u + 2u);
+  EXPECT_EQ(describe(links[static_cast<std::size_t>(layout.dof(1, 2))], layout), "storey 3 of frame 2 (linear storey)");
+  EXPECT_EQ(describe(links[static_cast<std::size_t>(layout.dof(0, 0))], layout), "storey 1 of frame 1 (linear storey)");
+  EXPECT_EQ(describe(links[6], layout), "the paper's gap element between frames 1 and 2 at floor 2");
 }
 
 }  // namespace

@@ -126,7 +126,7 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
   load(initial.velocity, state_.v, "velocity");
 
   std::vector<Link> links = make_links(model_, layout_);
-  if (const IntegratorSupport support = supports(options_.integrator, links); !support) {
+  if (const IntegratorSupport support = supports(options_.integrator, links, layout_); !support) {
     throw std::invalid_argument(support.reason);
   }
   for (Link& link : links) {
@@ -146,10 +146,8 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
       config_[p] =
           with_contact_law<LinkMode>(link, [&](const auto& law) { return law.initial_mode(d); });
     } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument(fmt::format(
-          "initial displacements compress the gap element between frames {} and {} at floor {} {}",
-          model_.gaps[p].left_frame + 1, model_.gaps[p].left_frame + 2, model_.gaps[p].floor + 1,
-          e.what()));
+      throw std::invalid_argument(
+          fmt::format("initial displacements compress {} {}", describe(link, layout_), e.what()));
     }
   }
   memory_.assign(ng, GapMemory{});
@@ -412,9 +410,7 @@ void Simulator::check_finite() const {
     const double law_force = link.law.force(kinematics(state_, link), mode(p));
     const double force = is_rigid(p) ? law_force + stop_reaction_[p] : law_force;
     if (!std::isfinite(force)) {
-      fail(fmt::format("the force of the gap element between frames {} and {} at floor {} ({} N)",
-                       model_.gaps[p].left_frame + 1, model_.gaps[p].left_frame + 2,
-                       model_.gaps[p].floor + 1, force));
+      fail(fmt::format("the force of {} ({} N)", describe(contact_links_[p], layout_), force));
     }
   });
   const EnergyBalance& b = energy_.balance();
@@ -449,10 +445,9 @@ void Simulator::emit(int gap, EventKind kind, double left_before, double right_b
   const double before = left_before - right_before, after = left_after - right_after;
   if (++events_this_step_ > options_.max_events_per_step) {
     throw SimulationError(fmt::format(
-        "more than {} events within one step at t = {} s (gap element between frames {} and {} "
-        "at floor {}): chattering that lock_time = {} s does not suppress",
-        options_.max_events_per_step, state_.t, model_.gaps[gap].left_frame + 1,
-        model_.gaps[gap].left_frame + 2, model_.gaps[gap].floor + 1, options_.lock_time),
+        "more than {} events within one step at t = {} s ({}): chattering that lock_time = {} s does not "
+        "suppress",
+        options_.max_events_per_step, state_.t, describe(contact_links_[p], layout_), options_.lock_time),
         StopReason::event_limit);
   }
   monitor_.observe_event(p, kind, before, impulse, state_.t);

@@ -74,6 +74,15 @@ DofLayout::DofLayout(const Model& model) {
   }
 }
 
+std::string describe(const Link& link, const DofLayout& layout) {
+  const int frame = layout.frame_of(link.a), floor = layout.floor_of(link.a);
+  if (link.b < 0 || layout.frame_of(link.b) == frame) {
+    return fmt::format("storey {} of frame {} ({})", floor + 1, frame + 1, link.traits().name);
+  }
+  return fmt::format("{} between frames {} and {} at floor {}", link.traits().name, frame + 1,
+                     layout.frame_of(link.b) + 1, floor + 1);
+}
+
 std::vector<Link> make_links(const Model& model, const DofLayout& layout) {
   std::vector<Link> links;
   links.reserve(static_cast<std::size_t>(layout.size() + model.gap_count()));

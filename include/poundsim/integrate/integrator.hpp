@@ -11,6 +11,7 @@
 #include <string>
 
 #include "poundsim/model/law.hpp"
+#include "poundsim/model/model.hpp"
 
 namespace poundsim {
 
@@ -37,7 +38,7 @@ struct IntegratorSupport {
 /// Whether `integrator` can integrate links with these laws' traits (one per link, in order).
 [[nodiscard]] IntegratorSupport supports(Integrator integrator, std::span<const LawTraits> laws);
 
-/// The same for the laws of `links`.
-[[nodiscard]] IntegratorSupport supports(Integrator integrator, std::span<const Link> links);
+/// The same for the laws of `links`, a refusal naming the link (describe).
+[[nodiscard]] IntegratorSupport supports(Integrator integrator, std::span<const Link> links, const DofLayout& layout);
 
 }  // namespace poundsim

@@ -16,6 +16,7 @@
 
 #include <cstddef>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "poundsim/model/frame.hpp"
@@ -86,6 +87,10 @@ class DofLayout {
 /// DOF in the layout's numbering (the storey below that floor, LinearStorey), then the gap
 /// elements in Model::gaps order (PaperGap). Assembly and energy sums follow this order.
 std::vector<Link> make_links(const Model& model, const DofLayout& layout);
+
+/// The link as messages name it, from its floors and its law: "storey 2 of frame 1 (linear
+/// storey)", "the paper's gap element between frames 1 and 2 at floor 3". Frames and floors from 1.
+[[nodiscard]] std::string describe(const Link& link, const DofLayout& layout);
 
 /// The mode of `link` in the contact configuration `config` (storeys have one mode, 0).
 [[nodiscard]] inline LinkMode mode_of(const Link& link, const ContactConfiguration& config) {
