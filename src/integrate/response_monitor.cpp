@@ -76,21 +76,22 @@ void ResponseMonitor::observe_event(std::size_t p, EventKind kind, double closin
 void ResponseMonitor::observe_step(const KinematicState& a, const KinematicState& b) {
   const double t0 = a.t, h = b.t - t0;
   if (!(h > 0)) return;
-  const auto refine = [&](Peak& peak, double q0, double r0, double q1, double r1) {
+  // `also`: a second peak of the same quantity (a first storey's drift is its floor's displacement).
+  const auto refine = [&](Peak& peak, double q0, double r0, double q1, double r1, Peak* also = nullptr) {
     if (!(r0 * r1 < 0)) return;
     const detail::HermiteCubic cubic(q0, r0, q1, r1, h);
     for (const double theta : cubic.critical_points()) {
-      if (theta > 0 && theta < 1) peak.update(cubic(theta), t0 + theta * h);
+      if (!(theta > 0 && theta < 1)) continue;
+      peak.update(cubic(theta), t0 + theta * h);
+      if (also != nullptr) also->update(cubic(theta), t0 + theta * h);
     }
   };
   for (int i = 0; i < layout_.size(); ++i) {
     FloorResponse& fr = stats_.floors[static_cast<std::size_t>(i)];
-    refine(fr.displacement, a.u(i), a.v(i), b.u(i), b.v(i));
     const int below = layout_.below(i);
+    refine(fr.displacement, a.u(i), a.v(i), b.u(i), b.v(i), below >= 0 ? nullptr : &fr.drift);
     if (below >= 0) {
       refine(fr.drift, a.u(i) - a.u(below), a.v(i) - a.v(below), b.u(i) - b.u(below), b.v(i) - b.v(below));
-    } else {
-      refine(fr.drift, a.u(i), a.v(i), b.u(i), b.v(i));  // a first storey's drift is its floor's displacement
     }
   }
   for (std::size_t k = 0; k < stats_.neighbours.size(); ++k) {
