@@ -18,6 +18,7 @@ ResponseMonitor::ResponseMonitor(const Model& model, const DofLayout& layout, st
       neighbour_right_.push_back(layout_.dof(f + 1, i));
     }
   }
+  for (int f = 0; f < model.frame_count(); ++f) first_storey_dofs_.push_back(layout_.dof(f, 0));
   stats_.base_shear.resize(static_cast<std::size_t>(model.frame_count()));
   stats_.storey_shear.resize(static_cast<std::size_t>(model.frame_count()));
   stats_.gaps.resize(static_cast<std::size_t>(model.gap_count()));
@@ -42,7 +43,7 @@ void ResponseMonitor::observe(const KinematicState& x) {
     fr.acceleration.update(x.a(i), t);
     fr.absolute_acceleration.update(x.a(i) + ground, t);
     const int b = layout_.below(i);
-    fr.drift.update(x.u(i) - (b >= 0 ? x.u(b) : 0.0), t);
+    if (b >= 0) fr.drift.update(x.u(i) - x.u(b), t);  // a first storey's: statistics()
   }
   for (int f = 0; f < static_cast<int>(first_storey_.size()); ++f) {
     stats_.base_shear[static_cast<std::size_t>(f)].update(base_shear(x, f), t);
@@ -76,20 +77,17 @@ void ResponseMonitor::observe_event(std::size_t p, EventKind kind, double closin
 void ResponseMonitor::observe_step(const KinematicState& a, const KinematicState& b) {
   const double t0 = a.t, h = b.t - t0;
   if (!(h > 0)) return;
-  // `also`: a second peak of the same quantity (a first storey's drift is its floor's displacement).
-  const auto refine = [&](Peak& peak, double q0, double r0, double q1, double r1, Peak* also = nullptr) {
+  const auto refine = [&](Peak& peak, double q0, double r0, double q1, double r1) {
     if (!(r0 * r1 < 0)) return;
     const detail::HermiteCubic cubic(q0, r0, q1, r1, h);
     for (const double theta : cubic.critical_points()) {
-      if (!(theta > 0 && theta < 1)) continue;
-      peak.update(cubic(theta), t0 + theta * h);
-      if (also != nullptr) also->update(cubic(theta), t0 + theta * h);
+      if (theta > 0 && theta < 1) peak.update(cubic(theta), t0 + theta * h);
     }
   };
   for (int i = 0; i < layout_.size(); ++i) {
     FloorResponse& fr = stats_.floors[static_cast<std::size_t>(i)];
+    refine(fr.displacement, a.u(i), a.v(i), b.u(i), b.v(i));
     const int below = layout_.below(i);
-    refine(fr.displacement, a.u(i), a.v(i), b.u(i), b.v(i), below >= 0 ? nullptr : &fr.drift);
     if (below >= 0) {
       refine(fr.drift, a.u(i) - a.u(below), a.v(i) - a.v(below), b.u(i) - b.u(below), b.v(i) - b.v(below));
     }
@@ -146,10 +144,7 @@ void ResponseMonitor::observe_step(const KinematicState& from, const KinematicSt
     if (va * vb < 0) {
       extremum([i](const KinematicState& x) { return x.v(i); }, a, b, va);
       fr.displacement.update(node_.u(i), node_.t);
-      if (first) {
-        fr.drift.update(node_.u(i), node_.t);  // a first storey's drift is its floor's displacement
-        stats_.base_shear[f].update(first_storey_[f].stiffness * node_.u(i), node_.t);
-      }
+      if (first) stats_.base_shear[f].update(first_storey_[f].stiffness * node_.u(i), node_.t);
     }
     if (first) {
       const double k = first_storey_[f].stiffness, c = first_storey_[f].damping;
