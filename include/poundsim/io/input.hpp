@@ -476,8 +476,12 @@ RunInput read_input(const std::filesystem::path& file, std::span<const std::stri
 
 /// The input as run, as a model file: every key with the value used (defaults, --set and study
 /// values applied, the model in the physical form and SI, record paths absolute). Reading it
-/// gives the same RunInput; each run writes it to DIR/input.toml, so that the run can be
-/// repeated from its outputs alone (docs/output.md).
+/// gives the same model, excitation and settings (not the dimensionless parameters: the model is
+/// written in the physical form); time histories, frequency responses and ensembles write it to
+/// DIR/input.toml, so that the run can be repeated from its outputs alone (docs/output.md). Not
+/// studies and optimisations yet: their varied keys may name the file's own form
+/// (model.dimensionless.eta, excitation.ratio, a gap-element key its overrides inherit), which
+/// this echo rewrites, so their points would not read the same.
 [[nodiscard]] std::string to_toml(const RunInput& input);
 
 /// Like read_input, from TOML text; `name` is used in messages and `base_dir` resolves paths.
