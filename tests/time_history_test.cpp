@@ -4,6 +4,7 @@
 
 #include "poundsim/analysis/time_history.hpp"
 
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -53,17 +54,23 @@ TEST(TimeHistoryAnalysis, OutputsAtEveryInstantFollowTheClosedForm) {
   EXPECT_NEAR(result.energy.kinetic + result.energy.storey_strain, 0.5 * stiffness * u0 * u0, 1e-15);
 }
 
-// Two frames that pound: the observer sees the events the result counts, and the free frames'
-// response (no gap elements) comes with the result.
-TEST(TimeHistoryAnalysis, EventsReachTheObserverAndTheFreeFramesComeAlong) {
+/// The Fig. 2c frames with the given storeys under A = 0.2 g at ω̄/ω₁ = 0.8, Newmark with step dt.
+TimeHistoryProblem fig2c_problem(std::array<int, 2> storeys, double duration, double output_dt, double dt) {
   const DimensionlessParameters p = testing::fig2('c');
-  TimeHistoryProblem problem{.model = make_model(p, {1, 1}),
+  TimeHistoryProblem problem{.model = make_model(p, storeys),
                              .excitation = HarmonicExcitation{0.2 * standard_gravity, 0.8 * std::sqrt(p.lambda2)},
                              .options = {},
                              .initial = {},
-                             .duration = 5.0,
-                             .output_dt = 0.5};
-  problem.options.dt = 0.001;
+                             .duration = duration,
+                             .output_dt = output_dt};
+  problem.options.dt = dt;
+  return problem;
+}
+
+// Two frames that pound: the observer sees the events the result counts, and the free frames'
+// response (no gap elements) comes with the result.
+TEST(TimeHistoryAnalysis, EventsReachTheObserverAndTheFreeFramesComeAlong) {
+  const TimeHistoryProblem problem = fig2c_problem({1, 1}, 5.0, 0.5, 0.001);
   int events = 0;
   const TimeHistoryAnalysis result =
       analyse_time_history(problem, {.on_output = {}, .on_event = [&](const Event&) { ++events; }});
@@ -78,15 +85,8 @@ TEST(TimeHistoryAnalysis, EventsReachTheObserverAndTheFreeFramesComeAlong) {
 // A first storey's drift is its floor's displacement: both peaks are refined between samples
 // alike, with either integrator (the drift used to be taken at the samples only).
 TEST(TimeHistoryAnalysis, FirstStoreyDriftPeakIsTheDisplacementPeak) {
-  const DimensionlessParameters p = testing::fig2('c');
   for (const Integrator integrator : {Integrator::newmark, Integrator::exact}) {
-    TimeHistoryProblem problem{.model = make_model(p, {1, 3}),
-                               .excitation = HarmonicExcitation{0.2 * standard_gravity, 0.8 * std::sqrt(p.lambda2)},
-                               .options = {},
-                               .initial = {},
-                               .duration = 3.0,
-                               .output_dt = 3.0};
-    problem.options.dt = 0.01;
+    TimeHistoryProblem problem = fig2c_problem({1, 3}, 3.0, 3.0, 0.01);
     problem.options.integrator = integrator;
     const TimeHistoryAnalysis result = analyse_time_history(problem);
     for (int f = 0; f < result.model.frame_count(); ++f) {

@@ -105,6 +105,15 @@ struct CustomField {
   bool is_table = false;
 };
 
+/// The name of `value` in a closed set of named values ("?" if it has none).
+template <class E, std::size_t N>
+[[nodiscard]] constexpr std::string_view name_in(const std::array<std::pair<std::string_view, E>, N>& names, E value) {
+  for (const auto& [name, v] : names) {
+    if (v == value) return name;
+  }
+  return "?";
+}
+
 /// One of a closed set of named values, stored as the enum E.
 template <class S, class E, std::size_t N>
 struct ChoiceField {
@@ -120,12 +129,7 @@ struct ChoiceField {
     }
     return std::nullopt;
   }
-  [[nodiscard]] constexpr std::string_view name_of(E value) const {
-    for (const auto& [n, v] : names) {
-      if (v == value) return n;
-    }
-    return {};
-  }
+  [[nodiscard]] constexpr std::string_view name_of(E value) const { return name_in(names, value); }
 };
 
 template <class S>
@@ -168,14 +172,6 @@ inline constexpr bool is_choice_field = false;
 template <class S, class E, std::size_t N>
 inline constexpr bool is_choice_field<ChoiceField<S, E, N>> = true;
 
-/// The name of `value` in a closed set of named values ("?" if it has none).
-template <class E, std::size_t N>
-[[nodiscard]] constexpr std::string_view name_in(const std::array<std::pair<std::string_view, E>, N>& names, E value) {
-  for (const auto& [name, v] : names) {
-    if (v == value) return name;
-  }
-  return "?";
-}
 
 /// A struct that declares its fields.
 template <class S>

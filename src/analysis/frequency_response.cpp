@@ -19,12 +19,7 @@
 
 namespace poundsim {
 
-std::string_view to_string(SweepMode mode) {
-  for (const auto& [name, value] : sweep_mode_names) {
-    if (value == mode) return name;
-  }
-  return "?";
-}
+std::string_view to_string(SweepMode mode) { return name_in(sweep_mode_names, mode); }
 
 void SteadyStateOptions::validate() const {
   if (const auto violation = first_violation(*this)) throw std::invalid_argument(*violation);

@@ -124,7 +124,7 @@ class TableReader {
   /// unknown, and reading a key they do not declare is a logic error of the reader.
   template <Configuration... S>
   TableReader& declare() {
-    for (const std::string_view key : declared_keys<S...>()) declared_.insert(std::string(key));
+    for (const std::string_view key : declared_keys<S...>()) declared_.emplace(key);
     return *this;
   }
 
@@ -279,7 +279,7 @@ class TableReader {
 
  private:
   void check_declared(std::string_view key) const {
-    if (!declared_.empty() && !declared_.contains(std::string(key))) {
+    if (!declared_.empty() && !declared_.contains(key)) {
       throw std::logic_error(fmt::format("the reader of [{}] reads '{}', which its table does not declare",
                                          path_, key));
     }
@@ -774,11 +774,9 @@ void read_excitation(TableReader& t, const Model& model, const std::filesystem::
     RecordOptions o;
     o.gravity = standard_gravity;
     const std::string format = t.choice("format", {"auto", "at2", "cosmos", "columns", "single"}, std::string("auto"));
-    o.format = format == "at2"       ? RecordFormat::at2
-               : format == "cosmos"  ? RecordFormat::cosmos
-               : format == "columns" ? RecordFormat::columns
-               : format == "single"  ? RecordFormat::single
-                                     : RecordFormat::automatic;
+    for (const auto& [name, value] : record_format_names) {
+      if (name == format) o.format = value;
+    }
     o.units = t.has("units") ? t.choice("units", {"g", "m/s2", "cm/s2"}) : std::string();
     if (t.has("scale") && t.has("target_pga_g")) t.fail("target_pga_g", "give either scale or target_pga_g, not both");
     if (auto scale = t.optional_number("scale")) {
@@ -1454,8 +1452,7 @@ toml::table excitation_table(const RunInput& in) {
     e.insert("omega", info.omega);
   } else if (info.kind == "record") {
     const RecordOptions& o = info.record_options;
-    constexpr std::array formats{"auto", "at2", "cosmos", "columns", "single"};
-    e.insert("format", formats[static_cast<std::size_t>(o.format)]);
+    e.insert("format", std::string(name_in(record_format_names, o.format)));
     if (!o.units.empty()) e.insert("units", o.units);
     if (o.target_pga_g) {
       e.insert("target_pga_g", *o.target_pga_g);
@@ -1622,9 +1619,7 @@ RunInput with_settings(const RunInput& base, std::span<const Setting> settings) 
   // The base's own settings first (e.g. --set on the command line), then the new ones.
   std::vector<Setting> all = base.settings;
   all.insert(all.end(), settings.begin(), settings.end());
-  RunInput run = read_parsed(base.parsed, base.text, base.source.string(), base.base_dir, std::move(all));
-  run.source = base.source;
-  return run;
+  return read_parsed(base.parsed, base.text, base.source.string(), base.base_dir, std::move(all));
 }
 
 RunInput read_input(const std::filesystem::path& file, std::span<const std::string> overrides) {

@@ -17,9 +17,12 @@
 /// than NPTS, text where a number should be, NaN or infinity, times that do not increase,
 /// unknown units. Nothing is guessed: column files must declare their units.
 
+#include <array>
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <utility>
 
 #include "poundsim/error.hpp"
 #include "poundsim/model/excitation.hpp"
@@ -27,6 +30,14 @@
 namespace poundsim::io {
 
 enum class RecordFormat { automatic, at2, cosmos, columns, single };
+/// The names of excitation.format (docs/records.md), for the reader and the echo writer.
+inline constexpr std::array<std::pair<std::string_view, RecordFormat>, 5> record_format_names{{
+    {"auto", RecordFormat::automatic},
+    {"at2", RecordFormat::at2},
+    {"cosmos", RecordFormat::cosmos},
+    {"columns", RecordFormat::columns},
+    {"single", RecordFormat::single},
+}};
 
 struct RecordOptions {
   RecordFormat format = RecordFormat::automatic;  ///< From the extension and the first line.
