@@ -19,8 +19,8 @@ TEST(Model, OverridesReplaceOneElement) {
   const GapOverride o{0, 1, GapProperties{.gap = 0.5, .restitution = 0.2}};
   const Model m = make_model({make_uniform_frame(2, 1, 1, 0), make_uniform_frame(2, 1, 1, 0)},
                              GapProperties{.gap = 0.01}, std::span(&o, 1));
-  EXPECT_DOUBLE_EQ(m.gaps[0].properties.gap, 0.01);
-  EXPECT_DOUBLE_EQ(m.gaps[1].properties.gap, 0.5);
+  EXPECT_DOUBLE_EQ(parameters_of<PaperGap>(m.gaps[0]).gap, 0.01);
+  EXPECT_DOUBLE_EQ(parameters_of<PaperGap>(m.gaps[1]).gap, 0.5);
   const GapOverride bad{0, 2, {}};
   EXPECT_THROW(make_model({make_uniform_frame(2, 1, 1, 0), make_uniform_frame(2, 1, 1, 0)}, {},
                           std::span(&bad, 1)),

@@ -98,7 +98,7 @@ TEST(Records, MinimumSeparationIsTheSmallestGapWithoutContact) {
 
     const auto run = [&](double gap) {
       Model m = model;
-      m.gaps[0].properties.gap = gap;
+      parameters_of<PaperGap>(m.gaps[0]).gap = gap;
       Simulator sim(m, record, options);
       sim.advance_to(duration);
       EXPECT_LT(sim.energy_meter().max_relative_residual(), 1e-9) << to_string(integrator);

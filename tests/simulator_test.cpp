@@ -96,7 +96,7 @@ TEST(SimulatorImpacts, ImpactThroughAChainIsNewtonsCradle) {
   // velocity passes through frame 2 to frame 3.
   const Frame f = make_uniform_frame(1, 1.0, 1.0, 0.0);  // soft storeys: a short free flight
   Model model = make_model({f, f, f}, GapProperties{.gap = 0.0, .restitution = 1.0});
-  model.gaps[0].properties.gap = 0.001;
+  parameters_of<PaperGap>(model.gaps[0]).gap = 0.001;
   InitialConditions ic;
   ic.velocity = {{0.5}, {0.0}, {0.0}};
   Simulator sim(model, NoExcitation{}, TimeHistoryOptions{.dt = 1e-4}, ic);

@@ -211,6 +211,14 @@ std::string field_value_text(const ChoiceField<S, E, N>& field, const S& s) {
   return fmt::format("\"{}\"", field.name_of(s.*field.member));
 }
 
+/// A rule between fields that the values break: the keys it involves, the one to blame first
+/// first (the reader blames the first its table gives, so an override is blamed for what it
+/// changed), and why.
+struct FieldRule {
+  std::vector<std::string_view> keys;
+  std::string message;
+};
+
 /// The first declared field of `s` outside its range, as "key = value must be rule"; nothing when
 /// all are admissible.
 template <Configuration S>

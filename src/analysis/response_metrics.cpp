@@ -6,9 +6,9 @@ namespace poundsim {
 Model bare_pounding(const Model& model) {
   Model bare = model;
   for (GapElement& g : bare.gaps) {
-    g.properties.stiffness = 0.0;
-    g.properties.damping = 0.0;
-    g.properties.shortening = 0.0;
+    // Whatever the element's law: the paper's rigid stop at its gap, with its restitution.
+    const double restitution = std::visit([](const auto& law) { return law.restitution(); }, g.law);
+    g.law = PaperGap{GapProperties{.gap = g.gap(), .restitution = restitution}};
   }
   return bare;
 }

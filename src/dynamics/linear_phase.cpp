@@ -88,7 +88,7 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
     load_work_.resize(n);
     std::vector<double> nominal(static_cast<std::size_t>(model.gap_count()));
     for (int p = 0; p < model.gap_count(); ++p) {
-      nominal[p] = model.gaps[p].properties.gap + model.gaps[p].properties.shortening;
+      nominal[p] = std::visit([](const auto& law) { return law.locked_length(); }, model.gaps[p].law);
     }
     set_link_lengths(nominal);
   }

@@ -190,6 +190,10 @@ class TableReader {
   /// A string that must be one of `allowed`.
   std::string choice(std::string_view key, std::initializer_list<std::string_view> allowed,
                      std::optional<std::string> fallback = std::nullopt) {
+    return choice(key, std::span(allowed.begin(), allowed.size()), std::move(fallback));
+  }
+  std::string choice(std::string_view key, std::span<const std::string_view> allowed,
+                     std::optional<std::string> fallback = std::nullopt) {
     const std::string value =
         fallback && !has(key) ? *fallback : string(key);
     for (const std::string_view a : allowed) {
@@ -519,35 +523,51 @@ Model read_dimensionless(TableReader& model_table, RunInput& run) {
     for (Frame& f : model.frames) f.storey_height.assign(f.mass.size(), height);
   }
   for (const GapElement& g : model.gaps) {
-    run.joint_widths.push_back(joint ? *joint * standard_gravity / p.lambda2 : g.properties.gap);
+    run.joint_widths.push_back(joint ? *joint * standard_gravity / p.lambda2 : g.gap());
   }
   return model;
 }
 
-/// The properties of gap elements and the width of the joint they sit in.
+/// The law of gap elements and the width of the joint they sit in.
 struct GapSpec {
-  GapProperties properties;
+  GapLaw law;
   std::optional<double> joint;  ///< w [m]; absent: the element's gap.
 };
 
-/// [gap_elements] (defaults == nullptr) or one of its overrides, which inherits from `defaults`.
-GapSpec read_gap_properties(TableReader& t, const GapSpec* defaults) {
+/// [gap_elements] (defaults == nullptr) or one of its overrides. An override inherits the law of
+/// [gap_elements] and, unless it names another law, its values and joint width.
+GapSpec read_gap_law(TableReader& t, const GapSpec* defaults) {
   GapSpec spec = defaults != nullptr ? *defaults : GapSpec{};
-  GapProperties& g = spec.properties;
-  read_fields(t, g, defaults == nullptr ? Presence::as_declared : Presence::inherited);
-  if (g.shortening == 0 && (g.stiffness > 0 || g.damping > 0)) {
-    t.fail(t.has("shortening") ? "shortening" : (t.has("stiffness") ? "stiffness" : "damping"),
-           "an element with shortening = 0 is a rigid stop whose spring and dashpot never act; "
-           "give shortening > 0 or stiffness = damping = 0");
+  bool inherits = defaults != nullptr;
+  if (t.has("law")) {
+    const std::string name = t.choice("law", gap_law_names);
+    if (!inherits || name != key_of(spec.law)) {
+      spec.law = *gap_law_named(name);
+      inherits = false;
+    }
   }
+  std::visit(
+      [&](auto& law) {
+        using Parameters = std::decay_t<decltype(law.parameters)>;
+        t.declare<Parameters>();
+        read_fields(t, law.parameters, inherits ? Presence::inherited : Presence::as_declared);
+        if (const std::optional<FieldRule> rule = law.parameters.rule_violation()) {
+          // Blame the first key of the rule that this table gives (an override: what it changed).
+          const auto given = std::find_if(rule->keys.begin(), rule->keys.end(),
+                                          [&](std::string_view key) { return t.has(key); });
+          t.fail(given != rule->keys.end() ? *given : rule->keys.front(), rule->message);
+        }
+      },
+      spec.law);
   if (auto w = t.optional_number("joint_width")) spec.joint = *w;
   // The floors would collide at the joint width: the element must bottom out first. An override
   // that widens the element beyond an inherited joint is blamed on the key it changed.
-  if (spec.joint && !fits_in_joint(*spec.joint, g.gap + g.shortening)) {
+  const double stroke = std::visit([](const auto& law) { return law.locked_length(); }, spec.law);
+  if (spec.joint && !fits_in_joint(*spec.joint, stroke)) {
     const char* key = t.has("joint_width") ? "joint_width" : t.has("gap") ? "gap" : "shortening";
     t.fail(key, fmt::format("the joint width {} m is narrower than gap + shortening = {} m: the floors "
                             "would collide before the gap element bottoms out",
-                            *spec.joint, g.gap + g.shortening));
+                            *spec.joint, stroke));
   }
   return spec;
 }
@@ -675,16 +695,16 @@ Model read_physical(TableReader& top, RunInput& run) {
     if (top.has("gap_elements")) {
       top.fail("gap_elements", "the model has a single frame: there are no gap elements");
     }
-    return make_model(std::move(frames), GapProperties{});
+    return make_model(std::move(frames), GapLaw{});
   }
   TableReader gaps = top.table("gap_elements");
-  gaps.declare<GapProperties, keys::GapElements>();
-  const GapSpec defaults = read_gap_properties(gaps, nullptr);
+  gaps.declare<keys::GapElements>();
+  const GapSpec defaults = read_gap_law(gaps, nullptr);
   std::vector<GapOverride> overrides;
   std::vector<std::optional<double>> override_joints;
   if (gaps.has("override")) {
     for (TableReader& o : gaps.tables("override")) {
-      o.declare<GapProperties, keys::GapOverride>();
+      o.declare<keys::GapOverride>();
       const toml::node& pair_node = o.require("frames");
       const toml::array* pair = pair_node.as_array();
       if (pair == nullptr || pair->size() != 2) {
@@ -707,8 +727,8 @@ Model read_physical(TableReader& top, RunInput& run) {
       const int floor = bounded_integer(o.require("floor"), 1, shared, "", [&](const std::string& m) {
         o.fail("floor", fmt::format("{}: frames {} and {} share floors 1..{}", m, left, right, shared));
       });
-      const GapSpec spec = read_gap_properties(o, &defaults);
-      GapOverride go{left - 1, floor - 1, spec.properties};
+      const GapSpec spec = read_gap_law(o, &defaults);
+      GapOverride go{left - 1, floor - 1, spec.law};
       for (const GapOverride& seen : overrides) {
         if (seen.left_frame == go.left_frame && seen.floor == go.floor) {
           o.fail_table("a second override of the same element");
@@ -720,13 +740,13 @@ Model read_physical(TableReader& top, RunInput& run) {
     }
   }
   gaps.finish();
-  Model model = make_model(std::move(frames), defaults.properties, overrides);
+  Model model = make_model(std::move(frames), defaults.law, overrides);
   for (const GapElement& g : model.gaps) {
     std::optional<double> joint = defaults.joint;
     for (std::size_t k = 0; k < overrides.size(); ++k) {
       if (overrides[k].left_frame == g.left_frame && overrides[k].floor == g.floor) joint = override_joints[k];
     }
-    run.joint_widths.push_back(joint.value_or(g.properties.gap));
+    run.joint_widths.push_back(joint.value_or(g.gap()));
   }
   return model;
 }
@@ -1262,13 +1282,13 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
   }
   if (run.model.frame_count() > 0 && !run.initial.displacement.empty()) {
     for (const GapElement& g : run.model.gaps) {
-      const double s = run.initial.displacement[g.left_frame][g.floor] -
-                       run.initial.displacement[g.left_frame + 1][g.floor] - g.properties.gap;
-      if (s > 0 && s >= g.properties.shortening) {
-        throw InputError(fmt::format(
-            "{}: initial.displacement: frames {} and {} overlap at floor {} by {} m, beyond the "
-            "allowable shortening {} m",
-            origin.file, g.left_frame + 1, g.left_frame + 2, g.floor + 1, s, g.properties.shortening));
+      const double d = run.initial.displacement[g.left_frame][g.floor] -
+                       run.initial.displacement[g.left_frame + 1][g.floor];
+      try {  // the law says whether it can start at d (the simulator asks it the same)
+        std::visit([&](const auto& law) { static_cast<void>(law.initial_mode(d)); }, g.law);
+      } catch (const std::invalid_argument& e) {
+        throw InputError(fmt::format("{}: initial.displacement: frames {} and {} overlap at floor {} {}",
+                                     origin.file, g.left_frame + 1, g.left_frame + 2, g.floor + 1, e.what()));
       }
     }
   }
@@ -1380,16 +1400,6 @@ void write_fields(toml::table& t, const S& s) {
   });
 }
 
-/// Whether every declared number of a and b is the same double.
-template <Configuration S>
-bool same_fields(const S& a, const S& b) {
-  bool same = true;
-  for_each_field<S>([&](const auto& field) {
-    if constexpr (is_number_field<std::decay_t<decltype(field)>>) same = same && a.*field.member == b.*field.member;
-  });
-  return same;
-}
-
 toml::array number_array(std::span<const double> values) {
   toml::array a;
   for (const double v : values) a.push_back(v);
@@ -1418,24 +1428,30 @@ toml::table model_tables(const RunInput& in, toml::table& root) {
   toml::table gaps;
   if (in.model.gaps.empty()) return gaps;
   const auto joint = [&](std::size_t k) {
-    return in.joint_widths.empty() ? in.model.gaps[k].properties.gap : in.joint_widths[k];
+    return in.joint_widths.empty() ? in.model.gaps[k].gap() : in.joint_widths[k];
   };
+  // The law's name, when it is not the one the table would have without it, and its values.
+  const auto put_law = [](toml::table& t, const GapLaw& law, std::string_view inherited) {
+    if (key_of(law) != inherited) t.insert("law", std::string(key_of(law)));
+    std::visit([&](const auto& l) { write_fields(t, l.parameters); }, law);
+  };
+
   // The first element's properties for all, then an override for every element that differs
   // from them or stands in a wider joint: each keeps the exact values it ran with.
   // A joint as wide as the element's gap is the default (an explicit one must also hold the
   // shortening): it is written only when it is wider.
   const auto put_joint = [&](toml::table& t, std::size_t k) {
-    if (joint(k) != in.model.gaps[k].properties.gap) t.insert("joint_width", joint(k));
+    if (joint(k) != in.model.gaps[k].gap()) t.insert("joint_width", joint(k));
   };
-  write_fields(gaps, in.model.gaps.front().properties);  // no joint here: overrides inherit it
+  put_law(gaps, in.model.gaps.front().law, gap_law_names.front());  // no joint: overrides inherit it
   toml::array overrides;
   for (std::size_t k = 0; k < in.model.gaps.size(); ++k) {
     const GapElement& g = in.model.gaps[k];
-    if (same_fields(g.properties, in.model.gaps.front().properties) && joint(k) == g.properties.gap) continue;
+    if (g.law == in.model.gaps.front().law && joint(k) == g.gap()) continue;
     toml::table o;
     o.insert("frames", toml::array{g.left_frame + 1, g.left_frame + 2});
     o.insert("floor", g.floor + 1);
-    write_fields(o, g.properties);
+    put_law(o, g.law, key_of(in.model.gaps.front().law));
     put_joint(o, k);
     overrides.push_back(std::move(o));
   }

@@ -45,8 +45,16 @@ json describe_model(const Model& model) {
   }
   json gaps = json::array();
   for (const GapElement& g : model.gaps) {
-    const GapProperties& p = g.properties;
-    gaps.push_back({g.left_frame, g.floor, p.stiffness, p.damping, p.gap, p.shortening, p.restitution});
+    json element{g.left_frame, g.floor};
+    std::visit(
+        [&](const auto& law) {
+          // A law other than the first is named, so that two laws with equal values differ.
+          if (law.key != gap_law_names.front()) element.push_back(law.key);
+          for_each_field<std::decay_t<decltype(law.parameters)>>(
+              [&](const auto& field) { element.push_back(law.parameters.*field.member); });
+        },
+        g.law);
+    gaps.push_back(std::move(element));
   }
   return {{"frames", frames}, {"gaps", gaps}};
 }
@@ -174,7 +182,9 @@ Model bare_pounding_model(const RunInput& point) {
   // An input built in code may leave the joints out: they are then the elements' gaps.
   if (!point.joint_widths.empty()) {
     assert(point.joint_widths.size() == bare.gaps.size());
-    for (std::size_t k = 0; k < bare.gaps.size(); ++k) bare.gaps[k].properties.gap = point.joint_widths[k];
+    for (std::size_t k = 0; k < bare.gaps.size(); ++k) {
+      parameters_of<PaperGap>(bare.gaps[k]).gap = point.joint_widths[k];  // bare_pounding's
+    }
   }
   return bare;
 }

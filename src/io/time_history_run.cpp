@@ -22,6 +22,31 @@ json peak(const Peak& p) { return json{{"value", p.value}, {"time", p.time}}; }
 /// a / b, or null when b is 0 (nothing to compare with).
 json ratio(double a, double b) { return b > 0 ? json(a / b) : json(); }
 
+/// The declared fields of `s` into `out`, each named by its key and its SI unit as summary.json
+/// names quantities: stiffness_N_m, damping_Ns_m, gap_m, restitution (no unit).
+template <class S>
+void write_with_units(json& out, const S& s) {
+  for_each_field<S>([&](const auto& field) {
+    std::string name(field.key);
+    if constexpr (is_number_field<std::decay_t<decltype(field)>>) {
+      if (!field.unit.empty()) {
+        name += '_';
+        for (const char c : field.unit) {
+          if (c == '/') name += '_';
+          else if (static_cast<unsigned char>(c) < 0x80) name += c;  // N·s/m → Ns_m
+        }
+      }
+      out[name] = s.*field.member;
+    } else if constexpr (is_integer_field<std::decay_t<decltype(field)>>) {
+      out[name] = static_cast<std::int64_t>(s.*field.member);
+    } else if constexpr (is_bool_field<std::decay_t<decltype(field)>>) {
+      out[name] = s.*field.member;
+    } else {
+      out[name] = std::string(field.name_of(s.*field.member));
+    }
+  });
+}
+
 json describe_model(const RunInput& input) {
   json frames = json::array();
   for (const Frame& f : input.model.frames) {
@@ -36,13 +61,14 @@ json describe_model(const RunInput& input) {
   }
   json gaps = json::array();
   for (const GapElement& g : input.model.gaps) {
-    gaps.push_back({{"frames", {g.left_frame + 1, g.left_frame + 2}},
-                    {"floor", g.floor + 1},
-                    {"stiffness_N_m", g.properties.stiffness},
-                    {"damping_Ns_m", g.properties.damping},
-                    {"gap_m", g.properties.gap},
-                    {"shortening_m", g.properties.shortening},
-                    {"restitution", g.properties.restitution}});
+    json element{{"frames", {g.left_frame + 1, g.left_frame + 2}}, {"floor", g.floor + 1}};
+    std::visit(
+        [&](const auto& law) {
+          if (law.key != gap_law_names.front()) element["law"] = law.key;
+          write_with_units(element, law.parameters);
+        },
+        g.law);
+    gaps.push_back(std::move(element));
   }
   json model{{"frames", frames}, {"gap_elements", gaps}};
   if (input.dimensionless) {
@@ -208,8 +234,8 @@ json to_json(const TimeHistoryResult& result) {
         const GapElement& g = model.gaps[static_cast<std::size_t>(p)];
         if (g.left_frame == f && g.floor == i) {
           const GapResponse& gr = st.gaps[static_cast<std::size_t>(p)];
-          entry["gap_m"] = g.properties.gap;
-          entry["gap_over_min_gap"] = ratio(g.properties.gap, min_gap[k]);
+          entry["gap_m"] = g.gap();
+          entry["gap_over_min_gap"] = ratio(g.gap(), min_gap[k]);
           entry["contact"] = gr.contacts + gr.impacts + gr.locks > 0;
         }
       }

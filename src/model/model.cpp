@@ -7,7 +7,7 @@
 
 namespace poundsim {
 
-Model make_model(std::vector<Frame> frames, const GapProperties& defaults,
+Model make_model(std::vector<Frame> frames, const GapLaw& defaults,
                  std::span<const GapOverride> overrides) {
   Model model;
   model.frames = std::move(frames);
@@ -24,7 +24,7 @@ Model make_model(std::vector<Frame> frames, const GapProperties& defaults,
           fmt::format("no gap element between frames {} and {} at floor {}", o.left_frame + 1,
                       o.left_frame + 2, o.floor + 1));
     }
-    it->properties = o.properties;
+    it->law = o.law;
   }
   return model;
 }
@@ -47,7 +47,7 @@ void validate(const Model& model) {
         g.floor >= model.frames[g.left_frame + 1].storeys()) {
       throw std::invalid_argument(what + ": no such floors");
     }
-    validate(g.properties, what);
+    std::visit([&](const auto& law) { validate(law.parameters, what); }, g.law);
   }
 }
 
@@ -97,7 +97,7 @@ std::vector<Link> make_links(const Model& model, const DofLayout& layout) {
   for (int p = 0; p < model.gap_count(); ++p) {
     links.push_back({.a = layout.gap_left(p),
                      .b = layout.gap_right(p),
-                     .law = PaperGap{model.gaps[p].properties},
+                     .law = std::visit([](const auto& law) -> Law { return law; }, model.gaps[p].law),
                      .element = p});
   }
   return links;

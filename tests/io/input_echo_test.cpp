@@ -38,7 +38,7 @@ void expect_same_model(const Model& a, const Model& b, const std::string& name) 
   }
   ASSERT_EQ(a.gaps.size(), b.gaps.size()) << name;
   for (std::size_t k = 0; k < a.gaps.size(); ++k) {
-    const GapProperties &p = a.gaps[k].properties, &q = b.gaps[k].properties;
+    const GapProperties &p = parameters_of<PaperGap>(a.gaps[k]), &q = parameters_of<PaperGap>(b.gaps[k]);
     EXPECT_EQ(a.gaps[k].left_frame, b.gaps[k].left_frame) << name;
     EXPECT_EQ(a.gaps[k].floor, b.gaps[k].floor) << name;
     EXPECT_EQ(p.gap, q.gap) << name;
@@ -70,7 +70,7 @@ TEST(InputEcho, EveryExampleReadsBackToTheInputThatRan) {
     const auto joints = [](const RunInput& r) {
       std::vector<double> w = r.joint_widths;
       if (w.empty()) {
-        for (const GapElement& g : r.model.gaps) w.push_back(g.properties.gap);
+        for (const GapElement& g : r.model.gaps) w.push_back(parameters_of<PaperGap>(g).gap);
       }
       return w;
     };
@@ -110,7 +110,7 @@ TEST(InputEcho, RunningTheEchoGivesTheSameOutputs) {
   ASSERT_TRUE(fs::exists(first / "input.toml"));
   const RunInput echo = read_input(first / "input.toml");
   EXPECT_EQ(echo.analysis.duration, 2.0);
-  EXPECT_EQ(echo.model.gaps.at(0).properties.stiffness, 3.0e7);
+  EXPECT_EQ(parameters_of<PaperGap>(echo.model.gaps.at(0)).stiffness, 3.0e7);
   (void)run_time_history(echo, second);
   for (const char* file : {"history.csv", "events.csv", "input.toml"}) {
     EXPECT_EQ(testing::slurp(first / file), testing::slurp(second / file)) << file;

@@ -75,7 +75,7 @@ TEST(InputDimensionless, MapsToThePhysicalModel) {
   EXPECT_EQ(in.model.gap_count(), 1);
   EXPECT_DOUBLE_EQ(in.model.frames[0].stiffness[0], 200.0);
   EXPECT_DOUBLE_EQ(in.model.frames[1].stiffness[2], 50.0);
-  EXPECT_DOUBLE_EQ(in.model.gaps[0].properties.gap, 0.25 * 9.81 / 200);
+  EXPECT_DOUBLE_EQ(parameters_of<PaperGap>(in.model.gaps[0]).gap, 0.25 * 9.81 / 200);
   const auto& h = std::get<HarmonicExcitation>(in.excitation);
   EXPECT_DOUBLE_EQ(h.amplitude, 0.2 * 9.81);
   EXPECT_DOUBLE_EQ(h.omega, 0.8 * std::sqrt(200.0));
@@ -91,13 +91,13 @@ TEST(InputPhysical, BroadcastsScalarsAndConvertsDampingRatio) {
   EXPECT_EQ(in.model.frames[0].damping, (std::vector<double>{1.0e5, 1.0e5}));
   const Frame& f2 = in.model.frames[1];
   EXPECT_NEAR(f2.damping[0] / (2 * f2.mass[0] * std::sqrt(1.0e7 / 1.0e5)), 0.05, 1e-14);
-  EXPECT_DOUBLE_EQ(in.model.gaps[0].properties.restitution, 0.65);
+  EXPECT_DOUBLE_EQ(parameters_of<PaperGap>(in.model.gaps[0]).restitution, 0.65);
   EXPECT_EQ(in.analysis.options.separation, SeparationCriterion::force);
   EXPECT_TRUE(std::holds_alternative<NoExcitation>(in.excitation));
 }
 
-TEST(InputPhysical, OverridesOfSingleElements) {
-  const std::string text = R"([[frames]]
+/// Two frames of two storeys, one element overridden.
+const std::string kOverriddenElement = R"([[frames]]
 mass = 1
 stiffness = 100
 damping = 0
@@ -123,12 +123,43 @@ kind = "time_history"
 duration = 1
 dt = 0.01
 )";
+
+TEST(InputPhysical, OverridesOfSingleElements) {
+  const std::string text = kOverriddenElement;
   const RunInput in = read(text);
-  EXPECT_DOUBLE_EQ(in.model.gaps[0].properties.gap, 0.01);
-  EXPECT_DOUBLE_EQ(in.model.gaps[1].properties.gap, 0.03);
-  EXPECT_DOUBLE_EQ(in.model.gaps[1].properties.restitution, 1.0);  // inherited
+  EXPECT_DOUBLE_EQ(parameters_of<PaperGap>(in.model.gaps[0]).gap, 0.01);
+  EXPECT_DOUBLE_EQ(parameters_of<PaperGap>(in.model.gaps[1]).gap, 0.03);
+  EXPECT_DOUBLE_EQ(parameters_of<PaperGap>(in.model.gaps[1]).restitution, 1.0);  // inherited
   EXPECT_NE(error_of(replace(text, "floor = 2", "floor = 3")).find("share floors 1..2"),
             std::string::npos);
+}
+
+// The law is chosen by its name (`law = "..."`, the first of GapLaw by default) and then exactly
+// its parameters are read: an unknown name lists the laws, a key of no law is unknown.
+TEST(InputPhysical, GapElementLawIsChosenByItsName) {
+  // The same file with the law named in both tables.
+  const std::string text =
+      replace(replace(replace(kOverriddenElement, "restitution = 1.0", "restitution = 0.5"), "gap = 0.01",
+                      "law = \"paper\"\ngap = 0.01"),
+              "floor = 2\ngap = 0.03", "floor = 2\nlaw = \"paper\"");
+  const RunInput in = read(text);
+  ASSERT_EQ(in.model.gaps.size(), 2U);
+  EXPECT_EQ(key_of(in.model.gaps[1].law), "paper");
+  // Naming the law it inherits keeps the inherited values.
+  EXPECT_DOUBLE_EQ(parameters_of<PaperGap>(in.model.gaps[1]).restitution, 0.5);
+  EXPECT_DOUBLE_EQ(parameters_of<PaperGap>(in.model.gaps[1]).gap, 0.01);
+  EXPECT_DOUBLE_EQ(parameters_of<PaperGap>(in.model.gaps[1]).stiffness, 10.0);
+  EXPECT_EQ(read(replace(text, "law = \"paper\"\ngap", "gap")).model.gaps[1].law, in.model.gaps[1].law);
+  const std::string unknown = error_of(replace(text, "law = \"paper\"\ngap", "law = \"hertz\"\ngap"));
+  EXPECT_NE(unknown.find("gap_elements.law"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("\"hertz\" is not one of: \"paper\""), std::string::npos) << unknown;
+  const std::string stray = error_of(replace(text, "restitution = 0.5", "restitution = 0.5\nbeta = 2"));
+  EXPECT_NE(stray.find("gap_elements.beta"), std::string::npos) << stray;
+  EXPECT_NE(stray.find("unknown key"), std::string::npos) << stray;
+  // The rule between a law's parameters blames the key the table gave.
+  const std::string rule = error_of(replace(text, "shortening = 0.01", "shortening = 0"));
+  EXPECT_NE(rule.find("gap_elements.override[1].shortening"), std::string::npos) << rule;
+  EXPECT_NE(rule.find("rigid stop"), std::string::npos) << rule;
 }
 
 TEST(InputHarmonic, RatioOmegaAndHertzAgree) {
@@ -145,7 +176,7 @@ TEST(InputHarmonic, RatioOmegaAndHertzAgree) {
 TEST(InputOverrides, SetReplacesAndCreatesKeys) {
   const RunInput in = read(kDimensionless, {"model.dimensionless.eta=0.5", "analysis.separation=force",
                                             "analysis.output_dt=0.01"});
-  EXPECT_DOUBLE_EQ(in.model.gaps[0].properties.stiffness, 0.5 * 200);
+  EXPECT_DOUBLE_EQ(parameters_of<PaperGap>(in.model.gaps[0]).stiffness, 0.5 * 200);
   EXPECT_EQ(in.analysis.options.separation, SeparationCriterion::force);
   EXPECT_DOUBLE_EQ(in.analysis.output_dt, 0.01);
   const RunInput phys = read(kPhysical, {"frames[2].mass=3.0e5"});
@@ -480,7 +511,7 @@ TEST(InputJoint, WidthDefaultsToTheGapAndMustHoldTheElement) {
   const std::string bumper = replace(kTwoStoreys, "restitution = 0.5",
                                      "restitution = 0.5\nstiffness = 1.0e7\nshortening = 0.01\njoint_width = 0.04");
   EXPECT_EQ(read(bumper).joint_widths, (std::vector<double>{0.04, 0.04}));
-  EXPECT_EQ(read(bumper).model.gaps[0].properties.gap, 0.02);  // the element itself is unchanged
+  EXPECT_EQ(parameters_of<PaperGap>(read(bumper).model.gaps[0]).gap, 0.02);  // the element itself is unchanged
   // An override inherits the joint, or gives its own.
   const RunInput over = read(bumper + "[[gap_elements.override]]\nframes = [1, 2]\nfloor = 2\njoint_width = 0.05\n");
   EXPECT_EQ(over.joint_widths, (std::vector<double>{0.04, 0.05}));
@@ -495,7 +526,7 @@ TEST(InputJoint, WidthDefaultsToTheGapAndMustHoldTheElement) {
   // Dimensionless: w̄ = w λ²/g like δ̄, at least δ̄ + ε̄.
   const RunInput d = read(replace(kDimensionless, "restitution = 0.75", "restitution = 0.75\njoint_width = 1.0"));
   EXPECT_DOUBLE_EQ(d.joint_widths[0], 1.0 * 9.81 / 200);
-  EXPECT_EQ(read(kDimensionless).joint_widths[0], read(kDimensionless).model.gaps[0].properties.gap);
+  EXPECT_EQ(read(kDimensionless).joint_widths[0], parameters_of<PaperGap>(read(kDimensionless).model.gaps[0]).gap);
   EXPECT_TRUE(has(error_of(replace(kDimensionless, "restitution = 0.75", "restitution = 0.75\njoint_width = 0.5")),
                   "model.dimensionless.joint_width: 0.5 is narrower than delta + epsilon = 0.75"));
 }

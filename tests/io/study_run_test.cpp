@@ -120,8 +120,8 @@ TEST(StudySettings, PointsAreTypedValuesOnTheParsedFile) {
   const RunInput typed = read(kStudy, {"frf.points=3", point.settings[1].text});
   ASSERT_EQ(point.model.gaps.size(), typed.model.gaps.size());
   for (std::size_t k = 0; k < point.model.gaps.size(); ++k) {
-    EXPECT_EQ(point.model.gaps[k].properties.stiffness, typed.model.gaps[k].properties.stiffness);
-    EXPECT_EQ(point.model.gaps[k].properties.damping, typed.model.gaps[k].properties.damping);
+    EXPECT_EQ(parameters_of<PaperGap>(point.model.gaps[k]).stiffness, parameters_of<PaperGap>(typed.model.gaps[k]).stiffness);
+    EXPECT_EQ(parameters_of<PaperGap>(point.model.gaps[k]).damping, parameters_of<PaperGap>(typed.model.gaps[k]).damping);
   }
   // A value the reader refuses names the setting; a key the file holds keeps its line and column.
   const auto error_of = [&](Setting setting) -> std::string {
@@ -178,8 +178,8 @@ TEST(StudyRun, PointsKeepTheOverridesOfTheirStudy) {
   const RunInput in = read(kStudy, {"frf.points=3", "model.dimensionless.restitution=0.5"});
   const RunInput point = with_settings(in, study_points(*in.study)[4]);
   EXPECT_EQ(point.frf->ratios.size(), 3u);
-  EXPECT_DOUBLE_EQ(point.model.gaps[0].properties.restitution, 0.5);
-  EXPECT_DOUBLE_EQ(point.model.gaps[0].properties.stiffness, 0.125 * 200);
+  EXPECT_DOUBLE_EQ(parameters_of<PaperGap>(point.model.gaps[0]).restitution, 0.5);
+  EXPECT_DOUBLE_EQ(parameters_of<PaperGap>(point.model.gaps[0]).stiffness, 0.125 * 200);
   const fs::path dir = fresh("overrides");
   StudyRunOptions one;
   one.max_points = 1;

@@ -12,7 +12,8 @@
 
 namespace poundsim {
 
-/// The same frames and gaps with k = c = ε = 0 in every element.
+/// The same frames with every gap element replaced by a rigid stop (the paper's element with
+/// k = c = ε = 0) at its gap, with its law's restitution.
 [[nodiscard]] Model bare_pounding(const Model& model);
 
 /// The same frames without gap elements.

@@ -149,21 +149,23 @@ struct Frame {
     };
   }
 };
-/// [gap_elements]' keys besides the element's properties (GapProperties).
+/// [gap_elements]' keys besides the parameters of the element's law (its Parameters' fields).
 struct GapElements {
   static constexpr auto fields() {
     using C = CustomField<GapElements>;
     return std::tuple{
+        C{"law", "the gap elements' law (model/law.hpp's GapLaw), \"paper\" by default"},
         C{"joint_width", "w [m], the joint's width"},
         C{"override", "changes to single elements", true},
     };
   }
 };
-/// [[gap_elements.override]]'s keys besides the element's properties (GapProperties).
+/// [[gap_elements.override]]'s keys besides the parameters of the element's law.
 struct GapOverride {
   static constexpr auto fields() {
     using C = CustomField<GapOverride>;
     return std::tuple{
+        C{"law", "the element's law; [gap_elements]' by default"},
         C{"frames", "the two neighbouring frames"},
         C{"floor", "the floor, from 1"},
         C{"joint_width", "w [m], the joint's width"},

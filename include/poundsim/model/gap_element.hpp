@@ -18,6 +18,7 @@
 /// law (see impact.hpp). k = c = ε = 0 is bare pounding: the floors collide as soon as the gap
 /// closes.
 
+#include <optional>
 #include <string>
 
 #include "poundsim/fields.hpp"
@@ -33,13 +34,14 @@ struct GapProperties {
   double restitution = 1.0;  ///< e ∈ [0, 1]: the coefficient of restitution of the impacts.
 
   /// The fields a model file sets ([gap_elements] and its overrides): fields.hpp. The gap and
-  /// the restitution have no default in a file.
+  /// the restitution have no default in a file. In the members' order, which the study's
+  /// fingerprint and summary.json keep.
   static constexpr auto fields() {
     using P = GapProperties;
     return std::tuple{
-        NumberField{"gap", &P::gap, "m", non_negative, "δ, the clear distance at rest", true},
         NumberField{"stiffness", &P::stiffness, "N/m", non_negative, "k, the spring"},
         NumberField{"damping", &P::damping, "N·s/m", non_negative, "c, the dashpot"},
+        NumberField{"gap", &P::gap, "m", non_negative, "δ, the clear distance at rest", true},
         NumberField{"shortening", &P::shortening, "m", non_negative,
                     "ε, the allowable spring shortening before impact"},
         NumberField{"restitution", &P::restitution, "", unit_interval,
@@ -47,15 +49,13 @@ struct GapProperties {
     };
   }
 
+  [[nodiscard]] bool operator==(const GapProperties&) const = default;
+
   /// True for bare pounding: the element has no stroke, contact is an impact at once.
   [[nodiscard]] bool is_rigid_stop() const { return shortening <= 0.0; }
-};
 
-/// One gap element between corresponding floors of neighbouring frames. 0-based indices.
-struct GapElement {
-  int left_frame = 0;  ///< Frame L; the right frame is L+1.
-  int floor = 0;       ///< Floor index (0 = first floor above the ground).
-  GapProperties properties;
+  /// A spring or dashpot on an element without stroke (ε = 0) would never act: refused.
+  [[nodiscard]] std::optional<FieldRule> rule_violation() const;
 };
 
 /// s = u_L − u_R − δ [m]: positive when the element is compressed.
@@ -68,7 +68,8 @@ struct GapElement {
   return p.damping * s_rate + p.stiffness * s;
 }
 
-/// Throws std::invalid_argument naming `what` and the field when a property is out of range.
+/// Throws std::invalid_argument naming `what` and the field when a property is out of range or
+/// breaks the rule between them.
 void validate(const GapProperties& p, const std::string& what);
 
 }  // namespace poundsim

@@ -16,10 +16,13 @@
 /// Adding a law: its header and source in model/laws/, its test, and its name in the Law
 /// variant below (docs/architecture.md).
 
+#include <array>
 #include <optional>
 #include <span>
+#include <string_view>
 #include <tuple>
 #include <type_traits>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -30,6 +33,41 @@ namespace poundsim {
 
 /// The closed set of laws.
 using Law = std::variant<LinearStorey, PaperGap>;
+
+namespace detail {
+template <class V>
+struct ContactLawsOf;
+template <class... L>
+struct ContactLawsOf<std::variant<L...>> {
+  template <class... Kept>
+  static std::variant<Kept...> as_variant(std::tuple<Kept...>);
+  using type = decltype(as_variant(
+      std::tuple_cat(std::declval<std::conditional_t<ContactLaw<L>, std::tuple<L>, std::tuple<>>>()...)));
+};
+}  // namespace detail
+
+/// The laws a gap element may carry: the contact laws of Law, in its order (so that adding a law
+/// to Law is all it takes). The first is the default of a model file.
+using GapLaw = detail::ContactLawsOf<Law>::type;
+
+/// The file names of the gap-element laws (`law = "..."`), in GapLaw's order.
+inline constexpr auto gap_law_names = []<class... L>(std::variant<L...>*) {
+  return std::array<std::string_view, sizeof...(L)>{L::key...};
+}(static_cast<GapLaw*>(nullptr));
+
+/// The law named `key` with its parameters' defaults; nothing when no law has that name.
+[[nodiscard]] inline std::optional<GapLaw> gap_law_named(std::string_view key) {
+  std::optional<GapLaw> found;
+  [&]<class... L>(std::variant<L...>*) {
+    ((L::key == key ? (found.emplace(L{}), 0) : 0), ...);
+  }(static_cast<GapLaw*>(nullptr));
+  return found;
+}
+
+/// The file name of the law `law` carries.
+[[nodiscard]] inline std::string_view key_of(const GapLaw& law) {
+  return std::visit([](const auto& l) -> std::string_view { return l.key; }, law);
+}
 
 /// A link between two degrees of freedom (DofLayout numbering) carrying a law.
 struct Link {

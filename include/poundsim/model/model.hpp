@@ -25,6 +25,28 @@
 
 namespace poundsim {
 
+/// One gap element between corresponding floors of neighbouring frames. 0-based indices.
+struct GapElement {
+  int left_frame = 0;  ///< Frame L; the right frame is L+1.
+  int floor = 0;       ///< Floor index (0 = first floor above the ground).
+  GapLaw law;          ///< Its law with its parameters (the paper's by default).
+
+  /// δ [m]: the clear distance at rest, whatever the law.
+  [[nodiscard]] double gap() const {
+    return std::visit([](const auto& l) { return l.gap(); }, law);
+  }
+};
+
+/// The parameters of g's law, which must be L (std::bad_variant_access otherwise).
+template <class L>
+[[nodiscard]] const typename L::Parameters& parameters_of(const GapElement& g) {
+  return std::get<L>(g.law).parameters;
+}
+template <class L>
+[[nodiscard]] typename L::Parameters& parameters_of(GapElement& g) {
+  return std::get<L>(g.law).parameters;
+}
+
 struct Model {
   std::vector<Frame> frames;     ///< Left to right.
   std::vector<GapElement> gaps;  ///< Ordered by frame pair, then by floor.
@@ -33,17 +55,17 @@ struct Model {
   [[nodiscard]] int gap_count() const { return static_cast<int>(gaps.size()); }
 };
 
-/// Per-element override of the default gap properties, for (left frame, floor), 0-based.
+/// Per-element override of the default gap-element law, for (left frame, floor), 0-based.
 struct GapOverride {
   int left_frame = 0;
   int floor = 0;
-  GapProperties properties;
+  GapLaw law;
 };
 
 /// Builds the model with an element at every pair of corresponding floors, all with `defaults`
 /// except those listed in `overrides`. Throws std::invalid_argument for an override that names
 /// no element.
-Model make_model(std::vector<Frame> frames, const GapProperties& defaults,
+Model make_model(std::vector<Frame> frames, const GapLaw& defaults,
                  std::span<const GapOverride> overrides = {});
 
 /// Throws std::invalid_argument naming the frame, element and field of the first problem.

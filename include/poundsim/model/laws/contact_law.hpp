@@ -17,8 +17,12 @@
 
 #include <concepts>
 #include <cstdint>
+#include <optional>
 #include <span>
+#include <string_view>
+#include <type_traits>
 
+#include "poundsim/fields.hpp"
 #include "poundsim/model/contact_state.hpp"
 #include "poundsim/model/laws/law_traits.hpp"
 
@@ -92,6 +96,14 @@ concept ContactLaw = requires(const L& law, const LinkKinematics& k, LinkMode mo
   { law.position_noise(k) } -> std::same_as<double>;
   { law.restitution() } -> std::same_as<double>;
   { law.locked_mode() } -> std::same_as<LinkMode>;
+  // What a model file and the model say of the element (io/input.cpp reads `law = "<key>"` and
+  // then the declared fields of its Parameters; model.hpp's GapElement carries the law):
+  { L::key } -> std::convertible_to<std::string_view>;
+  requires std::same_as<std::remove_cvref_t<decltype(law.parameters)>, typename L::Parameters>;
+  { law.gap() } -> std::same_as<double>;  ///< δ [m]: the clear distance at rest
+  { law.locked_length() } -> std::same_as<double>;  ///< d [m] held by locked_mode()
+  /// The first rule between the parameters that is broken: the key to blame and why.
+  { law.parameters.rule_violation() } -> std::same_as<std::optional<FieldRule>>;
 };
 
 }  // namespace poundsim

@@ -20,6 +20,7 @@
 #include <limits>
 #include <optional>
 #include <span>
+#include <string_view>
 
 #include "poundsim/model/contact_state.hpp"
 #include "poundsim/model/gap_element.hpp"
@@ -29,7 +30,20 @@
 namespace poundsim {
 
 struct PaperGap {
-  GapProperties parameters;
+  using Parameters = GapProperties;
+  /// Its name in a model file: `law = "paper"` (the default of [gap_elements]).
+  static constexpr std::string_view key = "paper";
+
+  Parameters parameters;
+
+  PaperGap() = default;
+  // Implicit: a GapLaw (model.hpp) is made from the paper's properties as before there were laws.
+  PaperGap(const Parameters& p) : parameters(p) {}  // NOLINT(google-explicit-constructor)
+
+  [[nodiscard]] bool operator==(const PaperGap&) const = default;
+  [[nodiscard]] double gap() const { return parameters.gap; }
+  /// d = δ + ε: where the locked mode holds the link (s = ε).
+  [[nodiscard]] double locked_length() const { return parameters.gap + parameters.shortening; }
 
   static constexpr LawTraits traits{
       .piecewise_linear = true,
