@@ -119,6 +119,26 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
   }
   step_solver_.analyzePattern(effective_);
   substep_solver_.analyzePattern(effective_);
+  q_work_.resize(nr);
+  qd_work_.resize(nr);
+  rhs_work_.resize(nr);
+}
+
+void LinearPhase::equilibrate(double ground, KinematicState& state) const {
+  gather(state.u, q_work_);
+  gather(state.v, qd_work_);
+  rhs_work_ = constant_load_ - ground * mass_;
+  rhs_work_.noalias() -= damping_ * qd_work_;
+  rhs_work_.noalias() -= stiffness_ * q_work_;
+  rhs_work_.array() /= mass_.array();
+  state.ground = ground;
+  if (unreduced_) {
+    state.a = rhs_work_;
+  } else {
+    for (Eigen::Index i = 0; i < state.a.size(); ++i) {
+      state.a(i) = rhs_work_(group_of_[static_cast<std::size_t>(i)]);
+    }
+  }
 }
 
 const LinearPhase::Solver& LinearPhase::step_solver() const {

@@ -10,7 +10,7 @@
 
 #include "steppers.hpp"
 
-#include "contact_links.hpp"
+#include "../dynamics/contact_links.hpp"
 
 namespace poundsim::detail {
 
@@ -62,19 +62,19 @@ Eigen::MatrixXd ExactStepper::guard_rows(const Simulator& sim, const ExactPhase&
   const Eigen::Index n = exact.groups();
   const auto group = sim.phase_->group_of();
   const auto g = [&](int dof) { return static_cast<Eigen::Index>(group[static_cast<std::size_t>(dof)]); };
-  Eigen::MatrixXd rows = Eigen::MatrixXd::Zero(2 * sim.model_.gap_count(), 2 * n);
+  Eigen::MatrixXd rows = Eigen::MatrixXd::Zero(2 * sim.system_.gap_count(), 2 * n);
   // Stop reactions: λ_out = f_L + λ_in along each chain, f_L = f_S − m(a_g + ü) − C u̇ − K u;
   // the ground acceleration cancels between m a_g and m ü.
-  std::vector<Eigen::RowVectorXd> link_in(static_cast<std::size_t>(sim.layout_.size()));
+  std::vector<Eigen::RowVectorXd> link_in(static_cast<std::size_t>(sim.system_.layout().size()));
   const LinearPhase::SparseMatrix& c = sim.phase_->full_damping();
   const LinearPhase::SparseMatrix& k = sim.phase_->full_stiffness();
-  for (std::size_t p = 0; p < sim.config_.size(); ++p) {
-    const Link& link = sim.contact_links_[p];
+  for (std::size_t p = 0; p < sim.contact_.config.size(); ++p) {
+    const Link& link = sim.system_.contact_links()[p];
     const int l = link.a, r = link.b;
     for (int i = 0; i < 2; ++i) {
       const Eigen::Index j = 2 * static_cast<Eigen::Index>(p) + i;
       const GuardForm form = with_contact_law<GuardForm>(
-          link, [&](const auto& law) { return law.guard_form(i, sim.mode(p), sim.options_.separation); });
+          link, [&](const auto& law) { return law.guard_form(i, sim.contact_.config[p], sim.system_.rules().separation); });
       switch (form.kind) {
         case GuardForm::Kind::inactive: break;
         case GuardForm::Kind::affine:
@@ -106,16 +106,16 @@ Eigen::MatrixXd ExactStepper::guard_rows(const Simulator& sim, const ExactPhase&
 }
 
 void ExactStepper::start_segment(Simulator& sim) {
-  auto it = phases_.find(sim.config_);
+  auto it = phases_.find(sim.contact_.config);
   if (it == phases_.end()) {
     PhaseData data;
     data.phase = std::make_unique<ExactPhase>(*sim.phase_);
     data.guard_rows = guard_rows(sim, *data.phase);
     if (data.phase->modal()) {
       data.powers = std::make_unique<ExactPowerIntegrals>(
-          *data.phase, sim.energy_.power_forms(sim.config_, sim.phase_->group_of(), data.phase->groups()));
+          *data.phase, sim.energy_.power_forms(sim.contact_.config, sim.phase_->group_of(), data.phase->groups()));
     }
-    it = phases_.emplace(sim.config_, std::move(data)).first;
+    it = phases_.emplace(sim.contact_.config, std::move(data)).first;
   }
   const ExactPhase& exact = *it->second.phase;
   const Eigen::Index n = exact.groups();
@@ -123,12 +123,13 @@ void ExactStepper::start_segment(Simulator& sim) {
   sim.phase_->gather(sim.state_.u, x_work_.head(n));
   sim.phase_->gather(sim.state_.v, x_work_.tail(n));
   trajectory_.start(exact, sim.phase_->mass(), sim.phase_->constant_load(), sim.state_.t, x_work_,
-                    forcing_piece(sim.excitation_, sim.state_.t));
+                    forcing_piece(sim.system_.excitation(), sim.state_.t));
   segment_powers_ = it->second.powers.get();
   if (segment_powers_ != nullptr) segment_powers_->start(trajectory_);
-  for (std::size_t p = 0; p < sim.config_.size(); ++p) {
-    const Relaxation relaxation = with_contact_law<Relaxation>(
-        sim.contact_links_[p], [&](const auto& law) { return law.relaxation(sim.mode(p), sim.memory_[p], sim.state_.t); });
+  for (std::size_t p = 0; p < sim.contact_.config.size(); ++p) {
+    const Relaxation relaxation = with_contact_law<Relaxation>(sim.system_.contact_links()[p], [&](const auto& law) {
+      return law.relaxation(sim.contact_.config[p], sim.contact_.memory[p], sim.state_.t);
+    });
     memory_amplitude_[2 * p] = relaxation.amplitude;
     memory_rate_[2 * p] = relaxation.rate;
   }
@@ -151,7 +152,7 @@ void ExactStepper::accept(Simulator& sim, KinematicState& next) {
   const double a = sim.state_.t - t0, b = next.t - t0;
   const EnergyMeter::Powers integral =
       segment_powers_ != nullptr ? segment_powers_->integrate(a, b) : quadrature_powers(sim, a, b);
-  sim.energy_.step_with(sim.state_, next, integral, sim.config_, sim.memory_);
+  sim.energy_.step_with(sim.state_, next, integral, sim.contact_.config, sim.contact_.memory);
   Output output(*this, sim);
   sim.monitor_.observe_step(sim.state_, next, trajectory_.start_time(), output);
   sim.evaluate_guards(next, sim.g_lo_, sim.dg_lo_);
@@ -171,7 +172,7 @@ EnergyMeter::Powers ExactStepper::quadrature_powers(const Simulator& sim, double
     const double mid = a + (piece + 0.5) * width;
     for (std::size_t k = 0; k < rule.nodes.size(); ++k) {
       state_at(sim, mid + 0.5 * width * rule.nodes[k], node_);
-      const EnergyMeter::Powers p = sim.energy_.powers(node_, sim.config_);
+      const EnergyMeter::Powers p = sim.energy_.powers(node_, sim.contact_.config);
       const double w = 0.5 * width * rule.weights[k];
       integral.input += w * p.input;
       integral.storey_damping += w * p.storey_damping;

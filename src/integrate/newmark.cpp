@@ -42,25 +42,4 @@ void NewmarkIntegrator::step(const LinearPhase& phase, const LinearPhase::Solver
   }
 }
 
-void NewmarkIntegrator::equilibrate(const LinearPhase& phase, double ground,
-                                    KinematicState& state) {
-  const Eigen::Index nr = phase.reduced_size();
-  auto q = q_.head(nr), qd = qd_.head(nr), rhs = rhs_.head(nr);
-  phase.gather(state.u, q);
-  phase.gather(state.v, qd);
-  rhs = phase.constant_load() - ground * phase.mass();
-  rhs.noalias() -= phase.damping() * qd;
-  rhs.noalias() -= phase.stiffness() * q;
-  rhs.array() /= phase.mass().array();
-  state.ground = ground;
-  if (phase.is_unreduced()) {
-    state.a = rhs;
-  } else {
-    const auto group = phase.group_of();
-    for (Eigen::Index i = 0; i < state.a.size(); ++i) {
-      state.a(i) = rhs(group[static_cast<std::size_t>(i)]);
-    }
-  }
-}
-
 }  // namespace poundsim

@@ -32,8 +32,7 @@ NewmarkStepper::NewmarkStepper(int dofs) {
 
 void NewmarkStepper::trial_step(Simulator& sim, double tau, bool nominal, KinematicState& out) const {
   const LinearPhase::Solver& solver = nominal ? sim.phase_->step_solver() : sim.phase_->substep_solver(tau);
-  sim.newmark_.step(*sim.phase_, solver, sim.state_, tau, ground_acceleration(sim.excitation_, sim.state_.t + tau),
-                    out);
+  sim.newmark_.step(*sim.phase_, solver, sim.state_, tau, sim.system_.ground_acceleration(sim.state_.t + tau), out);
 }
 
 void NewmarkStepper::integrate_to(Simulator& sim, double t_end, bool nominal) {
@@ -52,7 +51,7 @@ void NewmarkStepper::integrate_to(Simulator& sim, double t_end, bool nominal) {
     TrialEvaluator evaluator(*this, sim);
     locate_first_event(0.0, upper_.t - sim.state_.t, {sim.g_lo_, sim.dg_lo_}, {sim.g_hi_, sim.dg_hi_},
                        {sim.g_work_, sim.dg_work_}, sim.options_.event_tolerance, evaluator);
-    sim.compute_stop_reactions(upper_);  // trials below the event came last
+    sim.system_.compute_stop_reactions(upper_, *sim.phase_, sim.contact_);  // trials below the event came last
     sim.accept(upper_);
     sim.apply_pending_events();
   }
@@ -78,7 +77,7 @@ bool NewmarkStepper::find_grazing(Simulator& sim, double tau) {
   sim.evaluate_guards(trial_, sim.g_work_, sim.dg_work_);
   ++sim.monitor_.counts().guard_evaluations;
   if (!any_fired(sim.g_work_)) {
-    sim.compute_stop_reactions(upper_);  // the step is accepted at upper_, not at this trial
+    sim.system_.compute_stop_reactions(upper_, *sim.phase_, sim.contact_);  // the step is accepted at upper_
     return false;
   }
   std::swap(trial_, upper_);

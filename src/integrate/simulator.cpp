@@ -9,17 +9,15 @@
 
 #include <fmt/format.h>
 
-#include "contact_links.hpp"
+#include "../dynamics/contact_links.hpp"
 #include "hermite_cubic.hpp"
 #include "steppers.hpp"
 #include "poundsim/error.hpp"
-#include "poundsim/model/impact.hpp"
 
 namespace poundsim {
 
 using detail::for_each_contact_link;
 using detail::kinematics;
-using detail::with_contact_law;
 
 namespace {
 
@@ -34,20 +32,13 @@ std::vector<LinearForm> first_storey_forms(const Model& model, const DofLayout& 
   }
   return forms;
 }
-constexpr double kInactive = -std::numeric_limits<double>::infinity();
-/// The closing speed u̇_L − u̇_R of a pair counts only above this fraction of |u̇_L| + |u̇_R|: below
-/// it, it is the round-off of equal velocities computed apart, or the remainder of the
-/// sequential restitution of a chain, which stops there. One threshold for both, so that what
-/// one impact resolution leaves behind never fires another.
-constexpr double kClosingTolerance = 1e-12;
-
-[[nodiscard]] bool closes(double v_left, double v_right) {
-  return v_left - v_right > kClosingTolerance * (std::abs(v_left) + std::abs(v_right));
-}
-
-Model validated(Model model) {
+/// The system after its inputs are validated, in the order a user fixes them: the model, the
+/// options, the excitation.
+PoundingSystem validated_system(Model model, Excitation excitation, const TimeHistoryOptions& options) {
   validate(model);
-  return model;
+  options.validate();
+  validate(excitation);
+  return {std::move(model), std::move(excitation), options.event_rules()};
 }
 
 }  // namespace
@@ -84,17 +75,31 @@ void TimeHistoryOptions::validate() const {
 }
 
 
+/// The loop as the system's event handler: it owns the phases and the monitors.
+class Simulator::Events final : public EventHandler {
+ public:
+  explicit Events(Simulator& sim) : sim_(sim) {}
+  LinearPhase& activate(const ContactState& /*contact: the loop's own*/) override { return sim_.activate_phase(); }
+  void on_event(const KinematicState& /*x: the loop's state*/, int gap, EventKind kind, double left_before,
+                double right_before, double impulse) override {
+    sim_.emit(gap, kind, left_before, right_before, impulse);
+  }
+  void on_impact_loss(double loss) override { sim_.energy_.add_impact_loss(loss); }
+
+ private:
+  Simulator& sim_;
+};
+
 Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions options,
                      const InitialConditions& initial)
-    : model_(validated(std::move(model))),
-      layout_(model_),
-      excitation_(std::move(excitation)),
+    : system_(validated_system(std::move(model), std::move(excitation), options)),
       options_(options),
-      newmark_(layout_.size()),
-      energy_(model_, layout_),
-      monitor_(model_, layout_, first_storey_forms(model_, layout_)) {
-  options_.validate();
-  validate(excitation_);
+      newmark_(system_.layout().size()),
+      energy_(system_.model(), system_.layout()),
+      monitor_(system_.model(), system_.layout(), first_storey_forms(system_.model(), system_.layout())),
+      events_(std::make_unique<Events>(*this)) {
+  const Model& model_ = system_.model();
+  const DofLayout& layout_ = system_.layout();
   const int n = layout_.size();
   const int gaps = model_.gap_count();
   const auto ng = static_cast<std::size_t>(gaps);
@@ -125,52 +130,26 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
   load(initial.displacement, state_.u, "displacement");
   load(initial.velocity, state_.v, "velocity");
 
-  std::vector<Link> links = make_links(model_, layout_);
-  if (const IntegratorSupport support = supports(options_.integrator, links, layout_); !support) {
+  if (const IntegratorSupport support = supports(options_.integrator, system_.links(), layout_); !support) {
     throw std::invalid_argument(support.reason);
-  }
-  for (Link& link : links) {
-    if (link.element >= 0) contact_links_.push_back(std::move(link));
   }
   if (options_.integrator == Integrator::exact) {
     stepper_ = std::make_unique<detail::ExactStepper>(n, gaps);
   } else {
     stepper_ = std::make_unique<detail::NewmarkStepper>(n);
   }
-  contact_table_ = LinkTable(contact_links_);
-  config_.assign(ng, LinkMode{0});
-  for (int p = 0; p < gaps; ++p) {
-    const Link& link = contact_links_[static_cast<std::size_t>(p)];
-    const double d = state_.u(link.a) - state_.u(link.b);
-    try {
-      config_[p] =
-          with_contact_law<LinkMode>(link, [&](const auto& law) { return law.initial_mode(d); });
-    } catch (const std::invalid_argument& e) {
-      throw std::invalid_argument(
-          fmt::format("initial displacements compress {} {}", describe(link, layout_), e.what()));
-    }
-  }
-  memory_.assign(ng, GapMemory{});
-  transmits_.assign(ng, 0);
-  rigid_.assign(ng, 0);
-  bias_.assign(ng, 0.0);
-  stop_reaction_.assign(ng, 0.0);
-  stop_noise_.assign(ng, 0.0);
-  link_in_.assign(static_cast<std::size_t>(n), 0.0);
+  contact_ = system_.initial_contact(state_);
   for (auto* g : {&g_lo_, &g_hi_, &g_work_, &dg_lo_, &dg_hi_, &dg_work_}) g->assign(2 * ng, 0.0);
-  impacts_.reserve(ng);
-
-  link_length_.assign(ng, 0.0);
   settle_state();
   record_statistics();
 }
 
 void Simulator::settle_state() {
   activate_phase();
-  newmark_.equilibrate(*phase_, ground_acceleration(excitation_, state_.t), state_);
+  system_.equilibrate(*phase_, state_);
   evaluate_guards(state_, g_lo_, dg_lo_);
   apply_pending_events();
-  energy_.start(state_, config_, memory_);
+  energy_.start(state_, contact_.config, contact_.memory);
   events_this_step_ = 0;
 }
 
@@ -181,9 +160,9 @@ void Simulator::restart(Excitation excitation, double dt) {
   options.dt = dt;
   options.validate();
   options_ = options;
-  excitation_ = std::move(excitation);
+  system_ = system_.with_excitation(std::move(excitation));
   // Shift the clock to 0; the relaxing free ends remember their release relative to it.
-  for (GapMemory& m : memory_) m.release_time -= state_.t;
+  for (GapMemory& m : contact_.memory) m.release_time -= state_.t;
   state_.t = 0.0;
   grid_origin_ = 0.0;
   grid_index_ = 0;
@@ -205,35 +184,11 @@ void Simulator::reset_statistics() {
 
 Simulator::~Simulator() = default;
 
-double Simulator::ground_acceleration_now() const {
-  return ground_acceleration(excitation_, state_.t);
-}
+double Simulator::ground_acceleration_now() const { return system_.ground_acceleration(state_.t); }
 
-LinkMode Simulator::mode(std::size_t p) const { return config_[p]; }
+double Simulator::shortening(int p) const { return system_.shortening(state_, p); }
 
-void Simulator::refresh_link_flags(std::size_t p) {
-  // What the element's law does in its mode, asked when the mode changes rather than per step.
-  const std::optional<LinearForm> form = contact_links_[p].linear_form(mode(p));
-  transmits_[p] = form.has_value();
-  rigid_[p] = form && form->rigid;
-}
-
-bool Simulator::is_rigid(std::size_t p) const { return rigid_[p] != 0; }
-
-double Simulator::shortening(int p) const {
-  const Link& link = contact_links_[static_cast<std::size_t>(p)];
-  const LinkKinematics k = kinematics(state_, link);
-  return with_contact_law<double>(link, [&](const auto& law) { return law.shortening(k); });
-}
-
-double Simulator::gap_force(int p) const {
-  const auto e = static_cast<std::size_t>(p);
-  const Link& link = contact_links_[e];
-  const LinkKinematics k = kinematics(state_, link);
-  const double force =
-      with_contact_law<double>(link, [&](const auto& law) { return law.force(k, mode(e)); });
-  return is_rigid(e) ? force + stop_reaction_[e] : force;
-}
+double Simulator::gap_force(int p) const { return system_.gap_force(state_, contact_, p); }
 
 double Simulator::base_shear(int f) const {
   return monitor_.base_shear(state_, f);
@@ -243,21 +198,22 @@ double Simulator::storey_shear(int f) const {
   return monitor_.storey_shear(state_, f);
 }
 
-void Simulator::activate_phase() {
+LinearPhase& Simulator::activate_phase() {
   stepper_->phase_changed();
-  auto it = phases_.find(config_);
+  auto it = phases_.find(contact_.config);
   if (it == phases_.end()) {
     if (phases_.size() >= options_.phase_cache_size) {
       phases_.clear();
       stepper_->phases_cleared();
     }
-    auto phase = std::make_unique<LinearPhase>(model_, layout_, config_, options_.dt);
+    auto phase = std::make_unique<LinearPhase>(system_.model(), system_.layout(), contact_.config, options_.dt);
     ++monitor_.counts().phases_factorised;
-    it = phases_.emplace(config_, std::move(phase)).first;
+    it = phases_.emplace(contact_.config, std::move(phase)).first;
   }
   phase_ = it->second.get();
-  if (!phase_->is_unreduced()) phase_->set_link_lengths(link_length_);
-  for (std::size_t p = 0; p < config_.size(); ++p) refresh_link_flags(p);
+  if (!phase_->is_unreduced()) phase_->set_link_lengths(contact_.link_length);
+  system_.refresh_flags(contact_);
+  return *phase_;
 }
 
 void Simulator::step() { advance_to(grid_origin_ + static_cast<double>(grid_index_ + 1) * options_.dt); }
@@ -306,66 +262,8 @@ void Simulator::integrate_to(double t_end, bool nominal) {
   stepper_->integrate_to(*this, t_end, nominal);
 }
 
-void Simulator::evaluate_guards(const KinematicState& x, std::span<double> g,
-                                std::span<double> dg) {
-  // Each guard is its value minus its round-off level (the law's): a guard within a few ulps of
-  // zero is zero, and zero does not fire.
-  compute_stop_reactions(x);
-  std::array<GuardValue, 2> values;
-  for_each_contact_link(contact_table_, [&](const auto& link) {
-    const auto p = static_cast<std::size_t>(link.element);
-    const GuardContext context{.separation = options_.separation,
-                               .reaction = stop_reaction_[p],
-                               .reaction_noise = stop_noise_[p]};
-    link.law.guards(kinematics(x, link), mode(p), memory_[p], context, values);
-    for (std::size_t i = 0; i < values.size(); ++i) {
-      const GuardValue& v = values[i];
-      const std::size_t j = 2 * p + i;
-      if (!v.active) {
-        g[j] = kInactive;
-        dg[j] = 0.0;
-        continue;
-      }
-      g[j] = (v.hysteresis ? v.value - bias_[p] : v.value) - v.noise;
-      dg[j] = v.rate;
-    }
-  });
-}
-
-void Simulator::compute_stop_reactions(const KinematicState& x) {
-  // The force on a floor that the links must supply: f = f_S − m a_g − C u̇ − K u − m ü. Sweeping
-  // each chain of locked elements from the left gives λ_out = f + λ_in.
-  constexpr double kNoise = 8 * std::numeric_limits<double>::epsilon();
-  if (phase_->is_unreduced()) return;  // nothing locked
-  const double ground = x.ground;
-  const Eigen::VectorXd& m = phase_->full_mass();
-  const LinearPhase::SparseMatrix& c = phase_->full_damping();
-  const LinearPhase::SparseMatrix& k = phase_->full_stiffness();
-  for (std::size_t p = 0; p < config_.size(); ++p) {
-    if (!is_rigid(p)) continue;
-    const int l = contact_links_[p].a;
-    const double load = phase_->full_constant_load()(l);
-    double f = load - m(l) * (ground + x.a(l));
-    double magnitude = std::abs(load) + m(l) * (std::abs(ground) + std::abs(x.a(l)));
-    for (LinearPhase::SparseMatrix::InnerIterator it(c, l); it; ++it) {  // symmetric: column = row
-      f -= it.value() * x.v(it.row());
-      magnitude += std::abs(it.value() * x.v(it.row()));
-    }
-    for (LinearPhase::SparseMatrix::InnerIterator it(k, l); it; ++it) {
-      f -= it.value() * x.u(it.row());
-      magnitude += std::abs(it.value() * x.u(it.row()));
-    }
-    stop_reaction_[p] = f + link_in_[l];
-    stop_noise_[p] = kNoise * (magnitude + std::abs(link_in_[l]));
-    link_in_[contact_links_[p].b] = stop_reaction_[p];
-  }
-  for (std::size_t p = 0; p < config_.size(); ++p) {
-    if (is_rigid(p)) link_in_[contact_links_[p].b] = 0.0;
-  }
-}
-
 void Simulator::accept(KinematicState& next) {
-  energy_.step(state_, next, config_, memory_);
+  energy_.step(state_, next, contact_.config, contact_.memory);
   monitor_.observe_step(state_, next);
   after_accept(next);
   g_lo_ = g_hi_;
@@ -374,8 +272,8 @@ void Simulator::accept(KinematicState& next) {
 
 void Simulator::after_accept(KinematicState& next) {
   const double h = next.t - state_.t;
-  for (std::size_t p = 0; p < config_.size(); ++p) {
-    if (is_rigid(p)) monitor_.observe_locked(p, h);
+  for (std::size_t p = 0; p < contact_.config.size(); ++p) {
+    if (contact_.rigid[p] != 0) monitor_.observe_locked(p, h);
   }
   std::swap(state_, next);
   ++monitor_.counts().substeps;
@@ -386,6 +284,7 @@ void Simulator::check_finite() const {
   // Magnitudes beyond double range (an amplitude of 1e300 g, k = 1e308 with m = 1e-300, ...) turn
   // the state or the energies into ±inf and then NaN, which every comparison (peaks, the balance
   // check) silently ignores. Stop at the first such state and say where it went.
+  const DofLayout& layout_ = system_.layout();
   const auto where = [&](int dof) {
     return fmt::format("frame {} floor {}", layout_.frame_of(dof) + 1, layout_.floor_of(dof) + 1);
   };
@@ -401,17 +300,15 @@ void Simulator::check_finite() const {
     if (!std::isfinite(state_.v(i))) fail(fmt::format("the velocity of {} ({})", where(i), state_.v(i)));
     if (!std::isfinite(state_.a(i))) fail(fmt::format("the acceleration of {} ({})", where(i), state_.a(i)));
   }
-  for (int f = 0; f < model_.frame_count(); ++f) {
+  for (int f = 0; f < system_.model().frame_count(); ++f) {
     const double v = storey_shear(f);
     if (!std::isfinite(v)) fail(fmt::format("the base shear of frame {} ({} N)", f + 1, v));
   }
-  for_each_contact_link(contact_table_, [&](const auto& link) {
+  for_each_contact_link(system_.contact_table(), [&](const auto& link) {
     const auto p = static_cast<std::size_t>(link.element);
-    const double law_force = link.law.force(kinematics(state_, link), mode(p));
-    const double force = is_rigid(p) ? law_force + stop_reaction_[p] : law_force;
-    if (!std::isfinite(force)) {
-      fail(fmt::format("the force of {} ({} N)", describe(contact_links_[p], layout_), force));
-    }
+    const double law_force = link.law.force(kinematics(state_, link), contact_.config[p]);
+    const double force = contact_.rigid[p] != 0 ? law_force + contact_.stop_reaction[p] : law_force;
+    if (!std::isfinite(force)) fail(fmt::format("the force of {} ({} N)", describe(system_.contact_links()[p], layout_), force));
   });
   const EnergyBalance& b = energy_.balance();
   for (const auto& [name, value] :
@@ -428,26 +325,29 @@ void Simulator::check_finite() const {
 void Simulator::record_statistics() {
   check_finite();
   monitor_.observe(state_);
-  for_each_contact_link(contact_table_, [&](const auto& link) {
+  // Law by law (no dispatch per element): this runs at every accepted state.
+  for_each_contact_link(system_.contact_table(), [&](const auto& link) {
     const auto p = static_cast<std::size_t>(link.element);
-    if (!transmits_[p]) return;
+    if (contact_.transmits[p] == 0) return;
     const LinkKinematics k = kinematics(state_, link);
-    const double force = link.law.force(k, mode(p));
-    monitor_.observe_gap(p, is_rigid(p) ? force + stop_reaction_[p] : force, link.law.shortening(k), state_.t);
+    const double force = link.law.force(k, contact_.config[p]);
+    monitor_.observe_gap(p, contact_.rigid[p] != 0 ? force + contact_.stop_reaction[p] : force,
+                         link.law.shortening(k), state_.t);
   });
 }
 
 void Simulator::emit(int gap, EventKind kind, double left_before, double right_before,
                      double impulse) {
   const auto p = static_cast<std::size_t>(gap);
-  const double left_after = state_.v(contact_links_[p].a);
-  const double right_after = state_.v(contact_links_[p].b);
+  const Link& link = system_.contact_links()[p];
+  const double left_after = state_.v(link.a);
+  const double right_after = state_.v(link.b);
   const double before = left_before - right_before, after = left_after - right_after;
   if (++events_this_step_ > options_.max_events_per_step) {
     throw SimulationError(fmt::format(
         "more than {} events within one step at t = {} s ({}): chattering that lock_time = {} s does not "
         "suppress",
-        options_.max_events_per_step, state_.t, describe(contact_links_[p], layout_), options_.lock_time),
+        options_.max_events_per_step, state_.t, describe(link, system_.layout()), options_.lock_time),
         StopReason::event_limit);
   }
   monitor_.observe_event(p, kind, before, impulse, state_.t);
@@ -459,225 +359,11 @@ void Simulator::emit(int gap, EventKind kind, double left_before, double right_b
 
 void Simulator::apply_pending_events() {
   // An event can trigger others at the same instant (e.g. an impact that makes the dashpot pull):
-  // apply them all before moving on. apply_events re-evaluates g_lo_, hence the copy.
+  // apply them all before moving on. The system re-evaluates g_lo_, hence the copy.
   while (any_fired(g_lo_)) {
     g_work_ = g_lo_;
-    apply_events(g_work_);
-  }
-}
-
-void Simulator::apply_events(std::span<const double> fired) {
-  impacts_.clear();
-  for (std::size_t j = 0; j < fired.size(); ++j) {
-    if (!(fired[j] > 0)) continue;
-    const std::size_t p = j / 2;
-    const int pi = static_cast<int>(p);
-    const Link& link = contact_links_[p];
-    const double vl = state_.v(link.a), vr = state_.v(link.b);
-    const LinkKinematics k = kinematics(state_, link);
-    LinkMode m = mode(p);
-    const Transition transition = with_contact_law<Transition>(link, [&](const auto& law) {
-      return law.on_guard(static_cast<int>(j % 2), k, m, memory_[p], options_.separation);
-    });
-    config_[p] = m;
-    refresh_link_flags(p);  // the event handler below may ask for the element's force
-    switch (transition) {
-      case Transition::impact: impacts_.push_back(pi); break;
-      case Transition::contact:
-        bias_[p] = 0.0;
-        emit(pi, EventKind::contact, vl, vr, 0.0);
-        break;
-      case Transition::separation:
-        bias_[p] = 0.0;
-        emit(pi, EventKind::separation, vl, vr, 0.0);
-        break;
-      case Transition::unlock:
-        bias_[p] = 0.0;
-        emit(pi, EventKind::unlock, vl, vr, 0.0);
-        break;
-    }
-  }
-  activate_phase();
-  if (!impacts_.empty()) resolve_impacts(impacts_);
-  settle_after_events();
-}
-
-double Simulator::stop_guard(std::size_t p) const {
-  const Link& link = contact_links_[p];
-  const LinkKinematics k = kinematics(state_, link);
-  const double distance = with_contact_law<double>(
-      link, [&](const auto& law) { return law.stop_distance(k, mode(p), memory_[p]); });
-  return distance - bias_[p];
-}
-
-bool Simulator::stop_guard_is_active(std::size_t p) const {
-  return with_contact_law<bool>(contact_links_[p], [&](const auto& law) {
-    return law.traits.has_stop && law.stop_guard_is_active(mode(p));
-  });
-}
-
-void Simulator::resolve_impacts(const std::vector<int>& fired) {
-  Eigen::VectorXd& v = state_.v;
-  const double kinetic_before = energy_.kinetic_energy(v);
-  const std::size_t elements = config_.size();
-  const double ground = ground_acceleration_now();
-
-  std::vector<double> left_before(elements), right_before(elements), impulse(elements, 0.0);
-  std::vector<char> involved(elements, 0);
-  for (std::size_t p = 0; p < elements; ++p) {
-    left_before[p] = v(contact_links_[p].a);
-    right_before[p] = v(contact_links_[p].b);
-  }
-  for (const int p : fired) involved[static_cast<std::size_t>(p)] = 1;
-  const auto closing_speed = [&](std::size_t p) {
-    const double vl = v(contact_links_[p].a), vr = v(contact_links_[p].b);
-    return closes(vl, vr) ? vl - vr : 0.0;
-  };
-  struct Lock {
-    int element;
-    double left_before, right_before, impulse;
-  };
-  std::vector<Lock> locks;
-
-  // Rounds at one instant, until nothing changes:
-  // 1. Sequential pairwise restitution until no involved pair approaches: exact for independent
-  //    pairs, the Newton's-cradle answer for a chain of frames that share a floor. Floors held
-  //    together by locked elements collide as one body (their group). A pair that sits at its
-  //    stop — within the distance it closes in one event tolerance — and is driven into it by
-  //    these impulses joins in: its collision would follow within the tolerance, and resolving a
-  //    chain one located event at a time is an endless ping-pong of a light floor squeezed
-  //    between heavy ones (e → 0) that only the limit of this loop settles.
-  // 2. Lock the involved pairs that are pressed together and would only bounce for less than
-  //    lock_time. Their plastic merge changes the velocities of the others, which may close
-  //    again: back to 1.
-  const int max_sweeps = 10000 * static_cast<int>(elements);
-  int sweeps = 0;
-  for (;;) {
-    const auto group = phase_->group_of();
-    const Eigen::VectorXd& group_mass = phase_->mass();
-    const auto shares_a_body = [&](std::size_t p) {
-      const int gl = group[static_cast<std::size_t>(contact_links_[p].a)];
-      const int gr = group[static_cast<std::size_t>(contact_links_[p].b)];
-      for (std::size_t q = 0; q < elements; ++q) {
-        if (!involved[q]) continue;
-        const int ql = group[static_cast<std::size_t>(contact_links_[q].a)];
-        const int qr = group[static_cast<std::size_t>(contact_links_[q].b)];
-        if (gl == ql || gl == qr || gr == ql || gr == qr) return true;
-      }
-      return false;
-    };
-    for (;;) {
-      for (; sweeps < max_sweeps; ++sweeps) {
-        std::size_t worst = elements;
-        double closing = 0.0;
-        for (std::size_t p = 0; p < elements; ++p) {
-          if (!involved[p] || is_rigid(p)) continue;
-          const double w = closing_speed(p);
-          if (w > closing) {
-            closing = w;
-            worst = p;
-          }
-        }
-        if (worst == elements) break;
-        const int l = contact_links_[worst].a, r = contact_links_[worst].b;
-        const int gl = group[static_cast<std::size_t>(l)];
-        const int gr = group[static_cast<std::size_t>(r)];
-        const double rest = options_.rest_velocity_ratio * (std::abs(v(l)) + std::abs(v(r)));
-        const double restitution =
-            closing <= rest ? 0.0
-                            : with_contact_law<double>(contact_links_[worst], [](const auto& law) {
-                                return law.restitution();
-                              });
-        const ImpactOutcome o =
-            restitution_impact(group_mass(gl), group_mass(gr), v(l), v(r), restitution);
-        for (Eigen::Index i = 0; i < v.size(); ++i) {
-          const int gi = group[static_cast<std::size_t>(i)];
-          if (gi == gl) v(i) = o.v_left;
-          if (gi == gr) v(i) = o.v_right;
-        }
-        impulse[worst] += o.impulse;
-      }
-      bool joined = false;
-      for (std::size_t p = 0; p < elements; ++p) {
-        if (involved[p]) continue;
-        if (!stop_guard_is_active(p)) continue;
-        const double w = closing_speed(p);
-        if (!(w > 0) || !shares_a_body(p)) continue;
-        const LinkKinematics k = kinematics(state_, contact_links_[p]);
-        const double s_noise = with_contact_law<double>(
-            contact_links_[p], [&](const auto& law) { return law.position_noise(k); });
-        if (stop_guard(p) < -(w * options_.event_tolerance + s_noise)) continue;
-        involved[p] = 1;
-        joined = true;
-      }
-      if (!joined) break;
-    }
-
-    newmark_.equilibrate(*phase_, ground, state_);
-    std::vector<int> locking;
-    for (std::size_t p = 0; p < elements; ++p) {
-      if (!involved[p] || is_rigid(p)) continue;
-      const int l = contact_links_[p].a, r = contact_links_[p].b;
-      const int gl = group[static_cast<std::size_t>(l)], gr = group[static_cast<std::size_t>(r)];
-      if (gl == gr) continue;  // already held together through other locked links
-      const double pressing = state_.a(l) - state_.a(r);
-      const double opening = -(v(l) - v(r));
-      if (pressing > 0 && 2.0 * opening <= pressing * options_.lock_time) {
-        locking.push_back(static_cast<int>(p));
-        const double ml = group_mass(gl), mr = group_mass(gr);
-        locks.push_back({static_cast<int>(p), v(l), v(r), std::abs(v(l) - v(r)) * ml * mr / (ml + mr)});
-      }
-    }
-    if (locking.empty()) break;
-    for (const int p : locking) {
-      const auto e = static_cast<std::size_t>(p);
-      config_[e] = with_contact_law<LinkMode>(contact_links_[e],
-                                              [](const auto& law) { return law.locked_mode(); });
-      // The link keeps the floors where they are (on the stop, to the event tolerance).
-      link_length_[e] = state_.u(contact_links_[e].a) - state_.u(contact_links_[e].b);
-    }
-    activate_phase();
-    // Plastic merge: each new group moves with the velocity of its centre of mass.
-    const auto new_group = phase_->group_of();
-    const Eigen::VectorXd& m = phase_->full_mass();
-    Eigen::VectorXd momentum = Eigen::VectorXd::Zero(phase_->reduced_size());
-    for (Eigen::Index i = 0; i < v.size(); ++i) {
-      momentum(new_group[static_cast<std::size_t>(i)]) += m(i) * v(i);
-    }
-    const Eigen::VectorXd group_v = momentum.cwiseQuotient(phase_->mass());
-    phase_->scatter(group_v, v, false);
-  }
-  energy_.add_impact_loss(kinetic_before - energy_.kinetic_energy(v));
-  for (std::size_t p = 0; p < elements; ++p) {
-    // A pair whose guard fired without closing (a touch at equal speeds) took no impulse: it is no
-    // impact, though it may have locked.
-    if (involved[p] && impulse[p] > 0) {
-      emit(static_cast<int>(p), EventKind::impact, left_before[p], right_before[p], impulse[p]);
-    }
-  }
-  for (const Lock& lock : locks) {
-    emit(lock.element, EventKind::lock, lock.left_before, lock.right_before, lock.impulse);
-  }
-}
-
-void Simulator::settle_after_events() {
-  newmark_.equilibrate(*phase_, ground_acceleration_now(), state_);
-  evaluate_guards(state_, g_lo_, dg_lo_);
-  set_impact_biases();
-  energy_.refresh(state_, config_, memory_);
-}
-
-void Simulator::set_impact_biases() {
-  // At an impact the state is taken at the upper end of the event bracket, a hair past the stop
-  // (by at most |ṡ| × tolerance). The element now moves away from the stop; offset its guard by
-  // that hair so that the next impact is detected when the stop is reached again.
-  for (std::size_t p = 0; p < config_.size(); ++p) {
-    const std::size_t j = 2 * p;
-    if (!stop_guard_is_active(p) || !(g_lo_[j] > 0)) continue;
-    // Still closing: a genuine impact, applied by the caller.
-    if (closes(state_.v(contact_links_[p].a), state_.v(contact_links_[p].b))) continue;
-    bias_[p] += g_lo_[j];
-    g_lo_[j] = 0.0;
+    phase_ = &system_.apply_events(g_work_, state_, contact_, *phase_, g_lo_, dg_lo_, *events_);
+    energy_.refresh(state_, contact_.config, contact_.memory);
   }
 }
 

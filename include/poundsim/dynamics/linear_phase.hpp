@@ -31,6 +31,7 @@
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
+#include "poundsim/dynamics/state.hpp"
 #include "poundsim/model/contact_state.hpp"
 #include "poundsim/model/model.hpp"
 
@@ -84,6 +85,11 @@ class LinearPhase {
   [[nodiscard]] const SparseMatrix& full_stiffness() const { return stiffness_full_; }
   [[nodiscard]] const Eigen::VectorXd& full_constant_load() const { return load_full_; }
 
+  /// Sets the accelerations from the phase's equation of motion at the state's time, with
+  /// `ground` = a_g there: ü = M⁻¹(−m a_g + b − C u̇ − K u). Used after every event, when the
+  /// phase or the velocities change.
+  void equilibrate(double ground, KinematicState& state) const;
+
   /// Factorisation of M_r + (h/2) C_r + (h²/4) K_r for the step given at construction, made on
   /// first use.
   [[nodiscard]] const Solver& step_solver() const;
@@ -113,6 +119,7 @@ class LinearPhase {
   Eigen::VectorXd constant_load_;
   SparseMatrix transfer_t_;              ///< Tᵀ (empty when unreduced).
   Eigen::VectorXd load_work_;
+  mutable Eigen::VectorXd q_work_, qd_work_, rhs_work_;  ///< equilibrate()'s, sized once
 
   // Upper-triangular pattern of the effective matrix and the aligned M, C, K values.
   mutable SparseMatrix effective_;

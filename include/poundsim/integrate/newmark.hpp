@@ -31,11 +31,6 @@ class NewmarkIntegrator {
   void step(const LinearPhase& phase, const LinearPhase::Solver& solver,
             const KinematicState& from, double tau, double ground_end, KinematicState& to);
 
-  /// Sets the accelerations from the equation of motion at the state's time:
-  /// ü = M⁻¹(−m a_g + b − C u̇ − K u). Used after every event, when the phase or the
-  /// velocities change.
-  void equilibrate(const LinearPhase& phase, double ground, KinematicState& state);
-
  private:
   Eigen::VectorXd q_, qd_, qdd_, w1_, w2_, rhs_, qdd_new_;
 };

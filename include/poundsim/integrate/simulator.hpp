@@ -54,6 +54,7 @@
 #include "poundsim/integrate/event_location.hpp"
 #include "poundsim/model/excitation.hpp"
 #include "poundsim/dynamics/linear_phase.hpp"
+#include "poundsim/dynamics/system.hpp"
 #include "poundsim/model/model.hpp"
 #include "poundsim/integrate/integrator.hpp"
 #include "poundsim/integrate/newmark.hpp"
@@ -109,6 +110,12 @@ struct TimeHistoryOptions {
 
   /// Throws std::invalid_argument naming the field that is out of range.
   void validate() const;
+
+  /// The rules of the system's events these options set.
+  [[nodiscard]] EventRules event_rules() const {
+    return {.separation = separation, .event_tolerance = event_tolerance, .lock_time = lock_time,
+            .rest_velocity_ratio = rest_velocity_ratio};
+  }
 
   /// The rule between lock_time and event_tolerance, when broken: "X s must be at least
   /// 10 × event_tolerance = Y s" (validate() throws it; the reader names the key and the line).
@@ -167,11 +174,13 @@ class Simulator {
 
   [[nodiscard]] double time() const { return state_.t; }
   [[nodiscard]] const KinematicState& state() const { return state_; }
-  [[nodiscard]] const ContactConfiguration& configuration() const { return config_; }
-  [[nodiscard]] const Model& model() const { return model_; }
-  [[nodiscard]] const DofLayout& layout() const { return layout_; }
+  [[nodiscard]] const ContactConfiguration& configuration() const { return contact_.config; }
+  /// The system integrated: frames, gap elements, excitation, event rules.
+  [[nodiscard]] const PoundingSystem& system() const { return system_; }
+  [[nodiscard]] const Model& model() const { return system_.model(); }
+  [[nodiscard]] const DofLayout& layout() const { return system_.layout(); }
   [[nodiscard]] const TimeHistoryOptions& options() const { return options_; }
-  [[nodiscard]] const Excitation& excitation() const { return excitation_; }
+  [[nodiscard]] const Excitation& excitation() const { return system_.excitation(); }
 
   /// a_g at the current time [m/s²].
   [[nodiscard]] double ground_acceleration_now() const;
@@ -189,20 +198,23 @@ class Simulator {
   [[nodiscard]] const ResponseStatistics& statistics() const { return monitor_.statistics(); }
 
  private:
-  // The integrators (src/integrate/steppers.hpp) drive the guards and events of the system.
+  // The integrators (src/integrate/steppers.hpp) advance the loop's state between events: they
+  // ask the system for guards and hand the loop the states they reach and the guards that fired.
   friend class detail::NewmarkStepper;
   friend class detail::ExactStepper;
+  class Events;  // the loop as the system's EventHandler
 
-  /// Makes the phase of config_ current, with the link lengths of its locked elements.
-  void activate_phase();
+  /// Makes the phase of the contact configuration current, with the lengths of its locked links.
+  LinearPhase& activate_phase();
   void integrate_to(double t_end, bool nominal);
   void settle_state();
   /// A failed simulator throws its failure again; record_failure makes it failed.
   void throw_if_failed() const;
   void record_failure(const SimulationError& e);
-  void evaluate_guards(const KinematicState& x, std::span<double> g, std::span<double> dg);
-  /// λ of the locked elements at `x` (stop_reaction_, stop_noise_); evaluate_guards computes them.
-  void compute_stop_reactions(const KinematicState& x);
+  /// The system's guards at x with the loop's contact state; the current phase gives λ.
+  void evaluate_guards(const KinematicState& x, std::span<double> g, std::span<double> dg) {
+    system_.evaluate_guards(x, *phase_, contact_, g, dg);
+  }
   /// Accepts the Newmark step to `next`, whose guards are g_hi_.
   void accept(KinematicState& next);
   /// Makes `next` the current state (swapped with it) and records its statistics, which read λ:
@@ -211,49 +223,16 @@ class Simulator {
   /// Applies the events whose guards g_lo_ fired at the current state, and those they trigger,
   /// until none fires.
   void apply_pending_events();
-  void apply_events(std::span<const double> fired_guards);
-  /// Applies the impacts of the elements whose stop guards `fired`, with the neighbours they drive
-  /// into their stops, then locks the pairs left pressed together.
-  void resolve_impacts(const std::vector<int>& fired);
-  /// s minus the stop of element p (ε in contact, the free end when open), minus its bias [m].
-  [[nodiscard]] double stop_guard(std::size_t p) const;
-  void settle_after_events();
   /// Reports an event; velocities after are read from the current state.
   void emit(int gap, EventKind kind, double left_before, double right_before, double impulse);
   void record_statistics();
   /// Throws SimulationError naming the time and the quantity when the state, a force or an energy
   /// is no longer finite.
   void check_finite() const;
-  void set_impact_biases();
-  /// The mode of element p's link.
-  [[nodiscard]] LinkMode mode(std::size_t p) const;
-  /// Sets transmits_ and rigid_ of element p from its law in its mode.
-  void refresh_link_flags(std::size_t p);
-  /// True when element p's link is rigid in its mode (a locked element).
-  [[nodiscard]] bool is_rigid(std::size_t p) const;
-  /// True when element p's approach guard is its stop (its firing is an impact).
-  [[nodiscard]] bool stop_guard_is_active(std::size_t p) const;
 
-  Model model_;
-  DofLayout layout_;
-  Excitation excitation_;
+  PoundingSystem system_;
   TimeHistoryOptions options_;
-
-  /// The links of the gap elements, in Model::gaps order; their laws are contact laws
-  /// (model/laws/contact_law.hpp), asked for guards, events and forces.
-  std::vector<Link> contact_links_;
-  LinkTable contact_table_;  ///< The same, by law, for the loops of every step.
-  /// Per element, as of the last activate_phase: its law transmits a force in its mode; its link
-  /// is rigid.
-  std::vector<char> transmits_, rigid_;
-  ContactConfiguration config_;
-  std::vector<GapMemory> memory_;
-  std::vector<double> bias_;          ///< Hysteresis of each element's contact/impact guard [m].
-  std::vector<double> stop_reaction_; ///< λ of locked elements at the last guard evaluation [N].
-  std::vector<double> stop_noise_;    ///< Round-off level of each λ [N].
-  std::vector<double> link_in_;       ///< Scratch for the chain sweep of stop reactions.
-
-  std::vector<double> link_length_;   ///< u_L − u_R of each locked element when it locked [m].
+  ContactState contact_;
 
   std::map<ContactConfiguration, std::unique_ptr<LinearPhase>> phases_;
   LinearPhase* phase_ = nullptr;
@@ -262,12 +241,12 @@ class Simulator {
   ResponseMonitor monitor_;  ///< Peaks and counts.
 
   std::unique_ptr<detail::Stepper> stepper_;  ///< Newmark or exact (options_.integrator)
+  std::unique_ptr<Events> events_;
   KinematicState state_;
   std::vector<double> g_lo_, g_hi_, g_work_, dg_lo_, dg_hi_, dg_work_;
   double grid_origin_ = 0.0;
   std::int64_t grid_index_ = 0;
   int events_this_step_ = 0;
-  std::vector<int> impacts_;
   std::function<void(const Event&)> on_event_;
   std::optional<SimulationStatus> failure_;  ///< Once the integration has failed
 };

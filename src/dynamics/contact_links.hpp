@@ -1,5 +1,5 @@
 #pragma once
-// The simulator's access to the contact laws of the gap elements' links (contact_law.hpp).
+// The system's and the integrators' access to the contact laws of the gap elements' links (contact_law.hpp).
 
 #include <stdexcept>
 #include <type_traits>

@@ -1,0 +1,158 @@
+#pragma once
+/// @file
+/// The pounding system: the frames and gap elements as links with laws (model/law.hpp), the
+/// ground motion, and the rules of its events — what does not change while it is integrated.
+/// Its changing part, besides the floors' kinematics (KinematicState), is a ContactState: the
+/// mode of each gap element's law (the contact configuration), its memory, the hysteresis of its
+/// guard and the length a locked element holds.
+///
+/// The integrators (integrate/) advance the state between events and ask the system for
+/// everything else: its guards (witness functions of the contact laws, positive = fired, with
+/// their rates and the stop reactions of locked elements), and what the fired guards do — mode
+/// changes, impacts with restitution (simultaneous pairs and chains resolved in sequence), the
+/// locking of pairs pressed together. The laws answer for their own links; the system keeps what
+/// acts on several links at once (the stop reactions along chains of rigid links, impact
+/// resolution, locking). It names no law. See docs/model.md for the event rules and
+/// docs/architecture.md for the split between system, integrators and loop.
+///
+/// The system is const: every function takes the contact state it reads or changes. Applying
+/// events needs the phase (linear system) of each configuration the events pass through and
+/// reports each event; the loop that owns the phases and the monitors provides both as an
+/// EventHandler.
+
+#include <span>
+#include <vector>
+
+#include "poundsim/dynamics/event.hpp"
+#include "poundsim/dynamics/linear_phase.hpp"
+#include "poundsim/dynamics/state.hpp"
+#include "poundsim/model/contact_state.hpp"
+#include "poundsim/model/excitation.hpp"
+#include "poundsim/model/law.hpp"
+#include "poundsim/model/model.hpp"
+
+namespace poundsim {
+
+/// The rules of the system's events (the event keys of [analysis], docs/input.md). SI units;
+/// TimeHistoryOptions validates them.
+struct EventRules {
+  SeparationCriterion separation = SeparationCriterion::displacement;
+  double event_tolerance = 1e-10;  ///< [s] event times are bracketed to this width
+  /// [s] a pressed pair whose next flight would be shorter than this locks.
+  double lock_time = 1e-6;
+  /// An impact closing slower than this fraction of its floors' speeds is plastic (e = 0).
+  double rest_velocity_ratio = 1e-4;
+};
+
+/// What changes at events, per gap element (Model::gaps order), and what is derived from it.
+struct ContactState {
+  ContactConfiguration config;     ///< The mode of each element's law: the phase's key.
+  std::vector<GapMemory> memory;   ///< A relaxing free end after a force separation.
+  std::vector<double> bias;        ///< Hysteresis of each element's approach guard [m].
+  std::vector<double> link_length; ///< u_L − u_R of each locked element when it locked [m].
+
+  // Derived, kept by the system:
+  std::vector<char> transmits;     ///< The law transmits a force in its mode.
+  std::vector<char> rigid;         ///< The link is rigid in its mode (a locked element).
+  std::vector<double> stop_reaction;  ///< λ of locked elements at the last guard evaluation [N].
+  std::vector<double> stop_noise;     ///< Round-off level of each λ [N].
+
+  // Scratch, sized once.
+  std::vector<double> link_in;  ///< The chain sweep of stop reactions, per DOF.
+  std::vector<int> impacts;     ///< Elements whose stops fired at an instant.
+};
+
+/// What applying events needs from the loop that runs the system: the phases, and an ear.
+class EventHandler {
+ public:
+  virtual ~EventHandler() = default;
+  /// The configuration of `contact` changed: makes its phase current — factorised, with the
+  /// lengths of its locked links — and returns it. The system then refreshes the derived flags.
+  virtual LinearPhase& activate(const ContactState& contact) = 0;
+  /// An event at x.t; the velocities after it are those of `x`. The floors' velocities before
+  /// and the impulse of an impact or lock [N·s].
+  virtual void on_event(const KinematicState& x, int gap, EventKind kind, double left_before,
+                        double right_before, double impulse) = 0;
+  /// Impacts and locks at one instant dissipated `loss` [J] of kinetic energy.
+  virtual void on_impact_loss(double loss) = 0;
+};
+
+class PoundingSystem {
+ public:
+  /// The model must be valid (validate(model)); `excitation` too (validate(excitation)).
+  PoundingSystem(Model model, Excitation excitation, EventRules rules);
+
+  [[nodiscard]] const Model& model() const { return model_; }
+  [[nodiscard]] const DofLayout& layout() const { return layout_; }
+  [[nodiscard]] const Excitation& excitation() const { return excitation_; }
+  [[nodiscard]] const EventRules& rules() const { return rules_; }
+  /// Every link, storeys first (make_links).
+  [[nodiscard]] const std::vector<Link>& links() const { return links_; }
+  /// The links of the gap elements, in Model::gaps order.
+  [[nodiscard]] std::span<const Link> contact_links() const { return contact_links_; }
+  [[nodiscard]] int gap_count() const { return static_cast<int>(contact_links_.size()); }
+  /// The same links by law, for loops that run at every step (no dispatch per link).
+  [[nodiscard]] const LinkTable& contact_table() const { return contact_table_; }
+
+  /// The same system under another ground motion (a frequency sweep's next point).
+  [[nodiscard]] PoundingSystem with_excitation(Excitation excitation) const;
+
+  /// a_g(t) [m/s²].
+  [[nodiscard]] double ground_acceleration(double t) const;
+  /// ½ vᵀ M v [J], summed as the energy meter sums it.
+  [[nodiscard]] double kinetic_energy(const Eigen::VectorXd& v) const;
+
+  /// The contact state at x (each law's initial mode; nothing locked, no memory). Throws
+  /// std::invalid_argument naming the element whose law cannot start there.
+  [[nodiscard]] ContactState initial_contact(const KinematicState& x) const;
+  /// Refreshes the derived flags of every element from its mode (after activate()).
+  void refresh_flags(ContactState& c) const;
+
+  /// The two guards of each element at x (2p: approach or stop, 2p + 1: separation or unlock),
+  /// minus their round-off levels (−∞ when inactive), and their rates; computes the stop
+  /// reactions of the locked elements into c first.
+  void evaluate_guards(const KinematicState& x, const LinearPhase& phase, ContactState& c,
+                       std::span<double> g, std::span<double> dg) const;
+  /// λ and its round-off level of every locked element at x, into c.
+  void compute_stop_reactions(const KinematicState& x, const LinearPhase& phase, ContactState& c) const;
+
+  /// s of element p at x [m].
+  [[nodiscard]] double shortening(const KinematicState& x, int p) const;
+  /// The force element p transmits at x [N], compression positive, its stop reaction included
+  /// (as of the last guard evaluation); 0 when open.
+  [[nodiscard]] double gap_force(const KinematicState& x, const ContactState& c, int p) const;
+
+  /// Applies the events whose guards `fired` (> 0) at x — mode changes, impacts, locks — and
+  /// then sets the accelerations, the guards g, dg at the new state and the impact hysteresis.
+  /// Events may trigger others at the same instant: the caller applies again while g fires.
+  /// Returns the phase current at the end.
+  LinearPhase& apply_events(std::span<const double> fired, KinematicState& x, ContactState& c,
+                            LinearPhase& phase, std::span<double> g, std::span<double> dg,
+                            EventHandler& handler) const;
+  /// Sets ü from the equation of motion of `phase` at x.t (after the velocities or the phase
+  /// changed).
+  void equilibrate(LinearPhase& phase, KinematicState& x) const;
+
+ private:
+  void refresh_flags(ContactState& c, std::size_t p) const;
+  LinearPhase& activate(ContactState& c, EventHandler& handler) const;
+  /// Applies the impacts of the elements in c.impacts with the neighbours they drive into their
+  /// stops, then locks the pairs left pressed together.
+  LinearPhase& resolve_impacts(KinematicState& x, ContactState& c, LinearPhase& phase,
+                               EventHandler& handler) const;
+  /// s minus the stop of element p (ε in contact, the free end when open), minus its bias [m].
+  [[nodiscard]] double stop_guard(const KinematicState& x, const ContactState& c, std::size_t p) const;
+  [[nodiscard]] bool stop_guard_is_active(const ContactState& c, std::size_t p) const;
+  void set_impact_biases(const KinematicState& x, ContactState& c, std::span<double> g) const;
+
+  Model model_;
+  DofLayout layout_;
+  Excitation excitation_;
+  EventRules rules_;
+  std::vector<Link> links_;
+  std::vector<Link> contact_links_;
+  LinkTable contact_table_;  ///< The contact links by law, for the loops of every step.
+  Eigen::VectorXd mass_;     ///< Floor masses in DOF order [kg].
+};
+
+}  // namespace poundsim

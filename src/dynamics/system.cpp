@@ -1,0 +1,395 @@
+#include "poundsim/dynamics/system.hpp"
+
+#include <array>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "contact_links.hpp"
+#include "poundsim/model/impact.hpp"
+
+namespace poundsim {
+
+using detail::for_each_contact_link;
+using detail::kinematics;
+using detail::with_contact_law;
+
+namespace {
+
+constexpr double kInactive = -std::numeric_limits<double>::infinity();
+/// The closing speed u̇_L − u̇_R of a pair counts only above this fraction of |u̇_L| + |u̇_R|: below
+/// it, it is the round-off of equal velocities computed apart, or the remainder of the
+/// sequential restitution of a chain, which stops there. One threshold for both, so that what
+/// one impact resolution leaves behind never fires another.
+constexpr double kClosingTolerance = 1e-12;
+
+[[nodiscard]] bool closes(double v_left, double v_right) {
+  return v_left - v_right > kClosingTolerance * (std::abs(v_left) + std::abs(v_right));
+}
+
+}  // namespace
+
+PoundingSystem::PoundingSystem(Model model, Excitation excitation, EventRules rules)
+    : model_(std::move(model)),
+      layout_(model_),
+      excitation_(std::move(excitation)),
+      rules_(rules),
+      links_(make_links(model_, layout_)) {
+  for (const Link& link : links_) {
+    if (link.element >= 0) contact_links_.push_back(link);
+  }
+  contact_table_ = LinkTable(contact_links_);
+  mass_.resize(layout_.size());
+  for (int i = 0; i < layout_.size(); ++i) {
+    mass_(i) = model_.frames[static_cast<std::size_t>(layout_.frame_of(i))].mass[static_cast<std::size_t>(layout_.floor_of(i))];
+  }
+}
+
+PoundingSystem PoundingSystem::with_excitation(Excitation excitation) const {
+  PoundingSystem other = *this;
+  other.excitation_ = std::move(excitation);
+  return other;
+}
+
+double PoundingSystem::ground_acceleration(double t) const { return poundsim::ground_acceleration(excitation_, t); }
+
+double PoundingSystem::kinetic_energy(const Eigen::VectorXd& v) const { return 0.5 * v.cwiseAbs2().dot(mass_); }
+
+ContactState PoundingSystem::initial_contact(const KinematicState& x) const {
+  const std::size_t ng = contact_links_.size();
+  ContactState c;
+  c.config.assign(ng, LinkMode{0});
+  for (std::size_t p = 0; p < ng; ++p) {
+    const Link& link = contact_links_[p];
+    const double d = x.u(link.a) - x.u(link.b);
+    try {
+      c.config[p] = with_contact_law<LinkMode>(link, [&](const auto& law) { return law.initial_mode(d); });
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(
+          fmt::format("initial displacements compress {} {}", describe(link, layout_), e.what()));
+    }
+  }
+  c.memory.assign(ng, GapMemory{});
+  c.bias.assign(ng, 0.0);
+  c.link_length.assign(ng, 0.0);
+  c.transmits.assign(ng, 0);
+  c.rigid.assign(ng, 0);
+  c.stop_reaction.assign(ng, 0.0);
+  c.stop_noise.assign(ng, 0.0);
+  c.link_in.assign(static_cast<std::size_t>(layout_.size()), 0.0);
+  c.impacts.reserve(ng);
+  return c;
+}
+
+void PoundingSystem::refresh_flags(ContactState& c, std::size_t p) const {
+  // What the element's law does in its mode, asked when the mode changes rather than per step.
+  const std::optional<LinearForm> form = contact_links_[p].linear_form(c.config[p]);
+  c.transmits[p] = form.has_value();
+  c.rigid[p] = form && form->rigid;
+}
+
+void PoundingSystem::refresh_flags(ContactState& c) const {
+  for (std::size_t p = 0; p < c.config.size(); ++p) refresh_flags(c, p);
+}
+
+LinearPhase& PoundingSystem::activate(ContactState& c, EventHandler& handler) const {
+  LinearPhase& phase = handler.activate(c);
+  refresh_flags(c);
+  return phase;
+}
+
+void PoundingSystem::equilibrate(LinearPhase& phase, KinematicState& x) const {
+  phase.equilibrate(ground_acceleration(x.t), x);
+}
+
+double PoundingSystem::shortening(const KinematicState& x, int p) const {
+  const Link& link = contact_links_[static_cast<std::size_t>(p)];
+  const LinkKinematics k = kinematics(x, link);
+  return with_contact_law<double>(link, [&](const auto& law) { return law.shortening(k); });
+}
+
+double PoundingSystem::gap_force(const KinematicState& x, const ContactState& c, int p) const {
+  const auto e = static_cast<std::size_t>(p);
+  const Link& link = contact_links_[e];
+  const LinkKinematics k = kinematics(x, link);
+  const double force = with_contact_law<double>(link, [&](const auto& law) { return law.force(k, c.config[e]); });
+  return c.rigid[e] != 0 ? force + c.stop_reaction[e] : force;
+}
+
+void PoundingSystem::evaluate_guards(const KinematicState& x, const LinearPhase& phase, ContactState& c,
+                                     std::span<double> g, std::span<double> dg) const {
+  // Each guard is its value minus its round-off level (the law's): a guard within a few ulps of
+  // zero is zero, and zero does not fire.
+  compute_stop_reactions(x, phase, c);
+  std::array<GuardValue, 2> values;
+  for_each_contact_link(contact_table_, [&](const auto& link) {
+    const auto p = static_cast<std::size_t>(link.element);
+    const GuardContext context{.separation = rules_.separation,
+                               .reaction = c.stop_reaction[p],
+                               .reaction_noise = c.stop_noise[p]};
+    link.law.guards(kinematics(x, link), c.config[p], c.memory[p], context, values);
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      const GuardValue& v = values[i];
+      const std::size_t j = 2 * p + i;
+      if (!v.active) {
+        g[j] = kInactive;
+        dg[j] = 0.0;
+        continue;
+      }
+      g[j] = (v.hysteresis ? v.value - c.bias[p] : v.value) - v.noise;
+      dg[j] = v.rate;
+    }
+  });
+}
+
+void PoundingSystem::compute_stop_reactions(const KinematicState& x, const LinearPhase& phase,
+                                            ContactState& c) const {
+  // The force on a floor that the links must supply: f = f_S − m a_g − C u̇ − K u − m ü. Sweeping
+  // each chain of locked elements from the left gives λ_out = f + λ_in.
+  constexpr double kNoise = 8 * std::numeric_limits<double>::epsilon();
+  if (phase.is_unreduced()) return;  // nothing locked
+  const double ground = x.ground;
+  const Eigen::VectorXd& m = phase.full_mass();
+  const LinearPhase::SparseMatrix& cm = phase.full_damping();
+  const LinearPhase::SparseMatrix& k = phase.full_stiffness();
+  for (std::size_t p = 0; p < c.config.size(); ++p) {
+    if (c.rigid[p] == 0) continue;
+    const int l = contact_links_[p].a;
+    const double load = phase.full_constant_load()(l);
+    double f = load - m(l) * (ground + x.a(l));
+    double magnitude = std::abs(load) + m(l) * (std::abs(ground) + std::abs(x.a(l)));
+    for (LinearPhase::SparseMatrix::InnerIterator it(cm, l); it; ++it) {  // symmetric: column = row
+      f -= it.value() * x.v(it.row());
+      magnitude += std::abs(it.value() * x.v(it.row()));
+    }
+    for (LinearPhase::SparseMatrix::InnerIterator it(k, l); it; ++it) {
+      f -= it.value() * x.u(it.row());
+      magnitude += std::abs(it.value() * x.u(it.row()));
+    }
+    c.stop_reaction[p] = f + c.link_in[l];
+    c.stop_noise[p] = kNoise * (magnitude + std::abs(c.link_in[l]));
+    c.link_in[contact_links_[p].b] = c.stop_reaction[p];
+  }
+  for (std::size_t p = 0; p < c.config.size(); ++p) {
+    if (c.rigid[p] != 0) c.link_in[contact_links_[p].b] = 0.0;
+  }
+}
+
+LinearPhase& PoundingSystem::apply_events(std::span<const double> fired, KinematicState& x, ContactState& c,
+                                          LinearPhase& current, std::span<double> g, std::span<double> dg,
+                                          EventHandler& handler) const {
+  static_cast<void>(current);  // replaced: every call activates the phase of the new modes
+  c.impacts.clear();
+  for (std::size_t j = 0; j < fired.size(); ++j) {
+    if (!(fired[j] > 0)) continue;
+    const std::size_t p = j / 2;
+    const int pi = static_cast<int>(p);
+    const Link& link = contact_links_[p];
+    const double vl = x.v(link.a), vr = x.v(link.b);
+    const LinkKinematics k = kinematics(x, link);
+    LinkMode m = c.config[p];
+    const Transition transition = with_contact_law<Transition>(link, [&](const auto& law) {
+      return law.on_guard(static_cast<int>(j % 2), k, m, c.memory[p], rules_.separation);
+    });
+    c.config[p] = m;
+    refresh_flags(c, p);  // the event handler below may ask for the element's force
+    switch (transition) {
+      case Transition::impact: c.impacts.push_back(pi); break;
+      case Transition::contact:
+        c.bias[p] = 0.0;
+        handler.on_event(x, pi, EventKind::contact, vl, vr, 0.0);
+        break;
+      case Transition::separation:
+        c.bias[p] = 0.0;
+        handler.on_event(x, pi, EventKind::separation, vl, vr, 0.0);
+        break;
+      case Transition::unlock:
+        c.bias[p] = 0.0;
+        handler.on_event(x, pi, EventKind::unlock, vl, vr, 0.0);
+        break;
+    }
+  }
+  LinearPhase* phase = &activate(c, handler);
+  if (!c.impacts.empty()) phase = &resolve_impacts(x, c, *phase, handler);
+  equilibrate(*phase, x);
+  evaluate_guards(x, *phase, c, g, dg);
+  set_impact_biases(x, c, g);
+  return *phase;
+}
+
+double PoundingSystem::stop_guard(const KinematicState& x, const ContactState& c, std::size_t p) const {
+  const Link& link = contact_links_[p];
+  const LinkKinematics k = kinematics(x, link);
+  const double distance = with_contact_law<double>(
+      link, [&](const auto& law) { return law.stop_distance(k, c.config[p], c.memory[p]); });
+  return distance - c.bias[p];
+}
+
+bool PoundingSystem::stop_guard_is_active(const ContactState& c, std::size_t p) const {
+  return with_contact_law<bool>(contact_links_[p], [&](const auto& law) {
+    return law.traits.has_stop && law.stop_guard_is_active(c.config[p]);
+  });
+}
+
+LinearPhase& PoundingSystem::resolve_impacts(KinematicState& x, ContactState& c, LinearPhase& current,
+                                             EventHandler& handler) const {
+  LinearPhase* phase = &current;
+  Eigen::VectorXd& v = x.v;
+  const double kinetic_before = kinetic_energy(v);
+  const std::size_t elements = c.config.size();
+  const double ground = ground_acceleration(x.t);
+
+  std::vector<double> left_before(elements), right_before(elements), impulse(elements, 0.0);
+  std::vector<char> involved(elements, 0);
+  for (std::size_t p = 0; p < elements; ++p) {
+    left_before[p] = v(contact_links_[p].a);
+    right_before[p] = v(contact_links_[p].b);
+  }
+  for (const int p : c.impacts) involved[static_cast<std::size_t>(p)] = 1;
+  const auto closing_speed = [&](std::size_t p) {
+    const double vl = v(contact_links_[p].a), vr = v(contact_links_[p].b);
+    return closes(vl, vr) ? vl - vr : 0.0;
+  };
+  struct Lock {
+    int element;
+    double left_before, right_before, impulse;
+  };
+  std::vector<Lock> locks;
+
+  // Rounds at one instant, until nothing changes:
+  // 1. Sequential pairwise restitution until no involved pair approaches: exact for independent
+  //    pairs, the Newton's-cradle answer for a chain of frames that share a floor. Floors held
+  //    together by locked elements collide as one body (their group). A pair that sits at its
+  //    stop — within the distance it closes in one event tolerance — and is driven into it by
+  //    these impulses joins in: its collision would follow within the tolerance, and resolving a
+  //    chain one located event at a time is an endless ping-pong of a light floor squeezed
+  //    between heavy ones (e → 0) that only the limit of this loop settles.
+  // 2. Lock the involved pairs that are pressed together and would only bounce for less than
+  //    lock_time. Their plastic merge changes the velocities of the others, which may close
+  //    again: back to 1.
+  const int max_sweeps = 10000 * static_cast<int>(elements);
+  int sweeps = 0;
+  for (;;) {
+    const auto group = phase->group_of();
+    const Eigen::VectorXd& group_mass = phase->mass();
+    const auto shares_a_body = [&](std::size_t p) {
+      const int gl = group[static_cast<std::size_t>(contact_links_[p].a)];
+      const int gr = group[static_cast<std::size_t>(contact_links_[p].b)];
+      for (std::size_t q = 0; q < elements; ++q) {
+        if (!involved[q]) continue;
+        const int ql = group[static_cast<std::size_t>(contact_links_[q].a)];
+        const int qr = group[static_cast<std::size_t>(contact_links_[q].b)];
+        if (gl == ql || gl == qr || gr == ql || gr == qr) return true;
+      }
+      return false;
+    };
+    for (;;) {
+      for (; sweeps < max_sweeps; ++sweeps) {
+        std::size_t worst = elements;
+        double closing = 0.0;
+        for (std::size_t p = 0; p < elements; ++p) {
+          if (!involved[p] || c.rigid[p] != 0) continue;
+          const double w = closing_speed(p);
+          if (w > closing) {
+            closing = w;
+            worst = p;
+          }
+        }
+        if (worst == elements) break;
+        const int l = contact_links_[worst].a, r = contact_links_[worst].b;
+        const int gl = group[static_cast<std::size_t>(l)];
+        const int gr = group[static_cast<std::size_t>(r)];
+        const double rest = rules_.rest_velocity_ratio * (std::abs(v(l)) + std::abs(v(r)));
+        const double restitution =
+            closing <= rest ? 0.0
+                            : with_contact_law<double>(contact_links_[worst], [](const auto& law) {
+                                return law.restitution();
+                              });
+        const ImpactOutcome o = restitution_impact(group_mass(gl), group_mass(gr), v(l), v(r), restitution);
+        for (Eigen::Index i = 0; i < v.size(); ++i) {
+          const int gi = group[static_cast<std::size_t>(i)];
+          if (gi == gl) v(i) = o.v_left;
+          if (gi == gr) v(i) = o.v_right;
+        }
+        impulse[worst] += o.impulse;
+      }
+      bool joined = false;
+      for (std::size_t p = 0; p < elements; ++p) {
+        if (involved[p]) continue;
+        if (!stop_guard_is_active(c, p)) continue;
+        const double w = closing_speed(p);
+        if (!(w > 0) || !shares_a_body(p)) continue;
+        const LinkKinematics k = kinematics(x, contact_links_[p]);
+        const double s_noise =
+            with_contact_law<double>(contact_links_[p], [&](const auto& law) { return law.position_noise(k); });
+        if (stop_guard(x, c, p) < -(w * rules_.event_tolerance + s_noise)) continue;
+        involved[p] = 1;
+        joined = true;
+      }
+      if (!joined) break;
+    }
+
+    phase->equilibrate(ground, x);
+    std::vector<int> locking;
+    for (std::size_t p = 0; p < elements; ++p) {
+      if (!involved[p] || c.rigid[p] != 0) continue;
+      const int l = contact_links_[p].a, r = contact_links_[p].b;
+      const int gl = group[static_cast<std::size_t>(l)], gr = group[static_cast<std::size_t>(r)];
+      if (gl == gr) continue;  // already held together through other locked links
+      const double pressing = x.a(l) - x.a(r);
+      const double opening = -(v(l) - v(r));
+      if (pressing > 0 && 2.0 * opening <= pressing * rules_.lock_time) {
+        locking.push_back(static_cast<int>(p));
+        const double ml = group_mass(gl), mr = group_mass(gr);
+        locks.push_back({static_cast<int>(p), v(l), v(r), std::abs(v(l) - v(r)) * ml * mr / (ml + mr)});
+      }
+    }
+    if (locking.empty()) break;
+    for (const int p : locking) {
+      const auto e = static_cast<std::size_t>(p);
+      c.config[e] = with_contact_law<LinkMode>(contact_links_[e], [](const auto& law) { return law.locked_mode(); });
+      // The link keeps the floors where they are (on the stop, to the event tolerance).
+      c.link_length[e] = x.u(contact_links_[e].a) - x.u(contact_links_[e].b);
+    }
+    phase = &activate(c, handler);
+    // Plastic merge: each new group moves with the velocity of its centre of mass.
+    const auto new_group = phase->group_of();
+    const Eigen::VectorXd& m = phase->full_mass();
+    Eigen::VectorXd momentum = Eigen::VectorXd::Zero(phase->reduced_size());
+    for (Eigen::Index i = 0; i < v.size(); ++i) {
+      momentum(new_group[static_cast<std::size_t>(i)]) += m(i) * v(i);
+    }
+    const Eigen::VectorXd group_v = momentum.cwiseQuotient(phase->mass());
+    phase->scatter(group_v, v, false);
+  }
+  handler.on_impact_loss(kinetic_before - kinetic_energy(v));
+  for (std::size_t p = 0; p < elements; ++p) {
+    // A pair whose guard fired without closing (a touch at equal speeds) took no impulse: it is no
+    // impact, though it may have locked.
+    if (involved[p] && impulse[p] > 0) {
+      handler.on_event(x, static_cast<int>(p), EventKind::impact, left_before[p], right_before[p], impulse[p]);
+    }
+  }
+  for (const Lock& lock : locks) {
+    handler.on_event(x, lock.element, EventKind::lock, lock.left_before, lock.right_before, lock.impulse);
+  }
+  return *phase;
+}
+
+void PoundingSystem::set_impact_biases(const KinematicState& x, ContactState& c, std::span<double> g) const {
+  // At an impact the state is taken at the upper end of the event bracket, a hair past the stop
+  // (by at most |ṡ| × tolerance). The element now moves away from the stop; offset its guard by
+  // that hair so that the next impact is detected when the stop is reached again.
+  for (std::size_t p = 0; p < c.config.size(); ++p) {
+    const std::size_t j = 2 * p;
+    if (!stop_guard_is_active(c, p) || !(g[j] > 0)) continue;
+    // Still closing: a genuine impact, applied by the caller.
+    if (closes(x.v(contact_links_[p].a), x.v(contact_links_[p].b))) continue;
+    c.bias[p] += g[j];
+    g[j] = 0.0;
+  }
+}
+
+}  // namespace poundsim
