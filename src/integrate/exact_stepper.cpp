@@ -56,25 +56,25 @@ int nodes_for(double rh) {
 
 }  // namespace
 
-Eigen::MatrixXd ExactStepper::guard_rows(const Simulator& sim, const ExactPhase& exact) const {
+Eigen::MatrixXd ExactStepper::guard_rows(const Loop& loop, const ExactPhase& exact) const {
   // Guards as affine functions of x = [q; q̇] of the phase (their constants come from the guard
   // values at the start of each segment). See evaluate_guards for the guards themselves.
   const Eigen::Index n = exact.groups();
-  const auto group = sim.phase_->group_of();
+  const auto group = loop.phase().group_of();
   const auto g = [&](int dof) { return static_cast<Eigen::Index>(group[static_cast<std::size_t>(dof)]); };
-  Eigen::MatrixXd rows = Eigen::MatrixXd::Zero(2 * sim.system_.gap_count(), 2 * n);
+  Eigen::MatrixXd rows = Eigen::MatrixXd::Zero(2 * loop.system().gap_count(), 2 * n);
   // Stop reactions: λ_out = f_L + λ_in along each chain, f_L = f_S − m(a_g + ü) − C u̇ − K u;
   // the ground acceleration cancels between m a_g and m ü.
-  std::vector<Eigen::RowVectorXd> link_in(static_cast<std::size_t>(sim.system_.layout().size()));
-  const LinearPhase::SparseMatrix& c = sim.phase_->full_damping();
-  const LinearPhase::SparseMatrix& k = sim.phase_->full_stiffness();
-  for (std::size_t p = 0; p < sim.contact_.config.size(); ++p) {
-    const Link& link = sim.system_.contact_links()[p];
+  std::vector<Eigen::RowVectorXd> link_in(static_cast<std::size_t>(loop.system().layout().size()));
+  const LinearPhase::SparseMatrix& c = loop.phase().full_damping();
+  const LinearPhase::SparseMatrix& k = loop.phase().full_stiffness();
+  for (std::size_t p = 0; p < loop.contact().config.size(); ++p) {
+    const Link& link = loop.system().contact_links()[p];
     const int l = link.a, r = link.b;
     for (int i = 0; i < 2; ++i) {
       const Eigen::Index j = 2 * static_cast<Eigen::Index>(p) + i;
       const GuardForm form = with_contact_law<GuardForm>(
-          link, [&](const auto& law) { return law.guard_form(i, sim.contact_.config[p], sim.system_.rules().separation); });
+          link, [&](const auto& law) { return law.guard_form(i, loop.contact().config[p], loop.system().rules().separation); });
       switch (form.kind) {
         case GuardForm::Kind::inactive: break;
         case GuardForm::Kind::affine:
@@ -86,7 +86,7 @@ Eigen::MatrixXd ExactStepper::guard_rows(const Simulator& sim, const ExactPhase&
           }
           break;
         case GuardForm::Kind::reaction: {
-          Eigen::RowVectorXd f = -sim.phase_->full_mass()(l) * exact.matrix().row(n + g(l));
+          Eigen::RowVectorXd f = -loop.phase().full_mass()(l) * exact.matrix().row(n + g(l));
           for (LinearPhase::SparseMatrix::InnerIterator it(c, l); it; ++it) {
             f(n + g(static_cast<int>(it.row()))) -= it.value();
           }
@@ -105,61 +105,61 @@ Eigen::MatrixXd ExactStepper::guard_rows(const Simulator& sim, const ExactPhase&
   return rows;
 }
 
-void ExactStepper::start_segment(Simulator& sim) {
-  auto it = phases_.find(sim.contact_.config);
+void ExactStepper::start_segment(Loop& loop) {
+  auto it = phases_.find(loop.contact().config);
   if (it == phases_.end()) {
     PhaseData data;
-    data.phase = std::make_unique<ExactPhase>(*sim.phase_);
-    data.guard_rows = guard_rows(sim, *data.phase);
+    data.phase = std::make_unique<ExactPhase>(loop.phase());
+    data.guard_rows = guard_rows(loop, *data.phase);
     if (data.phase->modal()) {
       data.powers = std::make_unique<ExactPowerIntegrals>(
-          *data.phase, sim.energy_.power_forms(sim.contact_.config, sim.phase_->group_of(), data.phase->groups()));
+          *data.phase, loop.meter().power_forms(loop.contact().config, loop.phase().group_of(), data.phase->groups()));
     }
-    it = phases_.emplace(sim.contact_.config, std::move(data)).first;
+    it = phases_.emplace(loop.contact().config, std::move(data)).first;
   }
   const ExactPhase& exact = *it->second.phase;
   const Eigen::Index n = exact.groups();
   x_work_.resize(2 * n);
-  sim.phase_->gather(sim.state_.u, x_work_.head(n));
-  sim.phase_->gather(sim.state_.v, x_work_.tail(n));
-  trajectory_.start(exact, sim.phase_->mass(), sim.phase_->constant_load(), sim.state_.t, x_work_,
-                    forcing_piece(sim.system_.excitation(), sim.state_.t));
+  loop.phase().gather(loop.state().u, x_work_.head(n));
+  loop.phase().gather(loop.state().v, x_work_.tail(n));
+  trajectory_.start(exact, loop.phase().mass(), loop.phase().constant_load(), loop.state().t, x_work_,
+                    forcing_piece(loop.system().excitation(), loop.state().t));
   segment_powers_ = it->second.powers.get();
   if (segment_powers_ != nullptr) segment_powers_->start(trajectory_);
-  for (std::size_t p = 0; p < sim.contact_.config.size(); ++p) {
-    const Relaxation relaxation = with_contact_law<Relaxation>(sim.system_.contact_links()[p], [&](const auto& law) {
-      return law.relaxation(sim.contact_.config[p], sim.contact_.memory[p], sim.state_.t);
+  for (std::size_t p = 0; p < loop.contact().config.size(); ++p) {
+    const Relaxation relaxation = with_contact_law<Relaxation>(loop.system().contact_links()[p], [&](const auto& law) {
+      return law.relaxation(loop.contact().config[p], loop.contact().memory[p], loop.state().t);
     });
     memory_amplitude_[2 * p] = relaxation.amplitude;
     memory_rate_[2 * p] = relaxation.rate;
   }
-  expansion_.build(trajectory_, it->second.guard_rows, sim.g_lo_, memory_amplitude_, memory_rate_);
+  expansion_.build(trajectory_, it->second.guard_rows, loop.guards().lo, memory_amplitude_, memory_rate_);
   segment_valid_ = true;
 }
 
-void ExactStepper::state_at(const Simulator& sim, double s, KinematicState& out) {
+void ExactStepper::state_at(const Loop& loop, double s, KinematicState& out) {
   trajectory_.evaluate(s, x_work_, x_rate_work_);
   const Eigen::Index n = trajectory_.phase().groups();
-  sim.phase_->scatter(x_work_.head(n), out.u, true);
-  sim.phase_->scatter(x_work_.tail(n), out.v, false);
-  sim.phase_->scatter(x_rate_work_.tail(n), out.a, false);
+  loop.phase().scatter(x_work_.head(n), out.u, true);
+  loop.phase().scatter(x_work_.tail(n), out.v, false);
+  loop.phase().scatter(x_rate_work_.tail(n), out.a, false);
   out.t = trajectory_.start_time() + s;
   out.ground = trajectory_.piece().at(out.t);
 }
 
-void ExactStepper::accept(Simulator& sim, KinematicState& next) {
+void ExactStepper::accept(Loop& loop, KinematicState& next) {
   const double t0 = trajectory_.start_time();
-  const double a = sim.state_.t - t0, b = next.t - t0;
+  const double a = loop.state().t - t0, b = next.t - t0;
   const EnergyMeter::Powers integral =
-      segment_powers_ != nullptr ? segment_powers_->integrate(a, b) : quadrature_powers(sim, a, b);
-  sim.energy_.step_with(sim.state_, next, integral, sim.contact_.config, sim.contact_.memory);
-  Output output(*this, sim);
-  sim.monitor_.observe_step(sim.state_, next, trajectory_.start_time(), output);
-  sim.evaluate_guards(next, sim.g_lo_, sim.dg_lo_);
-  sim.after_accept(next);
+      segment_powers_ != nullptr ? segment_powers_->integrate(a, b) : quadrature_powers(loop, a, b);
+  loop.meter().step_with(loop.state(), next, integral, loop.contact().config, loop.contact().memory);
+  Output output(*this, loop);
+  loop.monitor().observe_step(loop.state(), next, trajectory_.start_time(), output);
+  loop.evaluate_guards(next, loop.guards().lo, loop.guards().rate_lo);
+  loop.after_accept(next);
 }
 
-EnergyMeter::Powers ExactStepper::quadrature_powers(const Simulator& sim, double a, double b) {
+EnergyMeter::Powers ExactStepper::quadrature_powers(const Loop& loop, double a, double b) {
   // The matrix-exponential path has no modes to integrate in closed form: Gauss–Legendre
   // quadrature on sub-intervals over which the fastest product of two modes turns by at most one
   // radian, and enough nodes that the rule's error is far below round-off.
@@ -171,8 +171,8 @@ EnergyMeter::Powers ExactStepper::quadrature_powers(const Simulator& sim, double
   for (int piece = 0; piece < pieces; ++piece) {
     const double mid = a + (piece + 0.5) * width;
     for (std::size_t k = 0; k < rule.nodes.size(); ++k) {
-      state_at(sim, mid + 0.5 * width * rule.nodes[k], node_);
-      const EnergyMeter::Powers p = sim.energy_.powers(node_, sim.contact_.config);
+      state_at(loop, mid + 0.5 * width * rule.nodes[k], node_);
+      const EnergyMeter::Powers p = loop.meter().powers(node_, loop.contact().config);
       const double w = 0.5 * width * rule.weights[k];
       integral.input += w * p.input;
       integral.storey_damping += w * p.storey_damping;
@@ -189,19 +189,19 @@ ExactStepper::ExactStepper(int dofs, int gap_elements) {
   upper_.resize(dofs);
 }
 
-void ExactStepper::integrate_to(Simulator& sim, double t_end, bool /*nominal*/) {
+void ExactStepper::integrate_to(Loop& loop, double t_end, bool /*nominal*/) {
   constexpr double eps = std::numeric_limits<double>::epsilon();
-  while (sim.state_.t < t_end) {
-    if (!segment_valid_) start_segment(sim);
+  while (loop.state().t < t_end) {
+    if (!segment_valid_) start_segment(loop);
     const double t0 = trajectory_.start_time();
     const double limit = std::min(t_end, trajectory_.piece().end);
     const double resolution = 16 * eps * std::max(1.0, std::abs(limit));
     const std::optional<Crossing> crossing =
-        first_crossing(expansion_, sim.state_.t - t0, limit - t0, resolution);
+        first_crossing(expansion_, loop.state().t - t0, limit - t0, resolution);
     if (!crossing) {
-      state_at(sim, limit - t0, upper_);
+      state_at(loop, limit - t0, upper_);
       upper_.t = limit;
-      accept(sim, upper_);
+      accept(loop, upper_);
       if (limit >= trajectory_.piece().end) segment_valid_ = false;  // the next forcing piece
       continue;
     }
@@ -209,19 +209,19 @@ void ExactStepper::integrate_to(Simulator& sim, double t_end, bool /*nominal*/) 
     // Move its upper end past the root until the guard of the state there has fired too, so the
     // event decision and every later guard evaluation agree; all guards positive there fire
     // together (simultaneous events).
-    const double lo = std::max(crossing->lo, sim.state_.t - t0);
+    const double lo = std::max(crossing->lo, loop.state().t - t0);
     double hi = std::max(crossing->hi, lo);
     const double end = limit - t0;
     for (int widen = 0;; ++widen) {
-      state_at(sim, hi, upper_);
-      sim.evaluate_guards(upper_, sim.g_work_, sim.dg_work_);
-      if (sim.g_work_[static_cast<std::size_t>(crossing->guard)] > 0 || hi >= end || widen > 60) break;
+      state_at(loop, hi, upper_);
+      loop.evaluate_guards(upper_, loop.guards().work, loop.guards().rate_work);
+      if (loop.guards().work[static_cast<std::size_t>(crossing->guard)] > 0 || hi >= end || widen > 60) break;
       hi = std::min(end, lo + 2 * (hi - lo) + resolution);
     }
-    const bool fired = any_fired(sim.g_work_);
-    accept(sim, upper_);  // sim.g_lo_ = the guards at upper_: sim.g_work_
+    const bool fired = any_fired(loop.guards().work);
+    accept(loop, upper_);  // loop.guards().lo = the guards at upper_: loop.guards().work
     if (!fired) continue;  // a touch within round-off: no event
-    sim.apply_pending_events();
+    loop.apply_pending_events();
     segment_valid_ = false;
   }
 }

@@ -12,60 +12,62 @@ namespace poundsim::detail {
 /// Evaluates guards on Newmark sub-steps from the start of the current step.
 class NewmarkStepper::TrialEvaluator final : public GuardEvaluator {
  public:
-  TrialEvaluator(NewmarkStepper& stepper, Simulator& sim) : stepper_(stepper), sim_(sim) {}
+  TrialEvaluator(NewmarkStepper& stepper, Loop& loop) : stepper_(stepper), loop_(loop) {}
   void evaluate(double tau, GuardSample out) override {
-    stepper_.trial_step(sim_, tau, false, stepper_.trial_);
-    sim_.evaluate_guards(stepper_.trial_, out.value, out.rate);
-    ++sim_.monitor_.counts().guard_evaluations;
+    stepper_.trial_step(loop_, tau, false, stepper_.trial_);
+    loop_.evaluate_guards(stepper_.trial_, out.value, out.rate);
+    ++loop_.monitor().counts().guard_evaluations;
   }
   void keep_trial_as_upper() override { std::swap(stepper_.trial_, stepper_.upper_); }
 
  private:
   NewmarkStepper& stepper_;
-  Simulator& sim_;
+  Loop& loop_;
 };
 
-NewmarkStepper::NewmarkStepper(int dofs) {
+NewmarkStepper::NewmarkStepper(int dofs) : newmark_(dofs) {
   trial_.resize(dofs);
   upper_.resize(dofs);
 }
 
-void NewmarkStepper::trial_step(Simulator& sim, double tau, bool nominal, KinematicState& out) const {
-  const LinearPhase::Solver& solver = nominal ? sim.phase_->step_solver() : sim.phase_->substep_solver(tau);
-  sim.newmark_.step(*sim.phase_, solver, sim.state_, tau, sim.system_.ground_acceleration(sim.state_.t + tau), out);
+void NewmarkStepper::trial_step(Loop& loop, double tau, bool nominal, KinematicState& out) {
+  const LinearPhase& phase = loop.phase();
+  const LinearPhase::Solver& solver = nominal ? phase.step_solver() : phase.substep_solver(tau);
+  newmark_.step(phase, solver, loop.state(), tau, loop.system().ground_acceleration(loop.state().t + tau), out);
 }
 
-void NewmarkStepper::integrate_to(Simulator& sim, double t_end, bool nominal) {
+void NewmarkStepper::integrate_to(Loop& loop, double t_end, bool nominal) {
+  Loop::Guards& g = loop.guards();
   bool first = true;
-  while (sim.state_.t < t_end) {
+  while (loop.state().t < t_end) {
     const bool use_step_solver = nominal && first;
-    const double tau = use_step_solver ? sim.options_.dt : t_end - sim.state_.t;
+    const double tau = use_step_solver ? loop.options().dt : t_end - loop.state().t;
     first = false;
-    trial_step(sim, tau, use_step_solver, upper_);
+    trial_step(loop, tau, use_step_solver, upper_);
     upper_.t = t_end;  // exact grid time, whatever the rounding of t + τ
-    sim.evaluate_guards(upper_, sim.g_hi_, sim.dg_hi_);
-    if (!any_fired(sim.g_hi_) && !find_grazing(sim, tau)) {
-      sim.accept(upper_);
+    loop.evaluate_guards(upper_, g.hi, g.rate_hi);
+    if (!any_fired(g.hi) && !find_grazing(loop, tau)) {
+      loop.accept(upper_);
       return;
     }
-    TrialEvaluator evaluator(*this, sim);
-    locate_first_event(0.0, upper_.t - sim.state_.t, {sim.g_lo_, sim.dg_lo_}, {sim.g_hi_, sim.dg_hi_},
-                       {sim.g_work_, sim.dg_work_}, sim.options_.event_tolerance, evaluator);
-    sim.system_.compute_stop_reactions(upper_, *sim.phase_, sim.contact_);  // trials below the event came last
-    sim.accept(upper_);
-    sim.apply_pending_events();
+    TrialEvaluator evaluator(*this, loop);
+    locate_first_event(0.0, upper_.t - loop.state().t, {g.lo, g.rate_lo}, {g.hi, g.rate_hi},
+                       {g.work, g.rate_work}, loop.options().event_tolerance, evaluator);
+    loop.compute_stop_reactions(upper_);  // trials below the event came last
+    loop.accept(upper_);
+    loop.apply_pending_events();
   }
 }
 
-bool NewmarkStepper::find_grazing(Simulator& sim, double tau) {
+bool NewmarkStepper::find_grazing(Loop& loop, double tau) {
   // A guard that rises and falls inside the step without crossing at the ends: check the interior
   // maximum of its cubic Hermite model, then the Newmark sub-step there.
-  const std::vector<double>&g_lo = sim.g_lo_, &g_hi = sim.g_hi_, &dg_lo = sim.dg_lo_, &dg_hi = sim.dg_hi_;
+  Loop::Guards& g = loop.guards();
   double best_theta = 2.0;
-  for (std::size_t j = 0; j < g_hi.size(); ++j) {
+  for (std::size_t j = 0; j < g.hi.size(); ++j) {
     // Inactive guards (−∞) have zero rates and are skipped with the others that do not rise.
-    if (!(g_lo[j] <= 0 && g_hi[j] <= 0 && dg_lo[j] > 0 && dg_hi[j] < 0)) continue;
-    const HermiteCubic cubic(g_lo[j], dg_lo[j], g_hi[j], dg_hi[j], tau);
+    if (!(g.lo[j] <= 0 && g.hi[j] <= 0 && g.rate_lo[j] > 0 && g.rate_hi[j] < 0)) continue;
+    const HermiteCubic cubic(g.lo[j], g.rate_lo[j], g.hi[j], g.rate_hi[j], tau);
     for (const double theta : cubic.critical_points()) {
       if (theta > 0 && cubic(theta) > 0 && cubic.slope(theta - 1e-9) > 0) {
         best_theta = std::min(best_theta, theta);
@@ -73,16 +75,16 @@ bool NewmarkStepper::find_grazing(Simulator& sim, double tau) {
     }
   }
   if (best_theta >= 1.0) return false;
-  trial_step(sim, best_theta * tau, false, trial_);
-  sim.evaluate_guards(trial_, sim.g_work_, sim.dg_work_);
-  ++sim.monitor_.counts().guard_evaluations;
-  if (!any_fired(sim.g_work_)) {
-    sim.system_.compute_stop_reactions(upper_, *sim.phase_, sim.contact_);  // the step is accepted at upper_
+  trial_step(loop, best_theta * tau, false, trial_);
+  loop.evaluate_guards(trial_, g.work, g.rate_work);
+  ++loop.monitor().counts().guard_evaluations;
+  if (!any_fired(g.work)) {
+    loop.compute_stop_reactions(upper_);  // the step is accepted at upper_, not at this trial
     return false;
   }
   std::swap(trial_, upper_);
-  sim.g_hi_ = sim.g_work_;
-  sim.dg_hi_ = sim.dg_work_;
+  g.hi = g.work;
+  g.rate_hi = g.rate_work;
   return true;
 }
 

@@ -75,35 +75,46 @@ void TimeHistoryOptions::validate() const {
 }
 
 
+namespace detail {
+
 /// The loop as the system's event handler: it owns the phases and the monitors.
-class Simulator::Events final : public EventHandler {
+class Loop::Events final : public EventHandler {
  public:
-  explicit Events(Simulator& sim) : sim_(sim) {}
-  LinearPhase& activate(const ContactState& /*contact: the loop's own*/) override { return sim_.activate_phase(); }
+  explicit Events(Loop& loop) : loop_(loop) {}
+  LinearPhase& activate(const ContactState& /*contact: the loop's own*/) override { return loop_.activate_phase(); }
   void on_event(const KinematicState& /*x: the loop's state*/, int gap, EventKind kind, double left_before,
                 double right_before, double impulse) override {
-    sim_.emit(gap, kind, left_before, right_before, impulse);
+    loop_.emit(gap, kind, left_before, right_before, impulse);
   }
-  void on_impact_loss(double loss) override { sim_.energy_.add_impact_loss(loss); }
+  void on_impact_loss(double loss) override { loop_.energy_.add_impact_loss(loss); }
 
  private:
-  Simulator& sim_;
+  Loop& loop_;
 };
 
-Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions options,
-                     const InitialConditions& initial)
-    : system_(validated_system(std::move(model), std::move(excitation), options)),
+Loop::Loop(PoundingSystem system, const TimeHistoryOptions& options)
+    : system_(std::move(system)),
       options_(options),
-      newmark_(system_.layout().size()),
       energy_(system_.model(), system_.layout()),
       monitor_(system_.model(), system_.layout(), first_storey_forms(system_.model(), system_.layout())),
       events_(std::make_unique<Events>(*this)) {
+  state_.resize(system_.layout().size());
+  for (auto* g : {&guards_.lo, &guards_.hi, &guards_.work, &guards_.rate_lo, &guards_.rate_hi, &guards_.rate_work}) {
+    g->assign(2 * static_cast<std::size_t>(system_.gap_count()), 0.0);
+  }
+}
+
+Loop::~Loop() = default;
+
+}  // namespace detail
+
+Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions options,
+                     const InitialConditions& initial)
+    : Loop(validated_system(std::move(model), std::move(excitation), options), options) {
   const Model& model_ = system_.model();
   const DofLayout& layout_ = system_.layout();
   const int n = layout_.size();
   const int gaps = model_.gap_count();
-  const auto ng = static_cast<std::size_t>(gaps);
-  state_.resize(n);
 
   const auto load = [&](const std::vector<std::vector<double>>& values, Eigen::VectorXd& out,
                         const char* what) {
@@ -139,7 +150,6 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
     stepper_ = std::make_unique<detail::NewmarkStepper>(n);
   }
   contact_ = system_.initial_contact(state_);
-  for (auto* g : {&g_lo_, &g_hi_, &g_work_, &dg_lo_, &dg_hi_, &dg_work_}) g->assign(2 * ng, 0.0);
   settle_state();
   record_statistics();
 }
@@ -147,7 +157,7 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
 void Simulator::settle_state() {
   activate_phase();
   system_.equilibrate(*phase_, state_);
-  evaluate_guards(state_, g_lo_, dg_lo_);
+  evaluate_guards(state_, guards_.lo, guards_.rate_lo);
   apply_pending_events();
   energy_.start(state_, contact_.config, contact_.memory);
   events_this_step_ = 0;
@@ -198,7 +208,9 @@ double Simulator::storey_shear(int f) const {
   return monitor_.storey_shear(state_, f);
 }
 
-LinearPhase& Simulator::activate_phase() {
+namespace detail {
+
+LinearPhase& Loop::activate_phase() {
   stepper_->phase_changed();
   auto it = phases_.find(contact_.config);
   if (it == phases_.end()) {
@@ -215,6 +227,8 @@ LinearPhase& Simulator::activate_phase() {
   system_.refresh_flags(contact_);
   return *phase_;
 }
+
+}  // namespace detail
 
 void Simulator::step() { advance_to(grid_origin_ + static_cast<double>(grid_index_ + 1) * options_.dt); }
 
@@ -262,15 +276,17 @@ void Simulator::integrate_to(double t_end, bool nominal) {
   stepper_->integrate_to(*this, t_end, nominal);
 }
 
-void Simulator::accept(KinematicState& next) {
+namespace detail {
+
+void Loop::accept(KinematicState& next) {
   energy_.step(state_, next, contact_.config, contact_.memory);
   monitor_.observe_step(state_, next);
   after_accept(next);
-  g_lo_ = g_hi_;
-  dg_lo_ = dg_hi_;
+  guards_.lo = guards_.hi;
+  guards_.rate_lo = guards_.rate_hi;
 }
 
-void Simulator::after_accept(KinematicState& next) {
+void Loop::after_accept(KinematicState& next) {
   const double h = next.t - state_.t;
   for (std::size_t p = 0; p < contact_.config.size(); ++p) {
     if (contact_.rigid[p] != 0) monitor_.observe_locked(p, h);
@@ -280,7 +296,7 @@ void Simulator::after_accept(KinematicState& next) {
   record_statistics();
 }
 
-void Simulator::check_finite() const {
+void Loop::check_finite() const {
   // Magnitudes beyond double range (an amplitude of 1e300 g, k = 1e308 with m = 1e-300, ...) turn
   // the state or the energies into ±inf and then NaN, which every comparison (peaks, the balance
   // check) silently ignores. Stop at the first such state and say where it went.
@@ -301,7 +317,7 @@ void Simulator::check_finite() const {
     if (!std::isfinite(state_.a(i))) fail(fmt::format("the acceleration of {} ({})", where(i), state_.a(i)));
   }
   for (int f = 0; f < system_.model().frame_count(); ++f) {
-    const double v = storey_shear(f);
+    const double v = monitor_.storey_shear(state_, f);
     if (!std::isfinite(v)) fail(fmt::format("the base shear of frame {} ({} N)", f + 1, v));
   }
   for_each_contact_link(system_.contact_table(), [&](const auto& link) {
@@ -322,7 +338,7 @@ void Simulator::check_finite() const {
   }
 }
 
-void Simulator::record_statistics() {
+void Loop::record_statistics() {
   check_finite();
   monitor_.observe(state_);
   // Law by law (no dispatch per element): this runs at every accepted state.
@@ -336,7 +352,7 @@ void Simulator::record_statistics() {
   });
 }
 
-void Simulator::emit(int gap, EventKind kind, double left_before, double right_before,
+void Loop::emit(int gap, EventKind kind, double left_before, double right_before,
                      double impulse) {
   const auto p = static_cast<std::size_t>(gap);
   const Link& link = system_.contact_links()[p];
@@ -357,14 +373,15 @@ void Simulator::emit(int gap, EventKind kind, double left_before, double right_b
   }
 }
 
-void Simulator::apply_pending_events() {
+void Loop::apply_pending_events() {
   // An event can trigger others at the same instant (e.g. an impact that makes the dashpot pull):
   // apply them all before moving on. The system re-evaluates g_lo_, hence the copy.
-  while (any_fired(g_lo_)) {
-    g_work_ = g_lo_;
-    phase_ = &system_.apply_events(g_work_, state_, contact_, *phase_, g_lo_, dg_lo_, *events_);
+  while (any_fired(guards_.lo)) {
+    guards_.work = guards_.lo;
+    phase_ = &system_.apply_events(guards_.work, state_, contact_, *phase_, guards_.lo, guards_.rate_lo, *events_);
     energy_.refresh(state_, contact_.config, contact_.memory);
   }
 }
 
+}  // namespace detail
 }  // namespace poundsim

@@ -1,10 +1,10 @@
 #pragma once
 // The two integrators between grid times behind one interface (integrate/integrator.hpp says
-// which laws each supports). The simulator keeps the system's side — the links' guards, the
-// events and their resolution, the phase of each contact configuration, the monitors — and its
-// loop asks its stepper to advance to the next grid time. A stepper reaches into the simulator
-// (a friend) for the guards and the events: the system/integrator interface is still being cut
-// (docs/architecture.md).
+// which laws each supports). The system (dynamics/system.hpp) answers for the guards and the
+// events; the loop (detail::Loop, simulator.hpp) keeps the state, the phase of each contact
+// configuration and the monitors, and asks its stepper to advance to the next grid time. A
+// stepper sees the loop's interface only: the states it reaches go to Loop::accept, the guards
+// that fired to Loop::apply_pending_events.
 
 #include <map>
 #include <memory>
@@ -15,6 +15,7 @@
 #include "poundsim/integrate/exact_energy.hpp"
 #include "poundsim/integrate/exact_phase.hpp"
 #include "poundsim/integrate/guard_expansion.hpp"
+#include "poundsim/integrate/newmark.hpp"
 #include "poundsim/integrate/simulator.hpp"
 
 namespace poundsim::detail {
@@ -22,9 +23,9 @@ namespace poundsim::detail {
 class Stepper {
  public:
   virtual ~Stepper() = default;
-  /// Advances `sim` from its state to t_end, applying the events on the way. `nominal`: a whole
+  /// Advances `loop` from its state to t_end, applying the events on the way. `nominal`: a whole
   /// grid step of dt (Newmark's factorised step solver applies).
-  virtual void integrate_to(Simulator& sim, double t_end, bool nominal) = 0;
+  virtual void integrate_to(Loop& loop, double t_end, bool nominal) = 0;
   /// The current phase changed (an event, or a restart): what was built on the old one is void.
   virtual void phase_changed() {}
   /// The simulator dropped its phases (a new step, or a full cache): forget what refers to them.
@@ -36,15 +37,16 @@ class Stepper {
 class NewmarkStepper final : public Stepper {
  public:
   explicit NewmarkStepper(int dofs);
-  void integrate_to(Simulator& sim, double t_end, bool nominal) override;
+  void integrate_to(Loop& loop, double t_end, bool nominal) override;
 
  private:
   class TrialEvaluator;
-  void trial_step(Simulator& sim, double tau, bool nominal, KinematicState& out) const;
+  void trial_step(Loop& loop, double tau, bool nominal, KinematicState& out);
   /// A guard that rises and falls inside the step without crossing at the ends fires inside:
   /// makes `upper_` that trial (and returns true), so the event is located below it.
-  bool find_grazing(Simulator& sim, double tau);
+  bool find_grazing(Loop& loop, double tau);
 
+  NewmarkIntegrator newmark_;
   KinematicState trial_, upper_;
 };
 
@@ -53,7 +55,7 @@ class NewmarkStepper final : public Stepper {
 class ExactStepper final : public Stepper {
  public:
   ExactStepper(int dofs, int gap_elements);
-  void integrate_to(Simulator& sim, double t_end, bool nominal) override;
+  void integrate_to(Loop& loop, double t_end, bool nominal) override;
   void phase_changed() override { segment_valid_ = false; }
   void phases_cleared() override {
     phases_.clear();
@@ -69,20 +71,20 @@ class ExactStepper final : public Stepper {
   /// The trajectory of the current segment as dense output for the response monitor.
   class Output final : public DenseOutput {
    public:
-    Output(ExactStepper& stepper, Simulator& sim) : stepper_(stepper), sim_(sim) {}
-    void state_at(double s, KinematicState& out) override { stepper_.state_at(sim_, s, out); }
+    Output(ExactStepper& stepper, Loop& loop) : stepper_(stepper), loop_(loop) {}
+    void state_at(double s, KinematicState& out) override { stepper_.state_at(loop_, s, out); }
 
    private:
     ExactStepper& stepper_;
-    Simulator& sim_;
+    Loop& loop_;
   };
 
-  void start_segment(Simulator& sim);
-  void state_at(const Simulator& sim, double s, KinematicState& out);
-  void accept(Simulator& sim, KinematicState& next);
+  void start_segment(Loop& loop);
+  void state_at(const Loop& loop, double s, KinematicState& out);
+  void accept(Loop& loop, KinematicState& next);
   /// ∫ of the powers over [a, b] of the segment by quadrature (phases without modes).
-  EnergyMeter::Powers quadrature_powers(const Simulator& sim, double a, double b);
-  [[nodiscard]] Eigen::MatrixXd guard_rows(const Simulator& sim, const ExactPhase& exact) const;
+  EnergyMeter::Powers quadrature_powers(const Loop& loop, double a, double b);
+  [[nodiscard]] Eigen::MatrixXd guard_rows(const Loop& loop, const ExactPhase& exact) const;
 
   std::map<ContactConfiguration, PhaseData> phases_;
   ExactPowerIntegrals* segment_powers_ = nullptr;  ///< of the current segment's phase, or null

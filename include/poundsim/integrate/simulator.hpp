@@ -57,15 +57,12 @@
 #include "poundsim/dynamics/system.hpp"
 #include "poundsim/model/model.hpp"
 #include "poundsim/integrate/integrator.hpp"
-#include "poundsim/integrate/newmark.hpp"
 #include "poundsim/integrate/response_monitor.hpp"
 
 namespace poundsim {
 
 namespace detail {
 class Stepper;
-class NewmarkStepper;
-class ExactStepper;
 }  // namespace detail
 
 /// Options of the time-history integration. SI units.
@@ -139,7 +136,84 @@ struct SimulationStatus {
   [[nodiscard]] bool ok() const { return reason == StopReason::reached_time; }
 };
 
-class Simulator {
+namespace detail {
+
+/// The simulation loop as its integrator sees it (src/integrate/steppers.hpp): the state, the
+/// contact state and the current phase of the system, the guard values at both ends of the step,
+/// and the monitors the accepted states go to. An integrator advances the state to the next grid
+/// time by accept()ing the states it reaches and calling apply_pending_events() where guards
+/// fired; it asks the system (system()) for the guards. The Simulator is this loop with its
+/// public face (advance_to, restart, the results).
+class Loop {
+ public:
+  /// Guard values g and rates ġ (PoundingSystem::evaluate_guards): at the current state (lo), at
+  /// the end of the trial step (hi), and scratch (work).
+  struct Guards {
+    std::vector<double> lo, hi, work, rate_lo, rate_hi, rate_work;
+  };
+
+  [[nodiscard]] const PoundingSystem& system() const { return system_; }
+  [[nodiscard]] const TimeHistoryOptions& options() const { return options_; }
+  [[nodiscard]] const KinematicState& state() const { return state_; }
+  [[nodiscard]] const ContactState& contact() const { return contact_; }
+  [[nodiscard]] const LinearPhase& phase() const { return *phase_; }
+  [[nodiscard]] EnergyMeter& meter() { return energy_; }
+  [[nodiscard]] const EnergyMeter& meter() const { return energy_; }
+  [[nodiscard]] ResponseMonitor& monitor() { return monitor_; }
+  [[nodiscard]] Guards& guards() { return guards_; }
+
+  /// The system's guards at x with the loop's contact state; the current phase gives λ.
+  void evaluate_guards(const KinematicState& x, std::span<double> g, std::span<double> dg) {
+    system_.evaluate_guards(x, *phase_, contact_, g, dg);
+  }
+  /// λ of the locked elements at x (the state about to be accepted).
+  void compute_stop_reactions(const KinematicState& x) { system_.compute_stop_reactions(x, *phase_, contact_); }
+  /// Accepts a Newmark step to `next`, whose guards are guards().hi: energy by the trapezoidal
+  /// rule, peaks on the cubic Hermite model of the step.
+  void accept(KinematicState& next);
+  /// Makes `next` the current state (swapped with it) and records its statistics, which read λ:
+  /// the last evaluation of λ must have been at `next`.
+  void after_accept(KinematicState& next);
+  /// Applies the events whose guards().lo fired at the current state, and those they trigger,
+  /// until none fires.
+  void apply_pending_events();
+
+ protected:
+  Loop(PoundingSystem system, const TimeHistoryOptions& options);
+  ~Loop();
+  Loop(const Loop&) = delete;
+  Loop& operator=(const Loop&) = delete;
+
+  /// Makes the phase of the contact configuration current, with the lengths of its locked links.
+  LinearPhase& activate_phase();
+  /// Reports an event; velocities after are read from the current state.
+  void emit(int gap, EventKind kind, double left_before, double right_before, double impulse);
+  void record_statistics();
+  /// Throws SimulationError naming the time and the quantity when the state, a force or an energy
+  /// is no longer finite.
+  void check_finite() const;
+
+  PoundingSystem system_;
+  TimeHistoryOptions options_;
+  ContactState contact_;
+  std::map<ContactConfiguration, std::unique_ptr<LinearPhase>> phases_;
+  LinearPhase* phase_ = nullptr;
+  EnergyMeter energy_;
+  ResponseMonitor monitor_;  ///< Peaks and counts.
+  std::unique_ptr<Stepper> stepper_;  ///< Newmark or exact (options_.integrator)
+  KinematicState state_;
+  Guards guards_;
+  int events_this_step_ = 0;
+  std::function<void(const Event&)> on_event_;
+
+ private:
+  class Events;  // the loop as the system's EventHandler
+  std::unique_ptr<Events> events_;
+};
+
+}  // namespace detail
+
+class Simulator : private detail::Loop {
  public:
   /// Validates its inputs (std::invalid_argument on failure) and equilibrates the initial state.
   Simulator(Model model, Excitation excitation, TimeHistoryOptions options,
@@ -173,13 +247,13 @@ class Simulator {
   void step();
 
   [[nodiscard]] double time() const { return state_.t; }
-  [[nodiscard]] const KinematicState& state() const { return state_; }
+  using Loop::state;
   [[nodiscard]] const ContactConfiguration& configuration() const { return contact_.config; }
   /// The system integrated: frames, gap elements, excitation, event rules.
-  [[nodiscard]] const PoundingSystem& system() const { return system_; }
+  using Loop::system;
   [[nodiscard]] const Model& model() const { return system_.model(); }
   [[nodiscard]] const DofLayout& layout() const { return system_.layout(); }
-  [[nodiscard]] const TimeHistoryOptions& options() const { return options_; }
+  using Loop::options;
   [[nodiscard]] const Excitation& excitation() const { return system_.excitation(); }
 
   /// a_g at the current time [m/s²].
@@ -198,56 +272,14 @@ class Simulator {
   [[nodiscard]] const ResponseStatistics& statistics() const { return monitor_.statistics(); }
 
  private:
-  // The integrators (src/integrate/steppers.hpp) advance the loop's state between events: they
-  // ask the system for guards and hand the loop the states they reach and the guards that fired.
-  friend class detail::NewmarkStepper;
-  friend class detail::ExactStepper;
-  class Events;  // the loop as the system's EventHandler
-
-  /// Makes the phase of the contact configuration current, with the lengths of its locked links.
-  LinearPhase& activate_phase();
   void integrate_to(double t_end, bool nominal);
   void settle_state();
   /// A failed simulator throws its failure again; record_failure makes it failed.
   void throw_if_failed() const;
   void record_failure(const SimulationError& e);
-  /// The system's guards at x with the loop's contact state; the current phase gives λ.
-  void evaluate_guards(const KinematicState& x, std::span<double> g, std::span<double> dg) {
-    system_.evaluate_guards(x, *phase_, contact_, g, dg);
-  }
-  /// Accepts the Newmark step to `next`, whose guards are g_hi_.
-  void accept(KinematicState& next);
-  /// Makes `next` the current state (swapped with it) and records its statistics, which read λ:
-  /// the last evaluation of λ must have been at `next`.
-  void after_accept(KinematicState& next);
-  /// Applies the events whose guards g_lo_ fired at the current state, and those they trigger,
-  /// until none fires.
-  void apply_pending_events();
-  /// Reports an event; velocities after are read from the current state.
-  void emit(int gap, EventKind kind, double left_before, double right_before, double impulse);
-  void record_statistics();
-  /// Throws SimulationError naming the time and the quantity when the state, a force or an energy
-  /// is no longer finite.
-  void check_finite() const;
 
-  PoundingSystem system_;
-  TimeHistoryOptions options_;
-  ContactState contact_;
-
-  std::map<ContactConfiguration, std::unique_ptr<LinearPhase>> phases_;
-  LinearPhase* phase_ = nullptr;
-  NewmarkIntegrator newmark_;
-  EnergyMeter energy_;
-  ResponseMonitor monitor_;  ///< Peaks and counts.
-
-  std::unique_ptr<detail::Stepper> stepper_;  ///< Newmark or exact (options_.integrator)
-  std::unique_ptr<Events> events_;
-  KinematicState state_;
-  std::vector<double> g_lo_, g_hi_, g_work_, dg_lo_, dg_hi_, dg_work_;
   double grid_origin_ = 0.0;
   std::int64_t grid_index_ = 0;
-  int events_this_step_ = 0;
-  std::function<void(const Event&)> on_event_;
   std::optional<SimulationStatus> failure_;  ///< Once the integration has failed
 };
 
