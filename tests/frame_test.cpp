@@ -4,6 +4,8 @@
 #include <complex>
 #include <numbers>
 
+#include <string>
+
 #include <gtest/gtest.h>
 
 namespace poundsim {
@@ -60,6 +62,17 @@ TEST(Frame, ValidateRejectsNonPhysicalValues) {
   f = make_uniform_frame(2, 1.0, 1.0, 0.0);
   f.stiffness.pop_back();
   EXPECT_THROW(validate(f), std::invalid_argument);
+  // Storey-law parameters for every storey or none.
+  f = make_uniform_frame(2, 1.0, 1.0, 0.0);
+  f.storey_law = PerStorey<LinearStorey>{.values = {{}, {}}};
+  EXPECT_NO_THROW(validate(f));
+  f.storey_law = PerStorey<LinearStorey>{.values = {{}, {}, {}}};
+  try {
+    validate(f);
+    ADD_FAILURE() << "three storeys' parameters for two storeys";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("given for 3 storeys, the frame has 2"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -602,6 +602,48 @@ void check_floor_heights(const std::vector<Frame>& frames, std::vector<TableRead
   }
 }
 
+/// `storey_law` of a [[frames]] table (the first storey law by default) and then the declared
+/// parameters of that law, each a number for every storey or an array of one per storey, with
+/// each storey's value in the field's range and the law's rules between them.
+template <class Broadcast>
+StoreyLawParameters read_storey_law(TableReader& f, int storeys, const Broadcast& broadcast) {
+  StoreyLawParameters law = *storey_law_named(f.has("storey_law") ? f.choice("storey_law", storey_law_names)
+                                                                   : std::string(storey_law_names.front()));
+  std::visit(
+      [&](auto& per_storey) {
+        using Parameters = typename std::decay_t<decltype(per_storey)>::Law::Parameters;
+        f.declare<Parameters>();
+        if constexpr (std::tuple_size_v<decltype(Parameters::fields())> > 0) {
+          per_storey.values.assign(static_cast<std::size_t>(storeys), Parameters{});
+          for_each_field<Parameters>([&](const auto& field) {
+            static_assert(is_number_field<std::decay_t<decltype(field)>>, "storey parameters are numbers");
+            if (!f.has(field.key)) {
+              if (field.required) f.require(field.key);
+              return;
+            }
+            std::vector<double> values = f.numbers(field.key);
+            broadcast(std::string(field.key).c_str(), values);
+            for (std::size_t i = 0; i < values.size(); ++i) {
+              if (!field.range.contains(values[i])) {
+                f.fail(field.key, fmt::format("storey {}: must be {} (got {})", i + 1, field.range.describe(), values[i]));
+              }
+              per_storey.values[i].*field.member = values[i];
+            }
+          });
+          for (std::size_t i = 0; i < per_storey.values.size(); ++i) {
+            if (const std::optional<FieldRule> rule = per_storey.values[i].rule_violation()) {
+              const auto given = std::find_if(rule->keys.begin(), rule->keys.end(),
+                                              [&](std::string_view key) { return f.has(key); });
+              f.fail(given != rule->keys.end() ? *given : rule->keys.front(),
+                     fmt::format("storey {}: {}", i + 1, rule->message));
+            }
+          }
+        }
+      },
+      law);
+  return law;
+}
+
 Model read_physical(TableReader& top, RunInput& run) {
   std::vector<Frame> frames;
   std::vector<TableReader> frame_tables = top.tables("frames");
@@ -686,6 +728,7 @@ Model read_physical(TableReader& top, RunInput& run) {
                            *low, *high));
       }
     }
+    frame.storey_law = read_storey_law(f, n, broadcast);
     f.finish();
     frames.push_back(std::move(frame));
   }
@@ -1422,6 +1465,10 @@ toml::table model_tables(const RunInput& in, toml::table& root) {
     t.insert("stiffness", number_array(f.stiffness));
     t.insert("damping", number_array(f.damping));
     if (!f.storey_height.empty()) t.insert("storey_height", number_array(f.storey_height));
+    if (key_of(f.storey_law) != storey_law_names.front()) t.insert("storey_law", std::string(key_of(f.storey_law)));
+    for_each_storey_parameter(f.storey_law, [&](const auto& field, const std::vector<double>& values) {
+      if (!values.empty()) t.insert(field.key, number_array(values));  // none: the law's defaults
+    });
     frames.push_back(std::move(t));
   }
   root.insert("frames", std::move(frames));

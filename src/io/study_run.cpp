@@ -41,7 +41,13 @@ std::string fnv1a(const std::string& text) {
 json describe_model(const Model& model) {
   json frames = json::array();
   for (const Frame& f : model.frames) {
-    frames.push_back({{"m", f.mass}, {"k", f.stiffness}, {"c", f.damping}});
+    json frame{{"m", f.mass}, {"k", f.stiffness}, {"c", f.damping}};
+    // A storey law other than the first, and its parameters (the linear storey has none).
+    if (key_of(f.storey_law) != storey_law_names.front()) frame["law"] = key_of(f.storey_law);
+    for_each_storey_parameter(f.storey_law, [&](const auto& field, const std::vector<double>& values) {
+      frame[std::string(field.key)] = values;
+    });
+    frames.push_back(std::move(frame));
   }
   json gaps = json::array();
   for (const GapElement& g : model.gaps) {

@@ -24,18 +24,26 @@ json ratio(double a, double b) { return b > 0 ? json(a / b) : json(); }
 
 /// The declared fields of `s` into `out`, each named by its key and its SI unit as summary.json
 /// names quantities: stiffness_N_m, damping_Ns_m, gap_m, restitution (no unit).
+template <class Field>
+std::string name_with_unit(const Field& field) {
+  std::string name(field.key);
+  if constexpr (is_number_field<Field>) {
+    if (!field.unit.empty()) {
+      name += '_';
+      for (const char c : field.unit) {
+        if (c == '/') name += '_';
+        else if (static_cast<unsigned char>(c) < 0x80) name += c;  // N·s/m → Ns_m
+      }
+    }
+  }
+  return name;
+}
+
 template <class S>
 void write_with_units(json& out, const S& s) {
   for_each_field<S>([&](const auto& field) {
-    std::string name(field.key);
+    const std::string name = name_with_unit(field);
     if constexpr (is_number_field<std::decay_t<decltype(field)>>) {
-      if (!field.unit.empty()) {
-        name += '_';
-        for (const char c : field.unit) {
-          if (c == '/') name += '_';
-          else if (static_cast<unsigned char>(c) < 0x80) name += c;  // N·s/m → Ns_m
-        }
-      }
       out[name] = s.*field.member;
     } else if constexpr (is_integer_field<std::decay_t<decltype(field)>>) {
       out[name] = static_cast<std::int64_t>(s.*field.member);
@@ -51,13 +59,19 @@ json describe_model(const RunInput& input) {
   json frames = json::array();
   for (const Frame& f : input.model.frames) {
     const Eigen::VectorXd w = natural_frequencies(f);
-    frames.push_back({{"name", f.name},
-                      {"storeys", f.storeys()},
-                      {"mass_kg", f.mass},
-                      {"stiffness_N_m", f.stiffness},
-                      {"damping_Ns_m", f.damping},
-                      {"weight_N", weight(f)},
-                      {"natural_frequencies_rad_s", std::vector<double>(w.begin(), w.end())}});
+    json frame{{"name", f.name},
+               {"storeys", f.storeys()},
+               {"mass_kg", f.mass},
+               {"stiffness_N_m", f.stiffness},
+               {"damping_Ns_m", f.damping},
+               {"weight_N", weight(f)},
+               {"natural_frequencies_rad_s", std::vector<double>(w.begin(), w.end())}};
+    // A storey law other than the linear one, with its parameters per storey.
+    if (key_of(f.storey_law) != storey_law_names.front()) frame["storey_law"] = key_of(f.storey_law);
+    for_each_storey_parameter(f.storey_law, [&](const auto& field, const std::vector<double>& values) {
+      frame[name_with_unit(field)] = values;
+    });
+    frames.push_back(std::move(frame));
   }
   json gaps = json::array();
   for (const GapElement& g : input.model.gaps) {

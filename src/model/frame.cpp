@@ -19,7 +19,7 @@ Frame make_uniform_frame(int storeys, double mass, double stiffness, double damp
   }
   const auto n = static_cast<std::size_t>(storeys);
   return Frame{std::move(name), std::vector<double>(n, mass), std::vector<double>(n, stiffness),
-               std::vector<double>(n, damping), {}};
+               std::vector<double>(n, damping), {}, {}};
 }
 
 void validate(const Frame& frame) {
@@ -41,6 +41,23 @@ void validate(const Frame& frame) {
     check("stiffness", frame.stiffness[i], false);
     check("damping", frame.damping[i], true);
   }
+  std::visit(
+      [&](const auto& law) {
+        if (law.values.empty()) return;
+        if (law.values.size() != frame.mass.size()) {
+          throw std::invalid_argument(fmt::format("{}: the storey law's parameters are given for {} storeys, the frame has {}",
+                                                  label, law.values.size(), frame.mass.size()));
+        }
+        for (std::size_t i = 0; i < law.values.size(); ++i) {
+          if (const auto violation = first_violation(law.values[i])) {
+            throw std::invalid_argument(fmt::format("{}: storey {}: {}", label, i + 1, *violation));
+          }
+          if (const auto rule = law.values[i].rule_violation()) {
+            throw std::invalid_argument(fmt::format("{}: storey {}: {}", label, i + 1, rule->message));
+          }
+        }
+      },
+      frame.storey_law);
   if (!frame.storey_height.empty()) {
     if (frame.storey_height.size() != frame.mass.size()) {
       throw std::invalid_argument(fmt::format("{}: storey_height needs one value per storey", label));

@@ -91,8 +91,14 @@ std::vector<Link> make_links(const Model& model, const DofLayout& layout) {
     const int floor = layout.floor_of(i);
     links.push_back({.a = i,
                      .b = layout.below(i),
-                     .law = LinearStorey{.stiffness = frame.stiffness[floor],
-                                         .damping = frame.damping[floor]}});
+                     .law = std::visit(
+                         [&](const auto& law) -> Law {
+                           using L = typename std::decay_t<decltype(law)>::Law;
+                           const auto f = static_cast<std::size_t>(floor);
+                           return L::make(frame.stiffness[f], frame.damping[f],
+                                          law.values.empty() ? typename L::Parameters{} : law.values[f]);
+                         },
+                         frame.storey_law)});
   }
   for (int p = 0; p < model.gap_count(); ++p) {
     links.push_back({.a = layout.gap_left(p),

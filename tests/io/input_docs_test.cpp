@@ -239,6 +239,28 @@ TEST(InputDocs, StudyAndEnsembleKeysAreDocumentedAsDeclared) {
   expect_exactly_documented<io::StudySettings>("## `analysis.kind = \"study\"`", "docs/studies.md");
   expect_exactly_documented<io::EnsembleSettings>("## Ensembles", "docs/records.md");
 }
+// Each storey law has its paragraph under its `storey_law = "key"` and, when it has parameters,
+// their table with exactly those keys.
+TEST(InputDocs, EveryStoreyLawDocumentsExactlyItsParameters) {
+  const std::string page = source_file("docs/input.md");
+  [&]<class... P>(std::variant<P...>*) {
+    const auto check = [&]<class Law>(Law*) {
+      const std::string marker = fmt::format("`storey_law = \"{}\"`", Law::key);
+      const std::size_t at = page.find(marker);
+      ASSERT_NE(at, std::string::npos) << marker << " is not documented";
+      if constexpr (std::tuple_size_v<decltype(Law::Parameters::fields())> == 0) {
+        const std::string paragraph = page.substr(at, page.find("\n\n", at) - at);
+        EXPECT_NE(paragraph.find("no parameters of its own"), std::string::npos) << marker;
+      } else {
+        expect_documented<typename Law::Parameters>(marker);
+        expect_exactly_documented<typename Law::Parameters>(marker);
+      }
+    };
+    (check(static_cast<typename P::Law*>(nullptr)), ...);
+  }(static_cast<StoreyLawParameters*>(nullptr));
+  EXPECT_EQ(storey_law_names.front(), "linear");  // the default of a file, as documented
+}
+
 // Each law of GapLaw has its table under its `law = "key"`, with exactly its parameters: adding
 // a law to the list fails here until its docs are written.
 TEST(InputDocs, EveryGapLawDocumentsExactlyItsParameters) {

@@ -162,6 +162,26 @@ TEST(InputPhysical, GapElementLawIsChosenByItsName) {
   EXPECT_NE(rule.find("rigid stop"), std::string::npos) << rule;
 }
 
+// A frame's storey law is chosen by its name, the linear storey by default; its storeys are
+// then the links make_links gives that law.
+TEST(InputPhysical, StoreyLawIsChosenByItsName) {
+  const std::string text = replace(kOverriddenElement, "storeys = 2\n[gap_elements]",
+                                   "storeys = 2\nstorey_law = \"linear\"\n[gap_elements]");
+  const RunInput in = read(text);
+  EXPECT_EQ(key_of(in.model.frames[1].storey_law), "linear");
+  EXPECT_EQ(in.model.frames[1].storey_law, read(kOverriddenElement).model.frames[1].storey_law);
+  const std::vector<Link> links = make_links(in.model, DofLayout(in.model));
+  ASSERT_TRUE(std::holds_alternative<LinearStorey>(links[3].law));
+  EXPECT_EQ(std::get<LinearStorey>(links[3].law).stiffness, 100.0);
+  const std::string unknown = error_of(replace(text, "storey_law = \"linear\"", "storey_law = \"bilinear\""));
+  EXPECT_NE(unknown.find("frames[2].storey_law"), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("\"bilinear\" is not one of: \"linear\""), std::string::npos) << unknown;
+  // A parameter of no law of this frame is an unknown key.
+  const std::string stray = error_of(replace(text, "storey_law = \"linear\"", "storey_law = \"linear\"\nyield_force = 3"));
+  EXPECT_NE(stray.find("frames[2].yield_force"), std::string::npos) << stray;
+  EXPECT_NE(stray.find("unknown key"), std::string::npos) << stray;
+}
+
 TEST(InputHarmonic, RatioOmegaAndHertzAgree) {
   const double w1 = std::sqrt(200.0);
   const auto omega = [](const RunInput& in) { return std::get<HarmonicExcitation>(in.excitation).omega; };

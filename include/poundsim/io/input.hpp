@@ -134,7 +134,7 @@ struct DimensionlessJoint {
     return std::tuple{CustomField<DimensionlessJoint>{"joint_width", "w̄ = w λ²/g, the joint's width"}};
   }
 };
-/// [[frames]].
+/// [[frames]]' keys besides the parameters of its storey law.
 struct Frame {
   static constexpr auto fields() {
     using C = CustomField<Frame>;
@@ -146,6 +146,7 @@ struct Frame {
         C{"stiffness", "storey stiffnesses K_i [N/m]"},
         C{"damping", "storey dashpots C_i [N·s/m]"},
         C{"damping_ratio", "ζ of stiffness-proportional damping"},
+        C{"storey_law", "the storeys' law (model/law.hpp's StoreyLawParameters), \"linear\" by default"},
     };
   }
 };

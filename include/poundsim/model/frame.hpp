@@ -18,6 +18,8 @@
 
 #include <Eigen/Core>
 
+#include "poundsim/model/law.hpp"
+
 namespace poundsim {
 
 struct Frame {
@@ -27,6 +29,9 @@ struct Frame {
   std::vector<double> damping;    ///< C_i [N·s/m] of the storey below floor i; C_i ≥ 0.
   /// h_i [m] of each storey, for interstorey drift ratios; empty when not given.
   std::vector<double> storey_height;
+  /// The storeys' law and each storey's parameters besides K_i and C_i (law.hpp); the linear
+  /// storey by default.
+  StoreyLawParameters storey_law;
 
   [[nodiscard]] int storeys() const { return static_cast<int>(mass.size()); }
 };
@@ -36,7 +41,8 @@ Frame make_uniform_frame(int storeys, double mass, double stiffness, double damp
                          std::string name = {});
 
 /// Throws std::invalid_argument naming the field when the frame is not physical: no storeys,
-/// vectors of different lengths, M_i ≤ 0, K_i ≤ 0, C_i < 0 or any non-finite value.
+/// vectors of different lengths, M_i ≤ 0, K_i ≤ 0, C_i < 0 or any non-finite value, storey-law
+/// parameters for another number of storeys, out of their ranges or breaking their rules.
 void validate(const Frame& frame);
 
 /// Total weight of the frame, g·ΣM_i [N] with g the standard gravity; the paper's W.

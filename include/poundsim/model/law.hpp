@@ -35,20 +35,27 @@ namespace poundsim {
 using Law = std::variant<LinearStorey, PaperGap>;
 
 namespace detail {
-template <class V>
-struct ContactLawsOf;
-template <class... L>
-struct ContactLawsOf<std::variant<L...>> {
+/// std::variant<Wrap<L>...> of the laws L of the variant V for which Keep<L>::value, in V's order.
+template <template <class> class Keep, template <class> class Wrap, class V>
+struct LawsWhere;
+template <template <class> class Keep, template <class> class Wrap, class... L>
+struct LawsWhere<Keep, Wrap, std::variant<L...>> {
   template <class... Kept>
-  static std::variant<Kept...> as_variant(std::tuple<Kept...>);
+  static std::variant<Wrap<Kept>...> as_variant(std::tuple<Kept...>);
   using type = decltype(as_variant(
-      std::tuple_cat(std::declval<std::conditional_t<ContactLaw<L>, std::tuple<L>, std::tuple<>>>()...)));
+      std::tuple_cat(std::declval<std::conditional_t<Keep<L>::value, std::tuple<L>, std::tuple<>>>()...)));
 };
+template <class L>
+struct IsContactLaw : std::bool_constant<ContactLaw<L>> {};
+template <class L>
+struct IsStoreyLaw : std::bool_constant<!ContactLaw<L>> {};
+template <class L>
+using Itself = L;
 }  // namespace detail
 
 /// The laws a gap element may carry: the contact laws of Law, in its order (so that adding a law
 /// to Law is all it takes). The first is the default of a model file.
-using GapLaw = detail::ContactLawsOf<Law>::type;
+using GapLaw = detail::LawsWhere<detail::IsContactLaw, detail::Itself, Law>::type;
 
 /// The file names of the gap-element laws (`law = "..."`), in GapLaw's order.
 inline constexpr auto gap_law_names = []<class... L>(std::variant<L...>*) {
@@ -67,6 +74,65 @@ inline constexpr auto gap_law_names = []<class... L>(std::variant<L...>*) {
 /// The file name of the law `law` carries.
 [[nodiscard]] inline std::string_view key_of(const GapLaw& law) {
   return std::visit([](const auto& l) -> std::string_view { return l.key; }, law);
+}
+
+/// What a storey law declares to be chosen in a model file: its name, its parameters besides the
+/// frame's K_i and C_i (declared fields, numbers given per storey), and how it is made from them.
+template <class L>
+concept StoreyLawModel = !ContactLaw<L> && requires(const typename L::Parameters& p) {
+  { L::key } -> std::convertible_to<std::string_view>;
+  { L::make(1.0, 0.0, p) } -> std::same_as<L>;
+  { p.rule_violation() } -> std::same_as<std::optional<FieldRule>>;
+};
+
+/// A storey law L with the parameters of each storey, bottom up; none gives every storey the
+/// default parameters.
+template <class L>
+struct PerStorey {
+  static_assert(StoreyLawModel<L>, "a storey law declares key, Parameters, make()");
+  using Law = L;
+  std::vector<typename L::Parameters> values;
+  [[nodiscard]] bool operator==(const PerStorey&) const = default;
+};
+
+/// A frame's storey law and its storeys' parameters: one alternative per storey law of Law (the
+/// laws that are not contact laws, in its order; the first, the linear storey, is the default).
+using StoreyLawParameters = detail::LawsWhere<detail::IsStoreyLaw, PerStorey, Law>::type;
+
+/// The file names of the storey laws (`storey_law = "..."`), in StoreyLawParameters' order.
+inline constexpr auto storey_law_names = []<class... P>(std::variant<P...>*) {
+  return std::array<std::string_view, sizeof...(P)>{P::Law::key...};
+}(static_cast<StoreyLawParameters*>(nullptr));
+
+/// The storey law named `key`, with no parameters yet; nothing when no storey law has that name.
+[[nodiscard]] inline std::optional<StoreyLawParameters> storey_law_named(std::string_view key) {
+  std::optional<StoreyLawParameters> found;
+  [&]<class... P>(std::variant<P...>*) {
+    ((P::Law::key == key ? (found.emplace(P{}), 0) : 0), ...);
+  }(static_cast<StoreyLawParameters*>(nullptr));
+  return found;
+}
+
+/// Calls f(field, values) for each declared parameter of a frame's storey law (fields.hpp), with
+/// its value at every storey, bottom up (none when the frame takes the law's defaults).
+template <class F>
+void for_each_storey_parameter(const StoreyLawParameters& law, F&& f) {
+  std::visit(
+      [&](const auto& per_storey) {
+        using Parameters = typename std::decay_t<decltype(per_storey)>::Law::Parameters;
+        for_each_field<Parameters>([&](const auto& field) {
+          std::vector<double> values;
+          values.reserve(per_storey.values.size());
+          for (const Parameters& p : per_storey.values) values.push_back(p.*field.member);
+          f(field, values);
+        });
+      },
+      law);
+}
+
+/// The file name of a frame's storey law.
+[[nodiscard]] inline std::string_view key_of(const StoreyLawParameters& law) {
+  return std::visit([](const auto& p) -> std::string_view { return std::decay_t<decltype(p)>::Law::key; }, law);
 }
 
 /// A link between two degrees of freedom (DofLayout numbering) carrying a law.

@@ -8,12 +8,30 @@
 /// with stored energy ½ K d² and dissipated power C ḋ². One mode, no events. Its parameters are
 /// validated with the frame's (validate(const Frame&)).
 
+#include <optional>
+#include <string_view>
+#include <tuple>
+
+#include "poundsim/fields.hpp"
 #include "poundsim/model/laws/contact_law.hpp"
 #include "poundsim/model/laws/law_traits.hpp"
 
 namespace poundsim {
 
 struct LinearStorey {
+  /// Nothing besides the frame's K_i and C_i (its `stiffness` and `damping`).
+  struct Parameters {
+    static constexpr auto fields() { return std::tuple{}; }
+    [[nodiscard]] std::optional<FieldRule> rule_violation() const { return std::nullopt; }
+    [[nodiscard]] bool operator==(const Parameters&) const = default;
+  };
+  /// Its name in a model file: `storey_law = "linear"` (the default of [[frames]]).
+  static constexpr std::string_view key = "linear";
+  /// The law of a storey with the frame's K and C and its own parameters.
+  [[nodiscard]] static LinearStorey make(double stiffness, double damping, const Parameters& /*none*/) {
+    return {.stiffness = stiffness, .damping = damping};
+  }
+
   double stiffness = 0.0;  ///< K [N/m], > 0.
   double damping = 0.0;    ///< C [N·s/m], ≥ 0.
 
