@@ -1626,6 +1626,45 @@ struct ParsedInput {
   toml::table root;
 };
 
+std::string to_toml_as_written(const RunInput& in) {
+  toml::table root = in.parsed->root;
+  Origin origin{in.source.string(), {}, {}};
+  for (const Setting& setting : in.settings) apply_setting(root, setting, origin);
+  // Paths are relative to the file's folder; the echo lives elsewhere, so they become absolute.
+  const auto absolute = [&](toml::node* node) {
+    if (node == nullptr || !node->is_string()) return;
+    const std::filesystem::path p(*node->value<std::string>());
+    *node->as_string() = std::filesystem::absolute(in.base_dir / p).lexically_normal().string();
+  };
+  if (toml::table* excitation = root.get_as<toml::table>("excitation")) absolute(excitation->get("file"));
+  if (toml::table* ensemble = root.get_as<toml::table>("ensemble")) {
+    absolute(ensemble->get("folder"));
+    if (toml::array* records = ensemble->get_as<toml::array>("records")) {
+      for (toml::node& r : *records) absolute(&r);
+    }
+  }
+  if (toml::table* study = root.get_as<toml::table>("study")) {
+    if (toml::array* parameters = study->get_as<toml::array>("parameter")) {
+      for (toml::node& node : *parameters) {
+        toml::table* parameter = node.as_table();
+        if (parameter == nullptr || parameter->get("key") == nullptr ||
+            parameter->get("key")->value<std::string>() != "excitation.file") {
+          continue;
+        }
+        if (toml::array* values = parameter->get_as<toml::array>("values")) {
+          for (toml::node& v : *values) absolute(&v);
+        }
+      }
+    }
+  }
+  std::ostringstream out;
+  out << "# The input as poundsim " POUNDSIM_VERSION " ran it: the file as written, with its --set\n"
+         "# settings applied and its paths absolute (docs/output.md). Run it again with\n"
+         "# poundsim run input.toml --out DIR\n\n"
+      << root << '\n';
+  return out.str();
+}
+
 namespace {
 
 /// Records in `positions` where each node of `copy` stands in the file, from `parsed`, of which

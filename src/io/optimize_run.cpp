@@ -247,6 +247,8 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
                             .evaluations = static_cast<long>(problem.evaluations().size()),
                             .run_time = run_time};
   out.write_json("optimize.json", to_json(result));
+  // Its variables name keys of the file's own form: the file as written (to_toml_as_written).
+  out.open("input.toml").text(to_toml_as_written(input));
   out.commit();
   return result;
 }
@@ -300,7 +302,7 @@ std::string report(const OptimizationResult& r, const std::filesystem::path& out
   text += fmt::format("  optimum {}: {} = {:.4f}\n", optimum_values(r).dump(), r.metric, r.objective);
   text += fmt::format("  bare pounding at the joint width and restitution: {} = {:.4f}\n", r.metric,
                       r.bare_objective());
-  text += fmt::format("  wrote {}/optimize.json, evaluations.csv{}\n", out_dir.string(),
+  text += fmt::format("  wrote {}/optimize.json, evaluations.csv, input.toml{}\n", out_dir.string(),
                       r.settings.each == PointRun::frf ? ", optimum_frf.csv, bare_frf.csv" : "");
   return text;
 }

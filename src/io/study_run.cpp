@@ -453,7 +453,7 @@ std::string report(const StudyResult& r, const std::filesystem::path& out_dir) {
     text += fmt::format("  lowest larger peak V/W {:.4f} at point {}: {}\n", b.metrics["max_peak_V_W"].get<double>(),
                         b.id, b.parameters.dump());
   }
-  text += fmt::format("  wrote {}/study.sqlite, study.csv, summary.json{}\n", out_dir.string(), incomplete);
+  text += fmt::format("  wrote {}/study.sqlite, study.csv, summary.json, input.toml{}\n", out_dir.string(), incomplete);
   return text;
 }
 
@@ -619,9 +619,9 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
     result.max = std::move(all_records.max);
   }
   out.write_json("summary.json", to_json(result));
-  // A study's echo would not run again: its varied keys name the file's own form (a
-  // dimensionless key, excitation.ratio, an inherited gap-element key), which the echo rewrites.
-  if (kind == AnalysisKind::ensemble) out.open("input.toml").text(to_toml(input));
+  // A study's axes name keys of the file's own form (a dimensionless key, excitation.ratio, an
+  // inherited gap-element key), which to_toml rewrites: it echoes the file as written.
+  out.open("input.toml").text(kind == AnalysisKind::ensemble ? to_toml(input) : to_toml_as_written(input));
   write_study_csv(out.open(stem + ".csv"), parameter_keys, result.rows);
   out.commit();
   return result;

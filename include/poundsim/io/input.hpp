@@ -481,11 +481,16 @@ RunInput read_input(const std::filesystem::path& file, std::span<const std::stri
 /// values applied, the model in the physical form and SI, record paths absolute). Reading it
 /// gives the same model, excitation and settings (not the dimensionless parameters: the model is
 /// written in the physical form); time histories, frequency responses and ensembles write it to
-/// DIR/input.toml, so that the run can be repeated from its outputs alone (docs/output.md). Not
-/// studies and optimisations yet: their varied keys may name the file's own form
-/// (model.dimensionless.eta, excitation.ratio, a gap-element key its overrides inherit), which
-/// this echo rewrites, so their points would not read the same.
+/// DIR/input.toml, so that the run can be repeated from its outputs alone (docs/output.md).
+/// Studies and optimisations write to_toml_as_written instead.
 [[nodiscard]] std::string to_toml(const RunInput& input);
+
+/// The input as written: the file as parsed, with its settings (--set) applied and its record
+/// paths (excitation.file, ensemble.records and folder, a study's excitation.file values) made
+/// absolute. Studies and optimisations write it to DIR/input.toml: their axes and variables name
+/// keys of the file's own form (model.dimensionless.eta, excitation.ratio, a key gap-element
+/// overrides inherit), which to_toml would rewrite.
+[[nodiscard]] std::string to_toml_as_written(const RunInput& input);
 
 /// Like read_input, from TOML text; `name` is used in messages and `base_dir` resolves paths.
 RunInput read_input_string(std::string_view text, const std::string& name,
