@@ -64,6 +64,17 @@ TEST(Model, ValidateNamesTheElement) {
     EXPECT_NE(std::string(e.what()).find("restitution"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("frames 1 and 2"), std::string::npos) << e.what();
   }
+  // The rule between the law's parameters holds for a model built in code as for a file: a
+  // spring on an element without stroke would never act.
+  m.gaps[0].law = GapProperties{.stiffness = 1e5, .gap = 0.01, .shortening = 0.0, .restitution = 0.5};
+  try {
+    validate(m);
+    FAIL() << "a spring without stroke accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("shortening = 0 is a rigid stop"), std::string::npos) << e.what();
+  }
+  parameters_of<PaperGap>(m.gaps[0]).shortening = 0.002;
+  EXPECT_NO_THROW(validate(m));
 }
 
 }  // namespace

@@ -47,14 +47,6 @@ PoundingSystem::PoundingSystem(Model model, Excitation excitation, EventRules ru
   }
 }
 
-PoundingSystem PoundingSystem::with_excitation(Excitation excitation) const {
-  PoundingSystem other = *this;
-  other.excitation_ = std::move(excitation);
-  return other;
-}
-
-double PoundingSystem::ground_acceleration(double t) const { return poundsim::ground_acceleration(excitation_, t); }
-
 double PoundingSystem::kinetic_energy(const Eigen::VectorXd& v) const { return 0.5 * v.cwiseAbs2().dot(mass_); }
 
 ContactState PoundingSystem::initial_contact(const KinematicState& x) const {

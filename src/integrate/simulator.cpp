@@ -81,7 +81,9 @@ namespace detail {
 class Loop::Events final : public EventHandler {
  public:
   explicit Events(Loop& loop) : loop_(loop) {}
-  LinearPhase& activate(const ContactState& /*contact: the loop's own*/) override { return loop_.activate_phase(); }
+  // The system applies events to the loop's own contact state (Loop::apply_pending_events), so
+  // the phase of `contact` is the loop's current one.
+  LinearPhase& activate(const ContactState& /*contact*/) override { return loop_.activate_phase(); }
   void on_event(const KinematicState& /*x: the loop's state*/, int gap, EventKind kind, double left_before,
                 double right_before, double impulse) override {
     loop_.emit(gap, kind, left_before, right_before, impulse);
@@ -170,7 +172,7 @@ void Simulator::restart(Excitation excitation, double dt) {
   options.dt = dt;
   options.validate();
   options_ = options;
-  system_ = system_.with_excitation(std::move(excitation));
+  system_.set_excitation(std::move(excitation));
   // Shift the clock to 0; the relaxing free ends remember their release relative to it.
   for (GapMemory& m : contact_.memory) m.release_time -= state_.t;
   state_.t = 0.0;

@@ -534,8 +534,8 @@ struct GapSpec {
   std::optional<double> joint;  ///< w [m]; absent: the element's gap.
 };
 
-/// [gap_elements] (defaults == nullptr) or one of its overrides. An override inherits the law of
-/// [gap_elements] and, unless it names another law, its values and joint width.
+/// [gap_elements] (defaults == nullptr) or one of its overrides. An override inherits the joint
+/// width and the law of [gap_elements] and, unless it names another law, the law's values.
 GapSpec read_gap_law(TableReader& t, const GapSpec* defaults) {
   GapSpec spec = defaults != nullptr ? *defaults : GapSpec{};
   bool inherits = defaults != nullptr;
@@ -562,13 +562,17 @@ GapSpec read_gap_law(TableReader& t, const GapSpec* defaults) {
   if (auto w = t.optional_number("joint_width")) spec.joint = *w;
   // The floors would collide at the joint width: the element must bottom out first. An override
   // that widens the element beyond an inherited joint is blamed on the key it changed.
-  const double stroke = std::visit([](const auto& law) { return law.locked_length(); }, spec.law);
-  if (spec.joint && !fits_in_joint(*spec.joint, stroke)) {
-    const char* key = t.has("joint_width") ? "joint_width" : t.has("gap") ? "gap" : "shortening";
-    t.fail(key, fmt::format("the joint width {} m is narrower than gap + shortening = {} m: the floors "
-                            "would collide before the gap element bottoms out",
-                            *spec.joint, stroke));
-  }
+  std::visit(
+      [&](const auto& law) {
+        if (!spec.joint || fits_in_joint(*spec.joint, law.locked_length())) return;
+        const auto& keys = law.locked_length_keys;
+        const auto given = std::find_if(keys.begin(), keys.end(), [&](std::string_view k) { return t.has(k); });
+        t.fail(t.has("joint_width") ? std::string_view("joint_width") : given != keys.end() ? *given : keys.back(),
+               fmt::format("the joint width {} m is narrower than {} = {} m: the floors would collide before "
+                           "the gap element bottoms out",
+                           *spec.joint, fmt::join(keys, " + "), law.locked_length()));
+      },
+      spec.law);
   return spec;
 }
 
@@ -613,7 +617,9 @@ StoreyLawParameters read_storey_law(TableReader& f, int storeys, const Broadcast
       [&](auto& per_storey) {
         using Parameters = typename std::decay_t<decltype(per_storey)>::Law::Parameters;
         f.declare<Parameters>();
-        if constexpr (std::tuple_size_v<decltype(Parameters::fields())> > 0) {
+        bool any = false;  // none given: the law's defaults, as an empty list (one form for both)
+        for_each_field<Parameters>([&](const auto& field) { any = any || f.has(field.key) || field.required; });
+        if (any) {
           per_storey.values.assign(static_cast<std::size_t>(storeys), Parameters{});
           for_each_field<Parameters>([&](const auto& field) {
             static_assert(is_number_field<std::decay_t<decltype(field)>>, "storey parameters are numbers");
@@ -1636,7 +1642,12 @@ std::string to_toml_as_written(const RunInput& in) {
     const std::filesystem::path p(*node->value<std::string>());
     *node->as_string() = std::filesystem::absolute(in.base_dir / p).lexically_normal().string();
   };
-  if (toml::table* excitation = root.get_as<toml::table>("excitation")) absolute(excitation->get("file"));
+  if (toml::table* excitation = root.get_as<toml::table>("excitation")) {
+    // Beside [ensemble], a file set from the command line is one of its points' (the reader lets
+    // it through only as a setting); the echo would refuse it.
+    if (root.contains("ensemble")) excitation->erase("file");
+    absolute(excitation->get("file"));
+  }
   if (toml::table* ensemble = root.get_as<toml::table>("ensemble")) {
     absolute(ensemble->get("folder"));
     if (toml::array* records = ensemble->get_as<toml::array>("records")) {

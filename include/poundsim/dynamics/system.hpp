@@ -15,7 +15,8 @@
 /// resolution, locking). It names no law. See docs/model.md for the event rules and
 /// docs/architecture.md for the split between system, integrators and loop.
 ///
-/// The system is const: every function takes the contact state it reads or changes. Applying
+/// The system is const while it is integrated (only set_excitation changes it, between runs):
+/// every function takes the contact state it reads or changes. Applying
 /// events needs the phase (linear system) of each configuration the events pass through and
 /// reports each event; the loop that owns the phases and the monitors provides both as an
 /// EventHandler.
@@ -94,11 +95,12 @@ class PoundingSystem {
   /// The same links by law, for loops that run at every step (no dispatch per link).
   [[nodiscard]] const LinkTable& contact_table() const { return contact_table_; }
 
-  /// The same system under another ground motion (a frequency sweep's next point).
-  [[nodiscard]] PoundingSystem with_excitation(Excitation excitation) const;
+  /// Another ground motion (a frequency sweep's next point), in place: the one change a system
+  /// takes, between runs; references to its model and links stay valid.
+  void set_excitation(Excitation excitation) { excitation_ = std::move(excitation); }
 
-  /// a_g(t) [m/s²].
-  [[nodiscard]] double ground_acceleration(double t) const;
+  /// a_g(t) [m/s²]. Inline: every trial step asks it.
+  [[nodiscard]] double ground_acceleration(double t) const { return poundsim::ground_acceleration(excitation_, t); }
   /// ½ vᵀ M v [J], summed as the energy meter sums it.
   [[nodiscard]] double kinetic_energy(const Eigen::VectorXd& v) const;
 

@@ -140,8 +140,8 @@ struct Link {
   int a = 0;        ///< DOF of floor a.
   int b = -1;       ///< DOF of floor b, or −1 for the ground.
   Law law;
-  /// Which gap element of Model::gaps the link stands for, −1 for a storey: the simulator still
-  /// keeps each gap element's mode and memory by this index.
+  /// Which gap element of Model::gaps the link stands for, −1 for a storey: the system's
+  /// ContactState keeps each gap element's mode and memory by this index.
   int element = -1;
 
   [[nodiscard]] const LawTraits& traits() const {

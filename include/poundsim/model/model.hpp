@@ -106,8 +106,9 @@ class DofLayout {
 };
 
 /// Every storey and gap element of `model` as a link with its law: the storeys first, one per
-/// DOF in the layout's numbering (the storey below that floor, LinearStorey), then the gap
-/// elements in Model::gaps order (PaperGap). Assembly and energy sums follow this order.
+/// DOF in the layout's numbering (the storey below that floor, with its frame's storey law),
+/// then the gap elements in Model::gaps order (each with its GapLaw). Assembly and energy sums
+/// follow this order.
 std::vector<Link> make_links(const Model& model, const DofLayout& layout);
 
 /// The link as messages name it, from its floors and its law: "storey 2 of frame 1 (linear

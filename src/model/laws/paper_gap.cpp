@@ -12,7 +12,7 @@ LinkMode PaperGap::initial_mode(double d) const {
   const double s = d - parameters.gap;
   if (s <= 0) return link_mode(GapMode::open);
   if (s >= parameters.shortening) {
-    throw std::invalid_argument(fmt::format("by {} m, beyond its allowable shortening {} m", s,
+    throw std::invalid_argument(fmt::format("by {} m, beyond the allowable shortening {} m", s,
                                             parameters.shortening));
   }
   return link_mode(GapMode::contact);

@@ -102,6 +102,7 @@ concept ContactLaw = requires(const L& law, const LinkKinematics& k, LinkMode mo
   requires std::same_as<std::remove_cvref_t<decltype(law.parameters)>, typename L::Parameters>;
   { law.gap() } -> std::same_as<double>;  ///< δ [m]: the clear distance at rest
   { law.locked_length() } -> std::same_as<double>;  ///< d [m] held by locked_mode()
+  { L::locked_length_keys.front() } -> std::convertible_to<std::string_view>;  ///< what it sums
   /// The first rule between the parameters that is broken: the key to blame and why.
   { law.parameters.rule_violation() } -> std::same_as<std::optional<FieldRule>>;
 };

@@ -16,6 +16,7 @@
 /// returns to 0. Stored energy ½ k s² (½ k s_e² while relaxing), dissipated power c ṡ² in
 /// contact and locked, and the relaxation's release; impact losses are booked at the impact.
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -44,6 +45,8 @@ struct PaperGap {
   [[nodiscard]] double gap() const { return parameters.gap; }
   /// d = δ + ε: where the locked mode holds the link (s = ε).
   [[nodiscard]] double locked_length() const { return parameters.gap + parameters.shortening; }
+  /// The parameters locked_length() sums (a joint narrower than it is blamed on them).
+  static constexpr std::array<std::string_view, 2> locked_length_keys{"gap", "shortening"};
 
   static constexpr LawTraits traits{
       .piecewise_linear = true,
