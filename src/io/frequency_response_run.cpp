@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "poundsim/error.hpp"
+#include "poundsim/io/json_fields.hpp"
 #include "poundsim/analysis/response_metrics.hpp"
 #include "poundsim/units.hpp"
 
@@ -146,10 +147,7 @@ nlohmann::json to_json(const FrequencyResponseResult& result) {
                {"run_time_s", result.run_time}};
   if (input.dimensionless) {
     const DimensionlessParameters& d = *input.dimensionless;
-    summary["dimensionless"] = {{"lambda2", d.lambda2}, {"alpha", d.alpha}, {"beta", d.beta},
-                                {"gamma", d.gamma},     {"xi", d.xi},       {"delta", d.delta},
-                                {"eta", d.eta},         {"mu", d.mu},       {"epsilon", d.epsilon},
-                                {"restitution", d.restitution}};
+    summary["dimensionless"] = fields_json(d, {"mass1"});  // a response is per unit mass: no scale
   }
   return summary;
 }

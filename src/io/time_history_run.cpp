@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "poundsim/error.hpp"
+#include "poundsim/io/json_fields.hpp"
 #include "poundsim/io/output_files.hpp"
 #include "poundsim/analysis/response_metrics.hpp"
 #include "poundsim/units.hpp"
@@ -21,39 +22,6 @@ json peak(const Peak& p) { return json{{"value", p.value}, {"time", p.time}}; }
 
 /// a / b, or null when b is 0 (nothing to compare with).
 json ratio(double a, double b) { return b > 0 ? json(a / b) : json(); }
-
-/// The declared fields of `s` into `out`, each named by its key and its SI unit as summary.json
-/// names quantities: stiffness_N_m, damping_Ns_m, gap_m, restitution (no unit).
-template <class Field>
-std::string name_with_unit(const Field& field) {
-  std::string name(field.key);
-  if constexpr (is_number_field<Field>) {
-    if (!field.unit.empty()) {
-      name += '_';
-      for (const char c : field.unit) {
-        if (c == '/') name += '_';
-        else if (static_cast<unsigned char>(c) < 0x80) name += c;  // N·s/m → Ns_m
-      }
-    }
-  }
-  return name;
-}
-
-template <class S>
-void write_with_units(json& out, const S& s) {
-  for_each_field<S>([&](const auto& field) {
-    const std::string name = name_with_unit(field);
-    if constexpr (is_number_field<std::decay_t<decltype(field)>>) {
-      out[name] = s.*field.member;
-    } else if constexpr (is_integer_field<std::decay_t<decltype(field)>>) {
-      out[name] = static_cast<std::int64_t>(s.*field.member);
-    } else if constexpr (is_bool_field<std::decay_t<decltype(field)>>) {
-      out[name] = s.*field.member;
-    } else {
-      out[name] = std::string(field.name_of(s.*field.member));
-    }
-  });
-}
 
 json describe_model(const RunInput& input) {
   json frames = json::array();
@@ -87,10 +55,7 @@ json describe_model(const RunInput& input) {
   json model{{"frames", frames}, {"gap_elements", gaps}};
   if (input.dimensionless) {
     const DimensionlessParameters& d = *input.dimensionless;
-    model["dimensionless"] = {{"lambda2", d.lambda2}, {"alpha", d.alpha},     {"beta", d.beta},
-                              {"gamma", d.gamma},     {"xi", d.xi},           {"delta", d.delta},
-                              {"eta", d.eta},         {"mu", d.mu},           {"epsilon", d.epsilon},
-                              {"restitution", d.restitution}, {"mass1", d.mass1}};
+    model["dimensionless"] = fields_json(d);
   }
   return model;
 }
