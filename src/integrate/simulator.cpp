@@ -158,6 +158,7 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
 
 void Simulator::settle_state() {
   activate_phase();
+  system_.refresh_flags(contact_);  // events refresh them through the system (EventHandler)
   system_.equilibrate(*phase_, state_);
   evaluate_guards(state_, guards_.lo, guards_.rate_lo);
   apply_pending_events();
@@ -226,7 +227,6 @@ LinearPhase& Loop::activate_phase() {
   }
   phase_ = it->second.get();
   if (!phase_->is_unreduced()) phase_->set_link_lengths(contact_.link_length);
-  system_.refresh_flags(contact_);
   return *phase_;
 }
 

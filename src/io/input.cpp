@@ -128,6 +128,12 @@ class TableReader {
     return *this;
   }
 
+  /// The first of `keys` this table gives, else `fallback`: the key to blame for a rule between
+  /// several (an override is blamed for what it changed).
+  [[nodiscard]] std::string_view first_given(std::span<const std::string_view> keys, std::string_view fallback) const {
+    const auto given = std::find_if(keys.begin(), keys.end(), [&](std::string_view key) { return has(key); });
+    return given != keys.end() ? *given : fallback;
+  }
   [[noreturn]] void fail(std::string_view key, const std::string& message) const {
     const toml::node* node = table_->get(key);
     origin_->fail(node != nullptr ? node : table_, key_path(key), message);
@@ -552,10 +558,7 @@ GapSpec read_gap_law(TableReader& t, const GapSpec* defaults) {
         t.declare<Parameters>();
         read_fields(t, law.parameters, inherits ? Presence::inherited : Presence::as_declared);
         if (const std::optional<FieldRule> rule = law.parameters.rule_violation()) {
-          // Blame the first key of the rule that this table gives (an override: what it changed).
-          const auto given = std::find_if(rule->keys.begin(), rule->keys.end(),
-                                          [&](std::string_view key) { return t.has(key); });
-          t.fail(given != rule->keys.end() ? *given : rule->keys.front(), rule->message);
+          t.fail(t.first_given(rule->keys, rule->keys.front()), rule->message);
         }
       },
       spec.law);
@@ -566,8 +569,7 @@ GapSpec read_gap_law(TableReader& t, const GapSpec* defaults) {
       [&](const auto& law) {
         if (!spec.joint || fits_in_joint(*spec.joint, law.locked_length())) return;
         const auto& keys = law.locked_length_keys;
-        const auto given = std::find_if(keys.begin(), keys.end(), [&](std::string_view k) { return t.has(k); });
-        t.fail(t.has("joint_width") ? std::string_view("joint_width") : given != keys.end() ? *given : keys.back(),
+        t.fail(t.has("joint_width") ? std::string_view("joint_width") : t.first_given(keys, keys.back()),
                fmt::format("the joint width {} m is narrower than {} = {} m: the floors would collide before "
                            "the gap element bottoms out",
                            *spec.joint, fmt::join(keys, " + "), law.locked_length()));
@@ -638,10 +640,7 @@ StoreyLawParameters read_storey_law(TableReader& f, int storeys, const Broadcast
           });
           for (std::size_t i = 0; i < per_storey.values.size(); ++i) {
             if (const std::optional<FieldRule> rule = per_storey.values[i].rule_violation()) {
-              const auto given = std::find_if(rule->keys.begin(), rule->keys.end(),
-                                              [&](std::string_view key) { return f.has(key); });
-              f.fail(given != rule->keys.end() ? *given : rule->keys.front(),
-                     fmt::format("storey {}: {}", i + 1, rule->message));
+              f.fail(f.first_given(rule->keys, rule->keys.front()), fmt::format("storey {}: {}", i + 1, rule->message));
             }
           }
         }
