@@ -49,7 +49,7 @@ TEST(PaperGapLaw, OpenTransmitsNothingContactIsTheSpringAndDashpotLockedIsRigid)
                    300.0 * 0.3 * 0.3);
   EXPECT_EQ(gap.dissipated_power(pressed, PaperGap::link_mode(GapMode::open)), 0.0);
   // Open and relaxing after a force separation: the free end's shortening s_e(t).
-  const GapMemory relaxing{.released_shortening = 0.001, .release_time = 1.0};
+  const PaperGap::State relaxing{.released_shortening = 0.001, .release_time = 1.0};
   const double se = 0.001 * std::exp(-2e5 / 300.0 * 0.001);
   EXPECT_NEAR(gap.stored_energy(LinkKinematics{.t = 1.001}, PaperGap::link_mode(GapMode::open),
                                 relaxing),
@@ -76,13 +76,33 @@ TEST(Links, StoreysByDofThenGapElements) {
     EXPECT_EQ(std::get<LinearStorey>(links[i].law).stiffness,
               m.frames[layout.frame_of(i)].stiffness[layout.floor_of(i)]);
     EXPECT_EQ(links[i].element, -1);
+    EXPECT_EQ(links[i].slot, i);  // the i-th linear storey
   }
   for (int p = 0; p < 2; ++p) {
     const Link& gap = links[5 + p];
     EXPECT_EQ(gap.element, p);
+    EXPECT_EQ(gap.slot, p);  // the p-th paper's element
     EXPECT_EQ(gap.a, layout.gap_left(p));
     EXPECT_EQ(gap.b, layout.gap_right(p));
   }
+}
+
+// Each law's links keep their law's State, by slot: the storeys' (nothing) and the elements'.
+TEST(Links, EachLinkKeepsItsLawsStateBySlot) {
+  const Model m = make_model({make_uniform_frame(2, 1.0, 100.0, 1.0),
+                              make_uniform_frame(3, 2.0, 300.0, 2.0)},
+                             GapProperties{.stiffness = 50.0, .damping = 1.0, .gap = 0.01, .shortening = 0.02});
+  const std::vector<Link> links = make_links(m, DofLayout(m));
+  LinkStates states(links);
+  EXPECT_EQ(states.of(LinearStorey{}).size(), 5U);
+  ASSERT_EQ(states.of(PaperGap{}).size(), 2U);
+  const PaperGap& second = std::get<PaperGap>(links[6].law);
+  states.at(second, links[6].slot) = {.released_shortening = 0.003, .release_time = 2.0};
+  EXPECT_EQ(states.of(PaperGap{})[0], PaperGap::State{});
+  states.shift_clock(0.5);
+  EXPECT_EQ(states.at(second, 1).release_time, 1.5);
+  EXPECT_EQ(states.at(second, 1).released_shortening, 0.003);
+  EXPECT_EQ(states.of(PaperGap{})[0].release_time, -0.5);
 }
 
 TEST(Links, PhaseAssemblyAddsEachLinkInItsMode) {

@@ -2,6 +2,7 @@
 // guard does — against the closed forms of contact and of an impact with restitution.
 #include "poundsim/dynamics/system.hpp"
 
+#include <cmath>
 #include <map>
 #include <memory>
 #include <vector>
@@ -139,6 +140,43 @@ TEST(PoundingSystem, AFiredApproachWithAStrokeIsAContactAndTheElementPushes) {
   // In contact its stop guard is s − ε and its separation guard −s.
   EXPECT_NEAR(g[0], 1e-9 - 0.005, 1e-15);
   EXPECT_NEAR(g[1], -1e-9, 1e-15);
+}
+
+// The law's own state: under the force criterion, a separation with the spring still compressed
+// leaves the element's free end relaxing, s_e(t) = s₀ exp(−k (t − t₀)/c) (PaperGap::State), which
+// the system keeps for the link's law and its next approach guard measures against.
+TEST(PoundingSystem, AForceSeparationLeavesTheLawsStateRelaxing) {
+  const GapProperties p{.stiffness = 1e4, .damping = 20.0, .gap = kGap, .shortening = 0.005, .restitution = 0.8};
+  const PoundingSystem system(testing::two_oscillators(2.0, 50.0, 0.0, 3.0, 80.0, 0.0, p), NoExcitation{},
+                              EventRules{.separation = SeparationCriterion::force});
+  Recorder recorder(system);
+  const double s0 = 0.002, t0 = 1.5;
+  // In contact, s = 0.002 and ṡ = −1.3: F = k s + c ṡ = 20 − 26 = −6 N, tensile, so it separates.
+  KinematicState x = state_at(kGap + s0, 0.0, -0.8, 0.5);
+  x.t = t0;
+  ContactState c = system.initial_contact(x);
+  ASSERT_EQ(c.config[0], PaperGap::link_mode(GapMode::contact));
+  const PaperGap& law = std::get<PaperGap>(system.contact_links()[0].law);
+  EXPECT_EQ(c.states.at(law, 0), PaperGap::State{});
+  LinearPhase& phase = recorder.activate(c);
+  system.refresh_flags(c);
+  std::vector<double> g(2), dg(2);
+  system.evaluate_guards(x, phase, c, g, dg);
+  EXPECT_NEAR(g[1], 6.0, 1e-12);
+  const std::vector<double> fired{0.0, g[1]};
+  system.apply_events(fired, x, c, phase, g, dg, recorder);
+  ASSERT_EQ(recorder.events.size(), 1U);
+  EXPECT_EQ(recorder.events[0].kind, EventKind::separation);
+  EXPECT_EQ(c.config[0], PaperGap::link_mode(GapMode::open));
+  EXPECT_EQ(c.states.at(law, 0), (PaperGap::State{.released_shortening = s0, .release_time = t0}));
+  // The approach guard is s − s_e: zero at the release, and k/c·1 ms later s_e has decayed by e^−½.
+  EXPECT_NEAR(g[0], 0.0, 1e-15);
+  x.t = t0 + 1e-3;
+  system.evaluate_guards(x, recorder.activate(c), c, g, dg);
+  EXPECT_NEAR(g[0], s0 * (1 - std::exp(-0.5)), 1e-15);
+  // A restart at t0 + 1 ms makes the release time relative to the new origin.
+  c.states.shift_clock(x.t);
+  EXPECT_NEAR(c.states.at(law, 0).release_time, -1e-3, 1e-15);
 }
 
 }  // namespace

@@ -20,13 +20,6 @@ LinkMode mode_in(const TypedLink<L>& link, const ContactConfiguration& config) {
   return link.element < 0 ? LinkMode{0} : config[static_cast<std::size_t>(link.element)];
 }
 
-const GapMemory kNoMemory{};
-
-template <class L>
-const GapMemory& memory_of(const TypedLink<L>& link, std::span<const GapMemory> memory) {
-  return link.element < 0 ? kNoMemory : memory[static_cast<std::size_t>(link.element)];
-}
-
 /// The balance term of a law's energy group: storeys or gap elements.
 double& term(EnergyGroup group, double& storey, double& gap_element) {
   return group == EnergyGroup::storey ? storey : gap_element;
@@ -46,7 +39,7 @@ double EnergyMeter::kinetic_energy(const Eigen::VectorXd& v) const {
 }
 
 void EnergyMeter::update_stored(const KinematicState& x, const ContactConfiguration& config,
-                                std::span<const GapMemory> memory) {
+                                const LinkStates& states) {
   balance_.kinetic = kinetic_energy(x.v);
   double storey = 0.0, gap = 0.0;
   links_.for_each_law([&](auto links) {
@@ -54,7 +47,7 @@ void EnergyMeter::update_stored(const KinematicState& x, const ContactConfigurat
     double sum = 0.0;  // in a register: one law's links, in link order
     for (const auto& link : links) {
       sum += link.law.stored_energy(kinematics_of(link, x), mode_in(link, config),
-                                    memory_of(link, memory));
+                                    states.at(link));
     }
     term(links.front().law.traits.energy, storey, gap) += sum;
   });
@@ -63,16 +56,16 @@ void EnergyMeter::update_stored(const KinematicState& x, const ContactConfigurat
 }
 
 void EnergyMeter::start(const KinematicState& x, const ContactConfiguration& config,
-                        std::span<const GapMemory> memory) {
+                        const LinkStates& states) {
   balance_ = EnergyBalance{};
-  update_stored(x, config, memory);
+  update_stored(x, config, states);
   balance_.initial = balance_.kinetic + balance_.storey_strain + balance_.gap_strain;
   scale_ = std::abs(balance_.initial);
   max_residual_ = 0.0;
 }
 
 void EnergyMeter::step(const KinematicState& x0, const KinematicState& x1,
-                       const ContactConfiguration& config, std::span<const GapMemory> memory) {
+                       const ContactConfiguration& config, const LinkStates& states) {
   const double h = x1.t - x0.t;
   // Trapezoidal work of the ground motion: −Δuᵀ M 1 (a_g0 + a_g1)/2.
   balance_.input -= 0.5 * (x0.ground + x1.ground) * (x1.u - x0.u).dot(mass_);
@@ -88,8 +81,8 @@ void EnergyMeter::step(const KinematicState& x0, const KinematicState& x1,
   });
   balance_.storey_damping += h * storey;
   balance_.gap_damping += h * gap;
-  add_relaxation(x0, x1, config, memory);
-  finish_step(x1, config, memory);
+  add_relaxation(x0, x1, config, states);
+  finish_step(x1, config, states);
 }
 
 EnergyMeter::Powers EnergyMeter::powers(const KinematicState& x,
@@ -138,22 +131,22 @@ PowerForms EnergyMeter::power_forms(const ContactConfiguration& config,
 
 void EnergyMeter::step_with(const KinematicState& x0, const KinematicState& x1,
                             const Powers& integrals, const ContactConfiguration& config,
-                            std::span<const GapMemory> memory) {
+                            const LinkStates& states) {
   balance_.input += integrals.input;
   balance_.storey_damping += integrals.storey_damping;
   balance_.gap_damping += integrals.gap_damping;
-  add_relaxation(x0, x1, config, memory);
-  finish_step(x1, config, memory);
+  add_relaxation(x0, x1, config, states);
+  finish_step(x1, config, states);
 }
 
 void EnergyMeter::add_relaxation(const KinematicState& x0, const KinematicState& x1,
                                  const ContactConfiguration& config,
-                                 std::span<const GapMemory> memory) {
+                                 const LinkStates& states) {
   // A relaxing element dissipates exactly what its spring releases.
   links_.for_each_law([&](auto links) {
     for (const auto& link : links) {
       const double released = link.law.relaxation_release(
-          mode_in(link, config), memory_of(link, memory), x0.t, x1.t);
+          mode_in(link, config), states.at(link), x0.t, x1.t);
       if (released == 0.0) continue;
       term(link.law.traits.energy, balance_.storey_damping, balance_.gap_damping) += released;
     }
@@ -161,8 +154,8 @@ void EnergyMeter::add_relaxation(const KinematicState& x0, const KinematicState&
 }
 
 void EnergyMeter::finish_step(const KinematicState& x1, const ContactConfiguration& config,
-                              std::span<const GapMemory> memory) {
-  update_stored(x1, config, memory);
+                              const LinkStates& states) {
+  update_stored(x1, config, states);
   // Not std::max: it drops a NaN in its second argument, and a NaN balance must not pass.
   for (const double x : {std::abs(balance_.supplied()), balance_.accounted()}) {
     if (!(x <= scale_)) scale_ = x;

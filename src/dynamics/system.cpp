@@ -63,7 +63,7 @@ ContactState PoundingSystem::initial_contact(const KinematicState& x) const {
           fmt::format("initial displacements compress {} {}", describe(link, layout_), e.what()));
     }
   }
-  c.memory.assign(ng, GapMemory{});
+  c.states = LinkStates(links_);
   c.bias.assign(ng, 0.0);
   c.link_length.assign(ng, 0.0);
   c.transmits.assign(ng, 0);
@@ -121,7 +121,7 @@ void PoundingSystem::evaluate_guards(const KinematicState& x, const LinearPhase&
     const GuardContext context{.separation = rules_.separation,
                                .reaction = c.stop_reaction[p],
                                .reaction_noise = c.stop_noise[p]};
-    link.law.guards(kinematics(x, link), c.config[p], c.memory[p], context, values);
+    link.law.guards(kinematics(x, link), c.config[p], c.states.at(link), context, values);
     for (std::size_t i = 0; i < values.size(); ++i) {
       const GuardValue& v = values[i];
       const std::size_t j = 2 * p + i;
@@ -183,7 +183,7 @@ LinearPhase& PoundingSystem::apply_events(std::span<const double> fired, Kinemat
     const LinkKinematics k = kinematics(x, link);
     LinkMode m = c.config[p];
     const Transition transition = with_contact_law<Transition>(link, [&](const auto& law) {
-      return law.on_guard(static_cast<int>(j % 2), k, m, c.memory[p], rules_.separation);
+      return law.on_guard(static_cast<int>(j % 2), k, m, c.states.at(law, link.slot), rules_.separation);
     });
     c.config[p] = m;
     refresh_flags(c, p);  // the event handler below may ask for the element's force
@@ -215,7 +215,7 @@ double PoundingSystem::stop_guard(const KinematicState& x, const ContactState& c
   const Link& link = contact_links_[p];
   const LinkKinematics k = kinematics(x, link);
   const double distance = with_contact_law<double>(
-      link, [&](const auto& law) { return law.stop_distance(k, c.config[p], c.memory[p]); });
+      link, [&](const auto& law) { return law.stop_distance(k, c.config[p], c.states.at(law, link.slot)); });
   return distance - c.bias[p];
 }
 

@@ -127,8 +127,9 @@ void ExactStepper::start_segment(Loop& loop) {
   segment_powers_ = it->second.powers.get();
   if (segment_powers_ != nullptr) segment_powers_->start(trajectory_);
   for (std::size_t p = 0; p < loop.contact().config.size(); ++p) {
-    const Relaxation relaxation = with_contact_law<Relaxation>(loop.system().contact_links()[p], [&](const auto& law) {
-      return law.relaxation(loop.contact().config[p], loop.contact().memory[p], loop.state().t);
+    const Link& link = loop.system().contact_links()[p];
+    const Relaxation relaxation = with_contact_law<Relaxation>(link, [&](const auto& law) {
+      return law.relaxation(loop.contact().config[p], loop.contact().states.at(law, link.slot), loop.state().t);
     });
     memory_amplitude_[2 * p] = relaxation.amplitude;
     memory_rate_[2 * p] = relaxation.rate;
@@ -152,7 +153,7 @@ void ExactStepper::accept(Loop& loop, KinematicState& next) {
   const double a = loop.state().t - t0, b = next.t - t0;
   const EnergyMeter::Powers integral =
       segment_powers_ != nullptr ? segment_powers_->integrate(a, b) : quadrature_powers(loop, a, b);
-  loop.meter().step_with(loop.state(), next, integral, loop.contact().config, loop.contact().memory);
+  loop.meter().step_with(loop.state(), next, integral, loop.contact().config, loop.contact().states);
   Output output(*this, loop);
   loop.monitor().observe_step(loop.state(), next, trajectory_.start_time(), output);
   loop.evaluate_guards(next, loop.guards().lo, loop.guards().rate_lo);

@@ -162,7 +162,7 @@ void Simulator::settle_state() {
   system_.equilibrate(*phase_, state_);
   evaluate_guards(state_, guards_.lo, guards_.rate_lo);
   apply_pending_events();
-  energy_.start(state_, contact_.config, contact_.memory);
+  energy_.start(state_, contact_.config, contact_.states);
   events_this_step_ = 0;
 }
 
@@ -174,8 +174,8 @@ void Simulator::restart(Excitation excitation, double dt) {
   options.validate();
   options_ = options;
   system_.set_excitation(std::move(excitation));
-  // Shift the clock to 0; the relaxing free ends remember their release relative to it.
-  for (GapMemory& m : contact_.memory) m.release_time -= state_.t;
+  // Shift the clock to 0; the laws keep their times (a free end's release) relative to it.
+  contact_.states.shift_clock(state_.t);
   state_.t = 0.0;
   grid_origin_ = 0.0;
   grid_index_ = 0;
@@ -281,7 +281,7 @@ void Simulator::integrate_to(double t_end, bool nominal) {
 namespace detail {
 
 void Loop::accept(KinematicState& next) {
-  energy_.step(state_, next, contact_.config, contact_.memory);
+  energy_.step(state_, next, contact_.config, contact_.states);
   monitor_.observe_step(state_, next);
   after_accept(next);
   guards_.lo = guards_.hi;
@@ -381,7 +381,7 @@ void Loop::apply_pending_events() {
   while (any_fired(guards_.lo)) {
     guards_.work = guards_.lo;
     phase_ = &system_.apply_events(guards_.work, state_, contact_, *phase_, guards_.lo, guards_.rate_lo, *events_);
-    energy_.refresh(state_, contact_.config, contact_.memory);
+    energy_.refresh(state_, contact_.config, contact_.states);
   }
 }
 

@@ -1,6 +1,7 @@
 #include "poundsim/model/model.hpp"
 
 #include <algorithm>
+#include <array>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -106,6 +107,9 @@ std::vector<Link> make_links(const Model& model, const DofLayout& layout) {
                      .law = std::visit([](const auto& law) -> Law { return law; }, model.gaps[p].law),
                      .element = p});
   }
+  // Each link's index among its law's links: where LinkStates keeps its state.
+  std::array<int, std::variant_size_v<Law>> next_slot{};
+  for (Link& link : links) link.slot = next_slot[link.law.index()]++;
   return links;
 }
 

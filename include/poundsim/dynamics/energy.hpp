@@ -57,12 +57,12 @@ class EnergyMeter {
 
   /// Sets E₀ and the stored terms from the initial state.
   void start(const KinematicState& x, const ContactConfiguration& config,
-             std::span<const GapMemory> memory);
+             const LinkStates& states);
 
   /// Adds one Newmark (sub-)step from x0 to x1 taken in the phase `config`, with the
   /// trapezoidal rule (exact for Newmark's average-acceleration scheme).
   void step(const KinematicState& x0, const KinematicState& x1, const ContactConfiguration& config,
-            std::span<const GapMemory> memory);
+            const LinkStates& states);
 
   /// The rates of the integrated terms at a state [W].
   struct Powers {
@@ -80,12 +80,12 @@ class EnergyMeter {
   /// Adds a segment from x0 to x1 whose integrals of the powers were computed elsewhere (the
   /// exact integrator integrates them on its exact trajectory, exact_energy.hpp).
   void step_with(const KinematicState& x0, const KinematicState& x1, const Powers& integrals,
-                 const ContactConfiguration& config, std::span<const GapMemory> memory);
+                 const ContactConfiguration& config, const LinkStates& states);
 
   /// Re-evaluates the stored terms after an event changed the state without a step.
   void refresh(const KinematicState& x, const ContactConfiguration& config,
-               std::span<const GapMemory> memory) {
-    update_stored(x, config, memory);
+               const LinkStates& states) {
+    update_stored(x, config, states);
   }
 
   /// Kinetic energy of a velocity field [J].
@@ -103,11 +103,11 @@ class EnergyMeter {
 
  private:
   void update_stored(const KinematicState& x, const ContactConfiguration& config,
-                     std::span<const GapMemory> memory);
+                     const LinkStates& states);
   void add_relaxation(const KinematicState& x0, const KinematicState& x1,
-                      const ContactConfiguration& config, std::span<const GapMemory> memory);
+                      const ContactConfiguration& config, const LinkStates& states);
   void finish_step(const KinematicState& x1, const ContactConfiguration& config,
-                   std::span<const GapMemory> memory);
+                   const LinkStates& states);
 
   /// The links by law: every sum below asks each link's law (in link order within each law).
   LinkTable links_;

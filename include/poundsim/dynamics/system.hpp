@@ -3,8 +3,8 @@
 /// The pounding system: the frames and gap elements as links with laws (model/law.hpp), the
 /// ground motion, and the rules of its events — what does not change while it is integrated.
 /// Its changing part, besides the floors' kinematics (KinematicState), is a ContactState: the
-/// mode of each gap element's law (the contact configuration), its memory, the hysteresis of its
-/// guard and the length a locked element holds.
+/// mode of each gap element's law (the contact configuration), each link law's State, the
+/// hysteresis of each element's guard and the length a locked element holds.
 ///
 /// The integrators (integrate/) advance the state between events and ask the system for
 /// everything else: its guards (witness functions of the contact laws, positive = fired, with
@@ -48,7 +48,7 @@ struct EventRules {
 /// What changes at events, per gap element (Model::gaps order), and what is derived from it.
 struct ContactState {
   ContactConfiguration config;     ///< The mode of each element's law: the phase's key.
-  std::vector<GapMemory> memory;   ///< A relaxing free end after a force separation.
+  LinkStates states;               ///< What each link's law keeps between events (its State).
   std::vector<double> bias;        ///< Hysteresis of each element's approach guard [m].
   std::vector<double> link_length; ///< u_L − u_R of each locked element when it locked [m].
 
@@ -104,7 +104,7 @@ class PoundingSystem {
   /// ½ vᵀ M v [J], summed as the energy meter sums it.
   [[nodiscard]] double kinetic_energy(const Eigen::VectorXd& v) const;
 
-  /// The contact state at x (each law's initial mode; nothing locked, no memory). Throws
+  /// The contact state at x (each law's initial mode and State, nothing locked). Throws
   /// std::invalid_argument naming the element whose law cannot start there.
   [[nodiscard]] ContactState initial_contact(const KinematicState& x) const;
   /// Refreshes the derived flags of every element from its mode (after activate()).

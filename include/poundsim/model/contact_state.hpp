@@ -1,7 +1,8 @@
 #pragma once
 /// @file
-/// The state of every gap element: which linear phase it is in (its mode) and, for elements that
-/// separated under the force criterion, the relaxation of their own spring.
+/// The mode of every gap element: which linear phase it is in. (What a law keeps besides its mode
+/// — the paper's element: the relaxation of its spring after a force separation — is the law's
+/// own State, model/laws/.)
 ///
 /// Modes and the events that change them (see docs/model.md for the reasoning):
 ///
@@ -12,7 +13,6 @@
 /// For a rigid stop (ε = 0) there is no contact phase: open ──impact──▶ open or locked, and
 /// unlock returns to open.
 
-#include <cmath>
 #include <cstdint>
 #include <string_view>
 #include <vector>
@@ -41,20 +41,6 @@ enum class SeparationCriterion : std::uint8_t {
   /// Contact ends when F = c ṡ + k s would become tensile. The massless element then relaxes on
   /// its own, c ṡ_e + k s_e = 0, and touches again when the floors close on its free end.
   force,
-};
-
-/// Memory of an element that separated with compressed spring under the force criterion: its
-/// own shortening is s_e(t) = released_shortening · exp(−k (t − release_time) / c).
-struct GapMemory {
-  double released_shortening = 0.0;  ///< s_e at release [m]; 0 when the element is relaxed.
-  double release_time = 0.0;         ///< [s]
-  /// Shortening of the element's free end at time t [m] (0 for a plain open element). Inline:
-  /// every guard evaluation of an open element asks it.
-  [[nodiscard]] double free_end_shortening(double t, double stiffness, double damping) const {
-    if (released_shortening == 0.0) return 0.0;
-    if (damping <= 0.0) return 0.0;  // a spring without dashpot recovers at once
-    return released_shortening * std::exp(-stiffness / damping * (t - release_time));
-  }
 };
 
 }  // namespace poundsim

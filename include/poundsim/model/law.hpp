@@ -141,8 +141,11 @@ struct Link {
   int b = -1;       ///< DOF of floor b, or −1 for the ground.
   Law law;
   /// Which gap element of Model::gaps the link stands for, −1 for a storey: the system's
-  /// ContactState keeps each gap element's mode and memory by this index.
+  /// ContactState keeps each gap element's mode by this index.
   int element = -1;
+  /// Its index among the links of its law (make_links numbers them): LinkStates keeps its
+  /// law's State by this index.
+  int slot = 0;
 
   [[nodiscard]] const LawTraits& traits() const {
     return std::visit([](const auto& l) -> const LawTraits& { return l.traits; }, law);
@@ -160,8 +163,24 @@ struct TypedLink {
   int a = 0;
   int b = -1;
   int element = -1;
+  int slot = 0;
   L law;
 };
+
+namespace detail {
+/// The index of the law L in the Law variant.
+template <class L, class V = Law>
+struct LawIndex;
+template <class L, class... Ls>
+struct LawIndex<L, std::variant<Ls...>> {
+  static constexpr std::size_t value = [] {
+    constexpr std::array<bool, sizeof...(Ls)> same{std::is_same_v<L, Ls>...};
+    std::size_t i = 0;
+    while (!same[i]) ++i;
+    return i;
+  }();
+};
+}  // namespace detail
 
 /// The links sorted by law, one array per law of the Law variant (in its order), each in link
 /// order: loops over many links (energy, every step) call each law's functions directly, with no
@@ -175,7 +194,7 @@ class LinkTable {
           [&](const auto& law) {
             using L = std::decay_t<decltype(law)>;
             std::get<std::vector<TypedLink<L>>>(tables_).push_back(
-                {link.a, link.b, link.element, law});
+                {link.a, link.b, link.element, link.slot, law});
           },
           link.law);
     }
@@ -194,6 +213,61 @@ class LinkTable {
     using type = std::tuple<std::vector<TypedLink<L>>...>;
   };
   TablesOf<Law>::type tables_;
+};
+
+/// The State of every link's law (law_traits.hpp's LawState), one array per law of Law, indexed
+/// by the link's slot: what the laws keep between events, committed at each event. The loop
+/// owns it (ContactState); the laws read it and their events change it.
+class LinkStates {
+ public:
+  LinkStates() = default;
+  /// Every link's law in its initial state.
+  explicit LinkStates(std::span<const Link> links) {
+    for (const Link& link : links) {
+      std::visit([&](const auto& law) { of(law).emplace_back(); }, link.law);
+    }
+  }
+  /// The states of the links of law L, by slot.
+  template <class L>
+  [[nodiscard]] std::vector<typename L::State>& of(const L& /*law*/) {
+    return std::get<detail::LawIndex<L>::value>(states_);
+  }
+  template <class L>
+  [[nodiscard]] const std::vector<typename L::State>& of(const L& /*law*/) const {
+    return std::get<detail::LawIndex<L>::value>(states_);
+  }
+  /// The state of a link whose law is L.
+  template <class L>
+  [[nodiscard]] typename L::State& at(const L& law, int slot) {
+    return of(law)[static_cast<std::size_t>(slot)];
+  }
+  template <class L>
+  [[nodiscard]] const typename L::State& at(const L& law, int slot) const {
+    return of(law)[static_cast<std::size_t>(slot)];
+  }
+  template <class L>
+  [[nodiscard]] const typename L::State& at(const TypedLink<L>& link) const {
+    return at(link.law, link.slot);
+  }
+  /// The clock restarts at `origin`: every time kept becomes relative to it.
+  void shift_clock(double origin) {
+    std::apply([&](auto&... arrays) { (shift(arrays, origin), ...); }, states_);
+  }
+  [[nodiscard]] bool operator==(const LinkStates&) const = default;
+
+ private:
+  template <class S>
+  static void shift(std::vector<S>& states, double origin) {
+    for (S& s : states) s.shift_clock(origin);
+  }
+  template <class V>
+  struct StatesOf;
+  template <class... L>
+  struct StatesOf<std::variant<L...>> {
+    static_assert((LawState<typename L::State> && ...), "every law declares its State (law_traits.hpp)");
+    using type = std::tuple<std::vector<typename L::State>...>;
+  };
+  StatesOf<Law>::type states_;
 };
 
 }  // namespace poundsim

@@ -38,43 +38,43 @@ GuardForm PaperGap::guard_form(int guard, LinkMode mode, SeparationCriterion sep
   return {};
 }
 
-Relaxation PaperGap::relaxation(LinkMode mode, const GapMemory& memory, double t) const {
+Relaxation PaperGap::relaxation(LinkMode mode, const State& state, double t) const {
   const GapProperties& gp = parameters;
   const bool relaxing =
-      gap_mode(mode) == GapMode::open && memory.released_shortening != 0.0 && gp.damping > 0;
+      gap_mode(mode) == GapMode::open && state.released_shortening != 0.0 && gp.damping > 0;
   if (!relaxing) return {};
-  return {.amplitude = memory.free_end_shortening(t, gp.stiffness, gp.damping),
+  return {.amplitude = state.free_end_shortening(t, gp.stiffness, gp.damping),
           .rate = gp.stiffness / gp.damping};
 }
 
 Transition PaperGap::on_guard(int guard, const LinkKinematics& k, LinkMode& mode,
-                              GapMemory& memory, SeparationCriterion separation) const {
+                              State& state, SeparationCriterion separation) const {
   if (guard == 1) {  // separation from contact
     mode = link_mode(GapMode::open);
     const double s = shortening(k);
-    memory = separation == SeparationCriterion::force && s > 0 ? GapMemory{s, k.t} : GapMemory{};
+    state = separation == SeparationCriterion::force && s > 0 ? State{s, k.t} : State{};
     return Transition::separation;
   }
   switch (gap_mode(mode)) {
     case GapMode::open:
       if (parameters.is_rigid_stop()) return Transition::impact;
       mode = link_mode(GapMode::contact);
-      memory = GapMemory{};
+      state = State{};
       return Transition::contact;
     case GapMode::contact: return Transition::impact;
     case GapMode::locked:
       mode = link_mode(parameters.is_rigid_stop() ? GapMode::open : GapMode::contact);
-      memory = GapMemory{};
+      state = State{};
       return Transition::unlock;
   }
   return Transition::impact;
 }
 
 double PaperGap::stop_distance(const LinkKinematics& k, LinkMode mode,
-                               const GapMemory& memory) const {
+                               const State& state) const {
   const double s = shortening(k);
   if (gap_mode(mode) == GapMode::contact) return s - parameters.shortening;
-  return s - memory.free_end_shortening(k.t, parameters.stiffness, parameters.damping);
+  return s - state.free_end_shortening(k.t, parameters.stiffness, parameters.damping);
 }
 
 }  // namespace poundsim

@@ -10,8 +10,8 @@
 /// active stop guard.
 ///
 /// The law's state is its mode (in the contact configuration, which selects the phase) and its
-/// relaxation memory (GapMemory: the free end of a spring and dashpot that separated
-/// compressed). The guard hysteresis after an impact (the simulator's impact bias, which keeps a
+/// own `State` (law_traits.hpp's LawState: the paper's element keeps the free end of a spring
+/// and dashpot that separated compressed), which only its events change. The guard hysteresis after an impact (the simulator's impact bias, which keeps a
 /// pair released a hair past its stop from firing again) is not the law's: the simulator
 /// subtracts it from the guards the law marks `hysteresis`.
 
@@ -79,19 +79,20 @@ enum class Transition : std::uint8_t {
 
 /// The interface the simulator uses; PaperGap is the first model of it.
 template <class L>
-concept ContactLaw = requires(const L& law, const LinkKinematics& k, LinkMode mode,
-                              const GapMemory& memory, const GuardContext& context,
+concept ContactLaw = LawState<typename L::State> &&
+                     requires(const L& law, const LinkKinematics& k, LinkMode mode,
+                              const typename L::State& state, const GuardContext& context,
                               std::span<GuardValue, 2> out, LinkMode& mode_out,
-                              GapMemory& memory_out) {
+                              typename L::State& state_out) {
   { law.initial_mode(0.0) } -> std::same_as<LinkMode>;
-  law.guards(k, mode, memory, context, out);
+  law.guards(k, mode, state, context, out);
   { law.guard_form(0, mode, SeparationCriterion::displacement) } -> std::same_as<GuardForm>;
-  { law.relaxation(mode, memory, 0.0) } -> std::same_as<Relaxation>;
-  { law.on_guard(0, k, mode_out, memory_out, SeparationCriterion::displacement) }
+  { law.relaxation(mode, state, 0.0) } -> std::same_as<Relaxation>;
+  { law.on_guard(0, k, mode_out, state_out, SeparationCriterion::displacement) }
       -> std::same_as<Transition>;
   { law.force(k, mode) } -> std::same_as<double>;
   { law.shortening(k) } -> std::same_as<double>;
-  { law.stop_distance(k, mode, memory) } -> std::same_as<double>;
+  { law.stop_distance(k, mode, state) } -> std::same_as<double>;
   { law.stop_guard_is_active(mode) } -> std::same_as<bool>;
   { law.position_noise(k) } -> std::same_as<double>;
   { law.restitution() } -> std::same_as<double>;

@@ -3,6 +3,7 @@
 /// What every law declares besides its force: its modes, its linear form in each, and traits.
 /// See model/law.hpp for the sign convention.
 
+#include <concepts>
 #include <cstdint>
 
 namespace poundsim {
@@ -20,6 +21,22 @@ struct LinearForm {
 
 /// Which term of the energy balance a law's stored and dissipated energy belongs to.
 enum class EnergyGroup : std::uint8_t { storey, gap_element };
+
+/// The state a law keeps between events, committed at each event that changes it (a relaxing
+/// free end, a closing velocity at contact, a plastic drift): each law declares its own as
+/// `State`, and the loop keeps one per link (LinkStates, model/law.hpp). Times in it are on the
+/// simulation's clock, which restarts at 0 when a simulation restarts on a new excitation:
+/// shift_clock(origin) makes them relative to the new origin.
+template <class S>
+concept LawState = std::default_initializable<S> && std::copyable<S> && requires(S& s) {
+  s.shift_clock(0.0);
+};
+
+/// The state of a law that keeps nothing between events.
+struct NoState {
+  void shift_clock(double /*origin*/) {}
+  [[nodiscard]] bool operator==(const NoState&) const = default;
+};
 
 struct LawTraits {
   bool piecewise_linear = true;  ///< Linear in each mode: Newmark and the exact integrator apply.

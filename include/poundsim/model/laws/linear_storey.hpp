@@ -32,6 +32,9 @@ struct LinearStorey {
     return {.stiffness = stiffness, .damping = damping};
   }
 
+  /// Nothing is kept between events.
+  using State = NoState;
+
   double stiffness = 0.0;  ///< K [N/m], > 0.
   double damping = 0.0;    ///< C [N·s/m], ≥ 0.
 
@@ -50,7 +53,7 @@ struct LinearStorey {
 
   // The energy interface every law has (dynamics/energy.hpp asks it).
   [[nodiscard]] double stored_energy(const LinkKinematics& k, LinkMode /*mode*/,
-                                     const GapMemory& /*memory*/) const {
+                                     const State& /*state*/) const {
     return stored_energy(k.ua - k.ub);
   }
   [[nodiscard]] double dissipated_power(const LinkKinematics& k, LinkMode /*mode*/) const {
@@ -64,7 +67,7 @@ struct LinearStorey {
     return dissipated_power(rate);
   }
   /// No relaxing part: 0 [J].
-  [[nodiscard]] double relaxation_release(LinkMode /*mode*/, const GapMemory& /*memory*/,
+  [[nodiscard]] double relaxation_release(LinkMode /*mode*/, const State& /*state*/,
                                           double /*t0*/, double /*t1*/) const {
     return 0.0;
   }

@@ -6,7 +6,7 @@
 /// Parameters: GapProperties (k, c, δ, ε, e; gap_element.hpp). Modes (contact_state.hpp):
 ///
 ///     open     F = 0                                  (s = d − δ ≤ 0, or relaxing after a
-///                                                      force separation: s_e(t), GapMemory)
+///                                                      force separation: s_e(t), PaperGap::State)
 ///     contact  F = k s + c ṡ = k d + c ḋ − k δ          (0 < s < ε)
 ///     locked   the link is rigid at s = ε: d is held; the stop adds its reaction λ ≥ 0
 ///
@@ -36,6 +36,23 @@ struct PaperGap {
   static constexpr std::string_view key = "paper";
 
   Parameters parameters;
+
+  /// What the element keeps between events: after a separation with its spring compressed (the
+  /// force criterion), its free end relaxes on its own, s_e(t) = released_shortening ·
+  /// exp(−k (t − release_time) / c), until the floors touch it again.
+  struct State {
+    double released_shortening = 0.0;  ///< s_e at release [m]; 0 when the element is relaxed.
+    double release_time = 0.0;         ///< [s] on the simulation's clock
+    /// Shortening of the element's free end at time t [m] (0 for a plain open element). Inline:
+    /// every guard evaluation of an open element asks it.
+    [[nodiscard]] double free_end_shortening(double t, double stiffness, double damping) const {
+      if (released_shortening == 0.0) return 0.0;
+      if (damping <= 0.0) return 0.0;  // a spring without dashpot recovers at once
+      return released_shortening * std::exp(-stiffness / damping * (t - release_time));
+    }
+    void shift_clock(double origin) { release_time -= origin; }
+    [[nodiscard]] bool operator==(const State&) const = default;
+  };
 
   PaperGap() = default;
   // Implicit: a GapLaw (model.hpp) is made from the paper's properties as before there were laws.
@@ -71,9 +88,9 @@ struct PaperGap {
 
   /// ½ k s² (contact, locked) or ½ k s_e(t)² (open, relaxing) [J].
   [[nodiscard]] double stored_energy(const LinkKinematics& k, LinkMode mode,
-                                     const GapMemory& memory) const {
+                                     const State& state) const {
     const double s = gap_mode(mode) == GapMode::open
-                         ? memory.free_end_shortening(k.t, parameters.stiffness, parameters.damping)
+                         ? state.free_end_shortening(k.t, parameters.stiffness, parameters.damping)
                          : poundsim::shortening(parameters, k.ua, k.ub);
     return 0.5 * (parameters.stiffness * s * s);
   }
@@ -90,11 +107,11 @@ struct PaperGap {
   }
   /// What a relaxing free end's spring releases into its dashpot from t0 to t1, ½ k (s_e0² − s_e1²)
   /// [J]; 0 when not relaxing.
-  [[nodiscard]] double relaxation_release(LinkMode mode, const GapMemory& memory, double t0,
+  [[nodiscard]] double relaxation_release(LinkMode mode, const State& state, double t0,
                                           double t1) const {
-    if (gap_mode(mode) != GapMode::open || memory.released_shortening == 0.0) return 0.0;
-    const double s0 = memory.free_end_shortening(t0, parameters.stiffness, parameters.damping);
-    const double s1 = memory.free_end_shortening(t1, parameters.stiffness, parameters.damping);
+    if (gap_mode(mode) != GapMode::open || state.released_shortening == 0.0) return 0.0;
+    const double s0 = state.free_end_shortening(t0, parameters.stiffness, parameters.damping);
+    const double s1 = state.free_end_shortening(t1, parameters.stiffness, parameters.damping);
     return 0.5 * parameters.stiffness * (s0 * s0 - s1 * s1);
   }
   /// The dashpot c acting in `mode` [N·s/m]: 0 open.
@@ -110,13 +127,13 @@ struct PaperGap {
   /// std::invalid_argument ("by … m, beyond its allowable shortening … m") when s ≥ ε.
   [[nodiscard]] LinkMode initial_mode(double d) const;
   /// Evaluated at every step and trial: inline.
-  void guards(const LinkKinematics& k, LinkMode mode, const GapMemory& memory,
+  void guards(const LinkKinematics& k, LinkMode mode, const State& state,
               const GuardContext& context, std::span<GuardValue, 2> out) const;
   [[nodiscard]] GuardForm guard_form(int guard, LinkMode mode, SeparationCriterion separation) const;
-  [[nodiscard]] Relaxation relaxation(LinkMode mode, const GapMemory& memory, double t) const;
-  /// Applies guard `guard` fired at `k`: changes the mode and the memory, or asks for an impact.
+  [[nodiscard]] Relaxation relaxation(LinkMode mode, const State& state, double t) const;
+  /// Applies guard `guard` fired at `k`: changes the mode and the state, or asks for an impact.
   [[nodiscard]] Transition on_guard(int guard, const LinkKinematics& k, LinkMode& mode,
-                                    GapMemory& memory, SeparationCriterion separation) const;
+                                    State& state, SeparationCriterion separation) const;
   /// F = c ṡ + k s in contact and locked (without the stop reaction), 0 open [N].
   [[nodiscard]] double force(const LinkKinematics& k, LinkMode mode) const {
     if (gap_mode(mode) == GapMode::open) return 0.0;
@@ -128,7 +145,7 @@ struct PaperGap {
   }
   /// The approach guard's value without hysteresis: s − ε in contact, s − s_e open [m].
   [[nodiscard]] double stop_distance(const LinkKinematics& k, LinkMode mode,
-                                     const GapMemory& memory) const;
+                                     const State& state) const;
   /// True when guard 0 is the stop (an impact when it fires): in contact, or open with ε = 0.
   [[nodiscard]] bool stop_guard_is_active(LinkMode mode) const {
     return gap_mode(mode) == GapMode::contact ||
@@ -146,7 +163,7 @@ struct PaperGap {
   [[nodiscard]] static LinkMode locked_mode() { return link_mode(GapMode::locked); }
 };
 
-inline void PaperGap::guards(const LinkKinematics& k, LinkMode mode, const GapMemory& memory,
+inline void PaperGap::guards(const LinkKinematics& k, LinkMode mode, const State& state,
                       const GuardContext& context, std::span<GuardValue, 2> out) const {
   const GapProperties& gp = parameters;
   const double s = shortening(k);
@@ -154,7 +171,7 @@ inline void PaperGap::guards(const LinkKinematics& k, LinkMode mode, const GapMe
   const double s_noise = position_noise(k);
   switch (gap_mode(mode)) {
     case GapMode::open: {
-      const double se = memory.free_end_shortening(k.t, gp.stiffness, gp.damping);
+      const double se = state.free_end_shortening(k.t, gp.stiffness, gp.damping);
       const double se_rate = gp.damping > 0 ? -gp.stiffness / gp.damping * se : 0.0;
       out[0] = {.active = true, .value = s - se, .rate = rate - se_rate, .noise = s_noise,
                 .hysteresis = true};
