@@ -41,7 +41,7 @@ nlopt::algorithm algorithm(const std::string& name, const RunInput& input, const
   return static_cast<nlopt::algorithm>(a);
 }
 
-/// The metric that `objective` minimises, and what it measures.
+/// The column of the figure that `objective` minimises, and what it measures.
 std::pair<std::string, std::string> objective_metric(Objective objective) {
   if (objective == Objective::max_peak) return {"max_peak_V_W", "the larger of the frames' peak base shear V/W"};
   return {"max_ratio_to_free", "the larger of the frames' peak V/W divided by the same frame's peak without gap elements"};
@@ -58,7 +58,7 @@ struct Evaluation {
   std::vector<double> x;
   double objective = kRejected;
   std::string stage, status, error;
-  json metrics;
+  PointFigures figures;
 };
 
 class Problem {
@@ -68,11 +68,11 @@ class Problem {
 
   double operator()(const std::vector<double>& x, const std::string& stage) {
     if (auto it = memo_.find(x); it != memo_.end()) return it->second;
-    Evaluation e{x, kRejected, stage, "done", "", json()};
+    Evaluation e{x, kRejected, stage, "done", "", {}};
     try {
       const RunInput point = with_settings(input_, point_values(settings_, x));
-      e.metrics = point_metrics(point, settings_.threads, nullptr);
-      e.objective = e.metrics[objective_metric(settings_.objective).first].get<double>();
+      e.figures = point_figures(point, settings_.threads, nullptr);
+      e.objective = objective_of(e.figures, settings_.objective);
     } catch (const InputError& err) {
       e.status = "rejected";
       e.error = err.what();
@@ -204,7 +204,7 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
   OutputTransaction out(out_dir);
   // The optimum's response against bare pounding and the free frames.
   const RunInput best_point = with_settings(input, point_values(s, best->x));
-  json bare_metrics;
+  PointFigures bare_figures;
   if (s.each == PointRun::frf) {
     // Both responses are written out, so the bare one's metrics come from the same sweep.
     FrequencyResponseOptions o = frequency_response_options(best_point);
@@ -213,9 +213,9 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
     const Model bare = bare_pounding_model(best_point);
     const std::vector<FrfPoint> bare_response = frequency_response(bare, o);
     write_frf_table(out.open("bare_frf.csv"), bare, bare_response);
-    bare_metrics = frf_metrics(bare, bare_response, s.band_min, s.band_max);
+    bare_figures.response = frf_figures(bare, bare_response, s.band_min, s.band_max);
   } else {
-    bare_metrics = baseline_metrics(best_point, s.threads);
+    bare_figures = baseline_figures(best_point, s.threads);
   }
   OutputFile& csv = out.open("evaluations.csv");
   csv.text("evaluation,stage");
@@ -239,8 +239,8 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
                             .settings = s,
                             .optimum = best->x,
                             .objective = best->objective,
-                            .optimum_metrics = best->metrics,
-                            .bare_metrics = std::move(bare_metrics),
+                            .optimum_figures = best->figures,
+                            .bare_figures = std::move(bare_figures),
                             .metric = metric,
                             .meaning = meaning,
                             .stages = std::move(stages),
@@ -267,12 +267,13 @@ json optimum_values(const OptimizationResult& result) {
 json to_json(const OptimizationResult& result) {
   const OptimizeSettings& s = result.settings;
   // The optimum and bare pounding by the same measure, the one minimised.
-  const json comparison{{"optimum", result.optimum_metrics},
-                        {"bare_pounding", result.bare_metrics},
+  const json optimum_figures = to_json(result.optimum_figures);
+  const json comparison{{"optimum", optimum_figures},
+                        {"bare_pounding", to_json(result.bare_figures)},
                         {"objective", {{"metric", result.metric},
                                        {"meaning", result.meaning},
                                        {"optimum", result.objective},
-                                       {"bare_pounding", result.bare_metrics.at(result.metric)}}}};
+                                       {"bare_pounding", result.bare_objective()}}}};
   json stages = json::array();
   for (const OptimizationStage& g : result.stages) {
     stages.push_back({{"stage", g.stage}, {"algorithm", g.algorithm}, {"outcome", g.outcome},
@@ -286,7 +287,7 @@ json to_json(const OptimizationResult& result) {
                {"variables", json::array()},
                {"optimum", optimum_values(result)},
                {"objective", result.objective},
-               {"optimum_metrics", result.optimum_metrics},
+               {"optimum_metrics", optimum_figures},
                {"comparison", comparison},
                {"stages", stages},
                {"evaluations", result.evaluations},

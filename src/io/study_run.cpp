@@ -200,85 +200,41 @@ std::string baseline_key(const RunInput& point) {
   return fnv1a(d.dump());
 }
 
-json frf_metrics(const Model& model, const std::vector<FrfPoint>& response, double band_min, double band_max) {
-  const BandPeaks b = band_peaks(model, response, band_min, band_max);
-  json m{{"points", b.points}, {"non_periodic", b.non_periodic}};
-  double max_peak = 0, max_ratio = 0;
-  for (std::size_t f = 0; f < b.interacting.size(); ++f) {
-    m[fmt::format("peak_V{}_W", f + 1)] = b.interacting[f];
-    m[fmt::format("peak_V{}_at", f + 1)] = b.interacting_at[f];
-    m[fmt::format("free_peak_V{}_W", f + 1)] = b.free[f];
-    const double ratio = b.free[f] > 0 ? b.interacting[f] / b.free[f] : 0.0;
-    m[fmt::format("ratio_to_free_{}", f + 1)] = ratio;
-    max_peak = std::max(max_peak, b.interacting[f]);
-    max_ratio = std::max(max_ratio, ratio);
+json to_json(const PointFigures& figures) {
+  json columns = json::object();
+  for (const FigureColumn& c : figures.columns()) {
+    if (c.count) {
+      columns[c.name] = static_cast<long>(c.value);
+    } else {
+      columns[c.name] = c.value;
+    }
   }
-  m["max_peak_V_W"] = max_peak;
-  m["max_ratio_to_free"] = max_ratio;
-  return m;
+  return columns;
+}
+
+std::vector<double> peak_V_W_of(const json& columns, int frames) {
+  std::vector<double> peaks;
+  for (int f = 1; f <= frames; ++f) peaks.push_back(columns.at(fmt::format("peak_V{}_W", f)).get<double>());
+  return peaks;
 }
 
 namespace {
 
-json frf_metrics_of(const RunInput& point, int threads, double band_min, double band_max) {
+FrfFigures frf_figures_of(const RunInput& point, int threads, double band_min, double band_max) {
   FrequencyResponseOptions o = frequency_response_options(point);
   o.threads = threads;
-  return frf_metrics(point.model, frequency_response(point.model, o), band_min, band_max);
+  return frf_figures(point.model, frequency_response(point.model, o), band_min, band_max);
 }
 
-json time_history_metrics(const RunInput& point) {
-  const double w = reference_weight(point.model);
-  const Model& model = point.model;
+TimeHistoryFigures time_history_figures_of(const RunInput& point) {
   // Outputs at the start and the end only: the peaks are all a point needs.
-  const TimeHistoryAnalysis run = analyse_time_history({.model = model,
+  const TimeHistoryAnalysis run = analyse_time_history({.model = point.model,
                                                         .excitation = point.excitation,
                                                         .options = point.analysis.options,
                                                         .initial = point.initial,
                                                         .duration = point.analysis.duration,
                                                         .output_dt = point.analysis.duration});
-  const ResponseStatistics& stats = run.statistics;
-  const ResponseStatistics& free = run.free ? *run.free : run.statistics;  // no gap elements: free already
-  const double residual = run.max_relative_residual;
-  const DofLayout& layout = run.layout;
-  json m{{"energy_residual", residual}, {"pga_g", point.excitation_info.record_pga_g}};
-  double max_peak = 0, max_ratio = 0, impulse = 0, force = 0;
-  int impacts = 0;
-  for (std::size_t f = 0; f < stats.base_shear.size(); ++f) {
-    const double v = stats.base_shear[f].value / w, vf = free.base_shear[f].value / w;
-    m[fmt::format("peak_V{}_W", f + 1)] = v;
-    m[fmt::format("free_peak_V{}_W", f + 1)] = vf;
-    m[fmt::format("ratio_to_free_{}", f + 1)] = vf > 0 ? v / vf : 0.0;
-    max_peak = std::max(max_peak, v);
-    max_ratio = std::max(max_ratio, vf > 0 ? v / vf : 0.0);
-  }
-  // Per floor: peaks with and without interaction, and their ratio (amplification).
-  for (int f = 0; f < model.frame_count(); ++f) {
-    for (int i = 0; i < model.frames[static_cast<std::size_t>(f)].storeys(); ++i) {
-      const auto d = static_cast<std::size_t>(layout.dof(f, i));
-      const FloorResponse& a = stats.floors[d];
-      const FloorResponse& b = free.floors[d];
-      const std::string at = fmt::format("{}_{}", f + 1, i + 1);
-      m["peak_u_" + at + "_m"] = a.displacement.value;
-      m["free_peak_u_" + at + "_m"] = b.displacement.value;
-      m["amp_u_" + at] = b.displacement.value > 0 ? a.displacement.value / b.displacement.value : 0.0;
-      m["amp_drift_" + at] = b.drift.value > 0 ? a.drift.value / b.drift.value : 0.0;
-      m["amp_acc_" + at] = b.absolute_acceleration.value > 0 ? a.absolute_acceleration.value / b.absolute_acceleration.value : 0.0;
-    }
-  }
-  for (const NeighbourResponse& nb : free.neighbours) {
-    m[fmt::format("min_gap_{}_{}_m", nb.left_frame + 1, nb.floor + 1)] = std::max(0.0, nb.max_approach);
-  }
-  for (const GapResponse& g : stats.gaps) {
-    impacts += g.impacts;
-    impulse = std::max(impulse, g.impulse.value);
-    force = std::max(force, g.force.value);
-  }
-  m["max_peak_V_W"] = max_peak;
-  m["max_ratio_to_free"] = max_ratio;
-  m["impacts"] = impacts;
-  m["max_impact_impulse_Ns"] = impulse;
-  m["max_gap_force_N"] = force;
-  return m;
+  return time_history_figures(point.model, run, point.excitation_info.record_pga_g);
 }
 
 /// Mean and maximum over the records of every numeric metric.
@@ -304,22 +260,17 @@ Aggregate aggregate(const std::vector<json>& per_record) {
   return a;
 }
 
-json ensemble_metrics(const RunInput& point, int threads) {
+EnsembleFigures ensemble_figures_of(const RunInput& point, int threads) {
   const std::vector<std::filesystem::path>& records = point.ensemble->records;
-  std::vector<json> per_record(records.size());
+  std::vector<TimeHistoryFigures> per_record(records.size());
   parallel_for(static_cast<int>(records.size()), threads, [&](int k) {
     const auto r = static_cast<std::size_t>(k);
     const Setting record = make_setting("excitation.file", {records[r].string()});
     RunInput one = with_settings(point, {&record, 1});
     one.model = point.model;  // the point's model as given (e.g. made bare), the record from the file
-    per_record[r] = time_history_metrics(one);
+    per_record[r] = time_history_figures_of(one);
   });
-  // A point's metric `k` is its mean over the ensemble, `max_k` its worst case next to it.
-  const Aggregate a = aggregate(per_record);
-  json m{{"records", per_record.size()}};
-  for (const auto& [k, v] : a.mean.items()) m[k] = v;
-  for (const auto& [k, v] : a.max.items()) m["max_" + k] = v;
-  return m;
+  return ensemble_figures(per_record);
 }
 
 std::pair<double, double> band_of(const RunInput& point) {
@@ -330,31 +281,22 @@ std::pair<double, double> band_of(const RunInput& point) {
 
 }  // namespace
 
-json point_metrics(const RunInput& point, int threads, const json* baseline) {
+PointFigures point_figures(const RunInput& point, int threads, const std::vector<double>* bare_peak_V_W) {
   const auto [lo, hi] = band_of(point);
-  const PointRun each = point.each();
-  json m = each == PointRun::frf        ? frf_metrics_of(point, threads, lo, hi)
-           : each == PointRun::ensemble ? ensemble_metrics(point, threads)
-                                : time_history_metrics(point);
-  if (baseline != nullptr) {
-    double max_ratio = 0;
-    for (int f = 1; f <= point.model.frame_count(); ++f) {
-      const std::string key = fmt::format("peak_V{}_W", f);
-      const double bare = (*baseline)[key].get<double>();
-      m[fmt::format("bare_peak_V{}_W", f)] = bare;
-      const double ratio = bare > 0 ? m[key].get<double>() / bare : 0.0;
-      m[fmt::format("ratio_to_bare_{}", f)] = ratio;
-      max_ratio = std::max(max_ratio, ratio);
-    }
-    m["max_ratio_to_bare"] = max_ratio;
+  PointFigures figures;
+  switch (point.each()) {
+    case PointRun::frf: figures.response = frf_figures_of(point, threads, lo, hi); break;
+    case PointRun::ensemble: figures.response = ensemble_figures_of(point, threads); break;
+    case PointRun::time_history: figures.response = time_history_figures_of(point); break;
   }
-  return m;
+  if (bare_peak_V_W != nullptr) figures.compare_with_bare(*bare_peak_V_W);
+  return figures;
 }
 
-json baseline_metrics(const RunInput& point, int threads) {
+PointFigures baseline_figures(const RunInput& point, int threads) {
   RunInput bare = point;
   bare.model = bare_pounding_model(point);
-  return point_metrics(bare, threads, nullptr);
+  return point_figures(bare, threads, nullptr);
 }
 
 namespace {
@@ -557,7 +499,7 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
   std::mutex baseline_mutex;
   parallel_for(static_cast<int>(missing.size()), study.threads, [&](int k) {
     const Todo& t = *missing[static_cast<std::size_t>(k)];
-    const json m = baseline_metrics(t.input, 1);
+    const json m = io::to_json(baseline_figures(t.input, 1));
     db.record_baseline(t.baseline, m);
     const std::lock_guard lock(baseline_mutex);
     baselines[t.baseline] = m;
@@ -574,7 +516,9 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
     std::string status = "done", error;
     json metrics = json::object();
     try {
-      metrics = point_metrics(t.input, 1, t.baseline.empty() ? nullptr : &baselines.at(t.baseline));
+      std::optional<std::vector<double>> bare;
+      if (!t.baseline.empty()) bare = peak_V_W_of(baselines.at(t.baseline), t.input.model.frame_count());
+      metrics = io::to_json(point_figures(t.input, 1, bare ? &*bare : nullptr));
     } catch (const SimulationError& e) {
       status = "failed";
       error = e.what();

@@ -13,9 +13,15 @@
 
 #include <nlohmann/json.hpp>
 
+#include "poundsim/analysis/figures_of_merit.hpp"
 #include "poundsim/io/input.hpp"
 
 namespace poundsim::io {
+
+/// The figure that `objective` minimises, of a point's figures.
+[[nodiscard]] inline double objective_of(const PointFigures& figures, Objective objective) {
+  return objective == Objective::max_peak ? figures.max_peak_V_W() : figures.max_ratio_to_free();
+}
 
 /// One NLopt stage as it ran.
 struct OptimizationStage {
@@ -26,23 +32,25 @@ struct OptimizationStage {
 };
 
 /// What an optimisation found, typed: optimize.json (to_json) and the console report (report)
-/// are both written from it. Metrics are name → value maps, the study table's (docs/studies.md).
+/// are both written from it.
 struct OptimizationResult {
   std::filesystem::path source;     ///< The input file.
   std::string title;
   OptimizeSettings settings;        ///< As run.
   std::vector<double> optimum;      ///< Per design variable, in the order of settings.variables.
   double objective = 0;             ///< The objective at the optimum.
-  nlohmann::json optimum_metrics;   ///< Every metric of the optimum.
-  nlohmann::json bare_metrics;      ///< The same metrics of bare pounding at the optimum's joints.
-  std::string metric;               ///< The metric minimised (e.g. max_peak_V_W) …
+  PointFigures optimum_figures;     ///< Every figure of merit of the optimum.
+  PointFigures bare_figures;        ///< The same of bare pounding at the optimum's joints.
+  std::string metric;               ///< The figure minimised, as its column (e.g. max_peak_V_W) …
   std::string meaning;              ///< … and what it measures.
   std::vector<OptimizationStage> stages;
   long evaluations = 0;
   double run_time = 0;              ///< [s] wall clock, reported as is.
 
-  /// The minimised metric of bare pounding, to compare with `objective`.
-  [[nodiscard]] double bare_objective() const { return bare_metrics.at(metric).get<double>(); }
+  /// The minimised figure of bare pounding, to compare with `objective`.
+  [[nodiscard]] double bare_objective() const {
+    return objective_of(bare_figures, settings.objective);
+  }
 };
 
 /// Runs the optimisation of `input` and writes optimize.json, evaluations.csv and, for a

@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "poundsim/analysis/figures_of_merit.hpp"
 #include "poundsim/io/input.hpp"
 #include "poundsim/io/study_database.hpp"
 
@@ -33,21 +34,24 @@ std::string fingerprint(const RunInput& input);
 /// Key of the bare-pounding reference of a point: points that share it share the reference.
 std::string baseline_key(const RunInput& point);
 
-/// Figures of merit of one point (docs/studies.md), `baseline` the bare-pounding point's own
-/// metrics (or null). `threads` for a frequency response's points.
-nlohmann::json point_metrics(const RunInput& point, int threads, const nlohmann::json* baseline);
+/// Figures of merit of one point (docs/studies.md): its frequency response over the band of the
+/// study or optimiser, its time history, or its ensemble's; compared with bare pounding whose
+/// frames peak at `bare_peak_V_W` (or not, when null). `threads` for a frequency response's
+/// points and an ensemble's records.
+PointFigures point_figures(const RunInput& point, int threads, const std::vector<double>* bare_peak_V_W);
 
-/// Figures of merit of a frequency response of `model` over the band of ratios [band_min, band_max]
-/// (docs/studies.md): band peaks of each frame with and without interaction, and their ratios.
-nlohmann::json frf_metrics(const Model& model, const std::vector<FrfPoint>& response, double band_min,
-                           double band_max);
+/// The figures as the study table's columns, name → value (a count as an integer).
+nlohmann::json to_json(const PointFigures& figures);
+
+/// The frames' peak V/W (columns peak_V1_W, …) of figures stored as columns.
+std::vector<double> peak_V_W_of(const nlohmann::json& columns, int frames);
 
 /// Bare pounding in the point's joints: every gap element a rigid stop (k = c = ε = 0) at the
 /// width of its joint (RunInput::joint_widths), where the floors collide without the element.
 [[nodiscard]] Model bare_pounding_model(const RunInput& point);
 
-/// The bare-pounding version of a point (bare_pounding_model), its metrics.
-nlohmann::json baseline_metrics(const RunInput& point, int threads);
+/// The bare-pounding version of a point (bare_pounding_model), its figures.
+PointFigures baseline_figures(const RunInput& point, int threads);
 
 struct StudyRunOptions {
   std::optional<long> max_points;               ///< Run at most this many new points, then stop.

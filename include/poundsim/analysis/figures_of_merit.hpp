@@ -1,0 +1,118 @@
+#pragma once
+/// @file
+/// The figures of merit of one point of a study or of an optimisation (docs/studies.md), typed:
+/// a frequency response's band peaks, a time history's peaks and amplifications, or an
+/// ensemble's mean and maximum over its records, and optionally the ratios to bare pounding.
+/// The optimiser minimises one of them (max_peak_V_W, max_ratio_to_free); `columns()` names
+/// every figure as the study table's column, which io writes to the database and CSV.
+
+#include <optional>
+#include <span>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "poundsim/analysis/frequency_response.hpp"
+#include "poundsim/analysis/time_history.hpp"
+#include "poundsim/model/model.hpp"
+
+namespace poundsim {
+
+/// One frame (columns peak_V{f}_W, free_peak_V{f}_W, ratio_to_free_{f}, peak_V{f}_at).
+struct FrameFigures {
+  double peak_V_W = 0.0;       ///< Its peak base shear ÷ W (W: frame 1's weight).
+  double free_peak_V_W = 0.0;  ///< The same without gap elements.
+  double ratio_to_free = 0.0;  ///< peak_V_W ÷ free_peak_V_W; 0 when the free frame is at rest.
+  double peak_at = 0.0;        ///< ω̄/ω₁ of the peak (a frequency response's only).
+};
+
+/// One floor of a time history: peaks with the gap elements and without, and their ratios
+/// (columns peak_u_{f}_{i}_m, free_peak_u_{f}_{i}_m, amp_u_{f}_{i}, amp_drift_{f}_{i},
+/// amp_acc_{f}_{i}; a ratio is 0 when the free floor is at rest).
+struct FloorFigures {
+  int frame = 0, floor = 0;  ///< 0-based.
+  double peak_u_m = 0.0, free_peak_u_m = 0.0;
+  double amp_u = 0.0, amp_drift = 0.0, amp_acc = 0.0;
+};
+
+/// One pair of neighbouring floors: the free frames' largest approach past closing, the joint a
+/// gap-free design needs (column min_gap_{f}_{i}_m, 0 when they never close).
+struct JointFigures {
+  int left_frame = 0, floor = 0;  ///< 0-based.
+  double min_gap_m = 0.0;
+};
+
+/// A frequency response over a band of ω̄/ω₁.
+struct FrfFigures {
+  long points = 0;        ///< Frequencies in the band.
+  long non_periodic = 0;  ///< Of which not periodic.
+  std::vector<FrameFigures> frames;
+  double max_peak_V_W = 0.0;       ///< The larger of the frames' peak_V_W.
+  double max_ratio_to_free = 0.0;  ///< The larger of their ratio_to_free.
+};
+
+/// A time history.
+struct TimeHistoryFigures {
+  double energy_residual = 0.0;  ///< The largest relative residual of the energy balance.
+  double pga_g = 0.0;            ///< The record's peak ground acceleration [g] (0: harmonic).
+  std::vector<FrameFigures> frames;
+  std::vector<FloorFigures> floors;  ///< Frame by frame, bottom up.
+  std::vector<JointFigures> joints;  ///< In Model::gaps order.
+  double impacts = 0.0;  ///< A count; a double because an ensemble's mean need not be whole.
+  double max_impact_impulse_Ns = 0.0;
+  double max_gap_force_N = 0.0;
+  double max_peak_V_W = 0.0;
+  double max_ratio_to_free = 0.0;
+};
+
+/// An ensemble of time histories (one per record): the mean and the maximum of every figure
+/// over the records (columns: the mean under the figure's name, the maximum as max_<name>).
+struct EnsembleFigures {
+  long records = 0;
+  TimeHistoryFigures mean, max;
+};
+
+/// The point against bare pounding at its joints (columns bare_peak_V{f}_W, ratio_to_bare_{f},
+/// max_ratio_to_bare).
+struct BareComparison {
+  std::vector<double> bare_peak_V_W, ratio_to_bare;  ///< Per frame.
+  double max_ratio_to_bare = 0.0;
+};
+
+/// One study column: a figure's name and value. A count is written without a decimal point.
+struct FigureColumn {
+  std::string name;
+  double value = 0.0;
+  bool count = false;
+};
+
+/// The figures of one point.
+struct PointFigures {
+  std::variant<FrfFigures, TimeHistoryFigures, EnsembleFigures> response;
+  std::optional<BareComparison> bare;
+
+  /// The larger of the frames' peak V/W (an ensemble's: of its mean).
+  [[nodiscard]] double max_peak_V_W() const;
+  /// The larger of the frames' ratio of peak V/W to the free frame's (an ensemble's: of its mean).
+  [[nodiscard]] double max_ratio_to_free() const;
+  /// Each frame's peak V/W (an ensemble's: its mean), what bare pounding is compared by.
+  [[nodiscard]] std::vector<double> peak_V_W() const;
+  /// Adds the ratios to bare pounding whose frames peak at `bare_peak_V_W`.
+  void compare_with_bare(std::span<const double> bare_peak_V_W);
+  /// Every figure as a study column (docs/studies.md), in no particular order.
+  [[nodiscard]] std::vector<FigureColumn> columns() const;
+};
+
+/// The figures of a frequency response of `model` over lo ≤ ω̄/ω₁ ≤ hi (band_peaks).
+[[nodiscard]] FrfFigures frf_figures(const Model& model, const std::vector<FrfPoint>& response, double lo,
+                                     double hi);
+
+/// The figures of a time history of `model` (analyse_time_history, which also ran the free
+/// frames) under a record of peak ground acceleration `pga_g` [g].
+[[nodiscard]] TimeHistoryFigures time_history_figures(const Model& model, const TimeHistoryAnalysis& run,
+                                                      double pga_g);
+
+/// The mean and the maximum of each figure over `records` (at least one, all of one model).
+[[nodiscard]] EnsembleFigures ensemble_figures(std::span<const TimeHistoryFigures> records);
+
+}  // namespace poundsim

@@ -1,0 +1,237 @@
+#include "poundsim/analysis/figures_of_merit.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "poundsim/analysis/response_metrics.hpp"
+
+namespace poundsim {
+
+namespace {
+
+double ratio(double value, double reference) { return reference > 0 ? value / reference : 0.0; }
+
+/// Calls f(out, in) for every figure of `in` and the same figure of `out` (whose arrays it sizes
+/// like in's), so that an ensemble's mean and maximum are taken figure by figure.
+template <class F>
+void zip_figures(TimeHistoryFigures& out, const TimeHistoryFigures& in, F&& f) {
+  f(out.energy_residual, in.energy_residual);
+  f(out.pga_g, in.pga_g);
+  out.frames.resize(in.frames.size());
+  for (std::size_t k = 0; k < in.frames.size(); ++k) {
+    f(out.frames[k].peak_V_W, in.frames[k].peak_V_W);
+    f(out.frames[k].free_peak_V_W, in.frames[k].free_peak_V_W);
+    f(out.frames[k].ratio_to_free, in.frames[k].ratio_to_free);
+  }
+  out.floors.resize(in.floors.size());
+  for (std::size_t k = 0; k < in.floors.size(); ++k) {
+    FloorFigures& o = out.floors[k];
+    const FloorFigures& i = in.floors[k];
+    o.frame = i.frame;
+    o.floor = i.floor;
+    f(o.peak_u_m, i.peak_u_m);
+    f(o.free_peak_u_m, i.free_peak_u_m);
+    f(o.amp_u, i.amp_u);
+    f(o.amp_drift, i.amp_drift);
+    f(o.amp_acc, i.amp_acc);
+  }
+  out.joints.resize(in.joints.size());
+  for (std::size_t k = 0; k < in.joints.size(); ++k) {
+    out.joints[k].left_frame = in.joints[k].left_frame;
+    out.joints[k].floor = in.joints[k].floor;
+    f(out.joints[k].min_gap_m, in.joints[k].min_gap_m);
+  }
+  f(out.impacts, in.impacts);
+  f(out.max_impact_impulse_Ns, in.max_impact_impulse_Ns);
+  f(out.max_gap_force_N, in.max_gap_force_N);
+  f(out.max_peak_V_W, in.max_peak_V_W);
+  f(out.max_ratio_to_free, in.max_ratio_to_free);
+}
+
+void add_columns(const TimeHistoryFigures& t, const std::string& prefix, bool counts,
+                 std::vector<FigureColumn>& out) {
+  const auto add = [&](std::string name, double value, bool count = false) {
+    out.push_back({prefix + name, value, counts && count});
+  };
+  add("energy_residual", t.energy_residual);
+  add("pga_g", t.pga_g);
+  for (std::size_t f = 0; f < t.frames.size(); ++f) {
+    add(fmt::format("peak_V{}_W", f + 1), t.frames[f].peak_V_W);
+    add(fmt::format("free_peak_V{}_W", f + 1), t.frames[f].free_peak_V_W);
+    add(fmt::format("ratio_to_free_{}", f + 1), t.frames[f].ratio_to_free);
+  }
+  for (const FloorFigures& floor : t.floors) {
+    const std::string at = fmt::format("{}_{}", floor.frame + 1, floor.floor + 1);
+    add("peak_u_" + at + "_m", floor.peak_u_m);
+    add("free_peak_u_" + at + "_m", floor.free_peak_u_m);
+    add("amp_u_" + at, floor.amp_u);
+    add("amp_drift_" + at, floor.amp_drift);
+    add("amp_acc_" + at, floor.amp_acc);
+  }
+  for (const JointFigures& j : t.joints) add(fmt::format("min_gap_{}_{}_m", j.left_frame + 1, j.floor + 1), j.min_gap_m);
+  add("max_peak_V_W", t.max_peak_V_W);
+  add("max_ratio_to_free", t.max_ratio_to_free);
+  add("impacts", t.impacts, true);
+  add("max_impact_impulse_Ns", t.max_impact_impulse_Ns);
+  add("max_gap_force_N", t.max_gap_force_N);
+}
+
+/// The figures a point is compared by: a single response's, or an ensemble's mean.
+struct Headline {
+  double max_peak_V_W, max_ratio_to_free;
+  const std::vector<FrameFigures>* frames;
+};
+
+Headline headline(const PointFigures& p) {
+  return std::visit(
+      [](const auto& r) -> Headline {
+        if constexpr (std::is_same_v<std::decay_t<decltype(r)>, EnsembleFigures>) {
+          return {r.mean.max_peak_V_W, r.mean.max_ratio_to_free, &r.mean.frames};
+        } else {
+          return {r.max_peak_V_W, r.max_ratio_to_free, &r.frames};
+        }
+      },
+      p.response);
+}
+
+}  // namespace
+
+double PointFigures::max_peak_V_W() const { return headline(*this).max_peak_V_W; }
+
+double PointFigures::max_ratio_to_free() const { return headline(*this).max_ratio_to_free; }
+
+std::vector<double> PointFigures::peak_V_W() const {
+  std::vector<double> peaks;
+  for (const FrameFigures& f : *headline(*this).frames) peaks.push_back(f.peak_V_W);
+  return peaks;
+}
+
+void PointFigures::compare_with_bare(std::span<const double> bare_peak_V_W) {
+  const std::vector<double> peaks = peak_V_W();
+  if (bare_peak_V_W.size() != peaks.size()) {
+    throw std::invalid_argument(fmt::format("bare pounding has {} frames, the point {}", bare_peak_V_W.size(),
+                                            peaks.size()));
+  }
+  BareComparison b;
+  for (std::size_t f = 0; f < peaks.size(); ++f) {
+    b.bare_peak_V_W.push_back(bare_peak_V_W[f]);
+    b.ratio_to_bare.push_back(ratio(peaks[f], bare_peak_V_W[f]));
+    b.max_ratio_to_bare = std::max(b.max_ratio_to_bare, b.ratio_to_bare.back());
+  }
+  bare = std::move(b);
+}
+
+std::vector<FigureColumn> PointFigures::columns() const {
+  std::vector<FigureColumn> out;
+  std::visit(
+      [&](const auto& r) {
+        using R = std::decay_t<decltype(r)>;
+        if constexpr (std::is_same_v<R, FrfFigures>) {
+          out.push_back({"points", static_cast<double>(r.points), true});
+          out.push_back({"non_periodic", static_cast<double>(r.non_periodic), true});
+          for (std::size_t f = 0; f < r.frames.size(); ++f) {
+            out.push_back({fmt::format("peak_V{}_W", f + 1), r.frames[f].peak_V_W});
+            out.push_back({fmt::format("peak_V{}_at", f + 1), r.frames[f].peak_at});
+            out.push_back({fmt::format("free_peak_V{}_W", f + 1), r.frames[f].free_peak_V_W});
+            out.push_back({fmt::format("ratio_to_free_{}", f + 1), r.frames[f].ratio_to_free});
+          }
+          out.push_back({"max_peak_V_W", r.max_peak_V_W});
+          out.push_back({"max_ratio_to_free", r.max_ratio_to_free});
+        } else if constexpr (std::is_same_v<R, TimeHistoryFigures>) {
+          add_columns(r, "", true, out);
+        } else {
+          out.push_back({"records", static_cast<double>(r.records), true});
+          add_columns(r.mean, "", false, out);  // a mean of counts need not be whole
+          add_columns(r.max, "max_", false, out);
+        }
+      },
+      response);
+  if (bare) {
+    for (std::size_t f = 0; f < bare->bare_peak_V_W.size(); ++f) {
+      out.push_back({fmt::format("bare_peak_V{}_W", f + 1), bare->bare_peak_V_W[f]});
+      out.push_back({fmt::format("ratio_to_bare_{}", f + 1), bare->ratio_to_bare[f]});
+    }
+    out.push_back({"max_ratio_to_bare", bare->max_ratio_to_bare});
+  }
+  return out;
+}
+
+FrfFigures frf_figures(const Model& model, const std::vector<FrfPoint>& response, double lo, double hi) {
+  const BandPeaks b = band_peaks(model, response, lo, hi);
+  FrfFigures out;
+  out.points = b.points;
+  out.non_periodic = b.non_periodic;
+  for (std::size_t f = 0; f < b.interacting.size(); ++f) {
+    const FrameFigures frame{.peak_V_W = b.interacting[f],
+                             .free_peak_V_W = b.free[f],
+                             .ratio_to_free = ratio(b.interacting[f], b.free[f]),
+                             .peak_at = b.interacting_at[f]};
+    out.max_peak_V_W = std::max(out.max_peak_V_W, frame.peak_V_W);
+    out.max_ratio_to_free = std::max(out.max_ratio_to_free, frame.ratio_to_free);
+    out.frames.push_back(frame);
+  }
+  return out;
+}
+
+TimeHistoryFigures time_history_figures(const Model& model, const TimeHistoryAnalysis& run, double pga_g) {
+  const double w = reference_weight(model);
+  const ResponseStatistics& stats = run.statistics;
+  const ResponseStatistics& free = run.free ? *run.free : run.statistics;  // no gap elements: free already
+  TimeHistoryFigures out;
+  out.energy_residual = run.max_relative_residual;
+  out.pga_g = pga_g;
+  for (std::size_t f = 0; f < stats.base_shear.size(); ++f) {
+    const FrameFigures frame{.peak_V_W = stats.base_shear[f].value / w,
+                             .free_peak_V_W = free.base_shear[f].value / w,
+                             .ratio_to_free = ratio(stats.base_shear[f].value / w, free.base_shear[f].value / w)};
+    out.max_peak_V_W = std::max(out.max_peak_V_W, frame.peak_V_W);
+    out.max_ratio_to_free = std::max(out.max_ratio_to_free, frame.ratio_to_free);
+    out.frames.push_back(frame);
+  }
+  for (int f = 0; f < model.frame_count(); ++f) {
+    for (int i = 0; i < model.frames[static_cast<std::size_t>(f)].storeys(); ++i) {
+      const auto d = static_cast<std::size_t>(run.layout.dof(f, i));
+      const FloorResponse& a = stats.floors[d];
+      const FloorResponse& b = free.floors[d];
+      out.floors.push_back({.frame = f,
+                            .floor = i,
+                            .peak_u_m = a.displacement.value,
+                            .free_peak_u_m = b.displacement.value,
+                            .amp_u = ratio(a.displacement.value, b.displacement.value),
+                            .amp_drift = ratio(a.drift.value, b.drift.value),
+                            .amp_acc = ratio(a.absolute_acceleration.value, b.absolute_acceleration.value)});
+    }
+  }
+  for (const NeighbourResponse& nb : free.neighbours) {
+    out.joints.push_back({.left_frame = nb.left_frame, .floor = nb.floor, .min_gap_m = std::max(0.0, nb.max_approach)});
+  }
+  int impacts = 0;
+  for (const GapResponse& g : stats.gaps) {
+    impacts += g.impacts;
+    out.max_impact_impulse_Ns = std::max(out.max_impact_impulse_Ns, g.impulse.value);
+    out.max_gap_force_N = std::max(out.max_gap_force_N, g.force.value);
+  }
+  out.impacts = impacts;
+  return out;
+}
+
+EnsembleFigures ensemble_figures(std::span<const TimeHistoryFigures> records) {
+  if (records.empty()) throw std::invalid_argument("an ensemble's figures need at least one record");
+  EnsembleFigures out;
+  out.records = static_cast<long>(records.size());
+  // Figure by figure, in record order: the sum from 0, the maximum from −∞.
+  zip_figures(out.mean, records.front(), [](double& sum, double) { sum = 0.0; });
+  zip_figures(out.max, records.front(), [](double& max, double) { max = -std::numeric_limits<double>::infinity(); });
+  for (const TimeHistoryFigures& r : records) {
+    zip_figures(out.mean, r, [](double& sum, double x) { sum += x; });
+    zip_figures(out.max, r, [](double& max, double x) { max = std::max(max, x); });
+  }
+  const auto n = static_cast<double>(records.size());
+  zip_figures(out.mean, records.front(), [&](double& sum, double) { sum /= n; });
+  return out;
+}
+
+}  // namespace poundsim
