@@ -55,6 +55,14 @@ TEST(Frame, StiffnessProportionalDampingGivesTheRatioInModeOne) {
 TEST(Frame, ValidateRejectsNonPhysicalValues) {
   Frame f = make_uniform_frame(2, 1.0, 1.0, 0.0);
   f.mass[1] = 0.0;
+  try {
+    validate(f);
+    ADD_FAILURE() << "a floor without mass";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "frame: mass[2] = 0 kg must be > 0");  // Frame::fields()' rule
+  }
+  f = make_uniform_frame(2, 1.0, 1.0, 0.0);
+  f.storey_height = {3.0, std::nan("")};
   EXPECT_THROW(validate(f), std::invalid_argument);
   f = make_uniform_frame(2, 1.0, 1.0, 0.0);
   f.damping[0] = -1.0;

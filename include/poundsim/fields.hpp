@@ -95,6 +95,19 @@ struct BoolField {
   std::string_view meaning;
 };
 
+/// A number for each storey (or floor) of a frame, bottom up: a file gives one number for every
+/// storey or an array of one each, and each must lie in `range`.
+template <class S>
+struct PerStoreyField {
+  std::string_view key;
+  std::vector<double> S::*member;
+  std::string_view unit;
+  Interval range;
+  std::string_view meaning;
+  bool required = false;            ///< A file must give it (else the member stays empty).
+  std::string_view item = "storey";  ///< What the i-th value belongs to, in messages: "floor 2: …"
+};
+
 /// A key read by its table's own rules (a list, a sub-table, a key whose default depends on
 /// others): declared so that the table's keys are all in one place, documented and checked.
 template <class S>
@@ -153,6 +166,10 @@ template <class F>
 inline constexpr bool is_integer_field = false;
 template <class S, class T>
 inline constexpr bool is_integer_field<IntegerField<S, T>> = true;
+template <class F>
+inline constexpr bool is_per_storey_field = false;
+template <class S>
+inline constexpr bool is_per_storey_field<PerStoreyField<S>> = true;
 template <class F>
 inline constexpr bool is_custom_field = false;
 template <class S>
@@ -235,6 +252,14 @@ std::optional<std::string> first_violation(const S& s) {
       const auto v = static_cast<std::int64_t>(s.*field.member);
       if (v < field.lo || v > field.hi) {
         found = fmt::format("{} = {} must be in [{}, {}]", field.key, v, field.lo, field.hi);
+      }
+    } else if constexpr (is_per_storey_field<Field>) {
+      const std::vector<double>& values = s.*field.member;
+      for (std::size_t i = 0; i < values.size() && !found; ++i) {
+        if (!field.range.contains(values[i])) {
+          found = fmt::format("{}[{}] = {}{}{} must be {}", field.key, i + 1, values[i], field.unit.empty() ? "" : " ",
+                              field.unit, field.range.describe());
+        }
       }
     } else if constexpr (!is_bool_field<Field> && !is_custom_field<Field>) {
       if (field.name_of(s.*field.member).empty()) found = fmt::format("{} has no name", field.key);

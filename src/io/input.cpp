@@ -608,6 +608,16 @@ void check_floor_heights(const std::vector<Frame>& frames, std::vector<TableRead
   }
 }
 
+/// Each storey's (or floor's) value of `key` must lie in `range`: "storey 2: must be > 0 (got -1)".
+void check_each_storey(TableReader& f, std::string_view key, const std::vector<double>& values, const Interval& range,
+                       std::string_view item) {
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (!range.contains(values[i])) {
+      f.fail(key, fmt::format("{} {}: must be {} (got {})", item, i + 1, range.describe(), values[i]));
+    }
+  }
+}
+
 /// `storey_law` of a [[frames]] table (the first storey law by default) and then the declared
 /// parameters of that law, each a number for every storey or an array of one per storey, with
 /// each storey's value in the field's range and the law's rules between them.
@@ -630,13 +640,9 @@ StoreyLawParameters read_storey_law(TableReader& f, int storeys, const Broadcast
               return;
             }
             std::vector<double> values = f.numbers(field.key);
-            broadcast(std::string(field.key).c_str(), values);
-            for (std::size_t i = 0; i < values.size(); ++i) {
-              if (!field.range.contains(values[i])) {
-                f.fail(field.key, fmt::format("storey {}: must be {} (got {})", i + 1, field.range.describe(), values[i]));
-              }
-              per_storey.values[i].*field.member = values[i];
-            }
+            broadcast(field.key, values);
+            check_each_storey(f, field.key, values, field.range, "storey");
+            for (std::size_t i = 0; i < values.size(); ++i) per_storey.values[i].*field.member = values[i];
           });
           for (std::size_t i = 0; i < per_storey.values.size(); ++i) {
             if (const std::optional<FieldRule> rule = per_storey.values[i].rule_violation()) {
@@ -657,26 +663,27 @@ Model read_physical(TableReader& top, RunInput& run) {
   }
   int floors = 0;
   for (TableReader& f : frame_tables) {
-    f.declare<keys::Frame>();
+    f.declare<keys::Frame, Frame>();
     Frame frame;
     frame.name = f.string_or("name", "");
     const std::optional<int> storeys = f.optional_integer("storeys", 1, limits::storeys);
-    std::vector<double> mass = f.numbers("mass");
-    std::vector<double> stiffness = f.numbers("stiffness");
+    // The declared per-storey values (Frame::fields()), each a number or an array, bottom up.
+    for_each_field<Frame>([&](const auto& field) {
+      if (field.required || f.has(field.key)) frame.*field.member = f.numbers(field.key);
+    });
     const bool has_damping = f.has("damping"), has_ratio = f.has("damping_ratio");
     if (has_damping == has_ratio) {
       f.fail_table(has_damping ? "give either damping or damping_ratio, not both"
                                : "missing key: damping (N·s/m per storey) or damping_ratio");
     }
-    std::vector<double> damping = has_damping ? f.numbers("damping") : std::vector<double>{};
     int n = storeys.value_or(0);
-    for (const auto& [key, v] : {std::pair<const char*, const std::vector<double>*>{"mass", &mass},
-                                 {"stiffness", &stiffness}, {"damping", &damping}}) {
-      if (v->size() > static_cast<std::size_t>(limits::storeys)) {
-        f.fail(key, fmt::format("has {} values: a frame has at most {} storeys", v->size(), limits::storeys));
+    for_each_field<Frame>([&](const auto& field) {
+      const std::vector<double>& v = frame.*field.member;
+      if (v.size() > static_cast<std::size_t>(limits::storeys)) {
+        f.fail(field.key, fmt::format("has {} values: a frame has at most {} storeys", v.size(), limits::storeys));
       }
-      if (v->size() > 1 && n == 0) n = static_cast<int>(v->size());
-    }
+      if (v.size() > 1 && n == 0) n = static_cast<int>(v.size());
+    });
     if (n == 0) {
       if (!storeys) f.fail_table("missing key: storeys (or give per-floor arrays)");
     }
@@ -685,42 +692,22 @@ Model read_physical(TableReader& top, RunInput& run) {
       f.fail_table(fmt::format("the frames up to this one have {} floors: at most {} in all", floors,
                                limits::floors));
     }
-    const auto broadcast = [&](const char* key, std::vector<double>& v) {
+    const auto broadcast = [&](std::string_view key, std::vector<double>& v) {
       if (v.size() == 1) v.assign(static_cast<std::size_t>(n), v[0]);
       if (v.size() != static_cast<std::size_t>(n)) {
         f.fail(key, fmt::format("has {} values for {} floors", v.size(), n));
       }
     };
-    broadcast("mass", mass);
-    broadcast("stiffness", stiffness);
-    for (std::size_t i = 0; i < mass.size(); ++i) {
-      if (!(mass[i] > 0)) f.fail("mass", fmt::format("floor {}: must be > 0 (got {})", i + 1, mass[i]));
-      if (!(stiffness[i] > 0)) {
-        f.fail("stiffness", fmt::format("storey {}: must be > 0 (got {})", i + 1, stiffness[i]));
-      }
-    }
-    frame.mass = mass;
-    frame.stiffness = stiffness;
-    if (f.has("storey_height")) {
-      std::vector<double> heights = f.numbers("storey_height");
-      broadcast("storey_height", heights);
-      for (std::size_t i = 0; i < heights.size(); ++i) {
-        if (!(heights[i] > 0)) f.fail("storey_height", fmt::format("storey {}: must be > 0 (got {})", i + 1, heights[i]));
-      }
-      frame.storey_height = heights;
-    }
-    if (has_damping) {
-      broadcast("damping", damping);
-      for (std::size_t i = 0; i < damping.size(); ++i) {
-        if (!(damping[i] >= 0)) {
-          f.fail("damping", fmt::format("storey {}: must be ≥ 0 (got {})", i + 1, damping[i]));
-        }
-      }
-      frame.damping = damping;
-    } else {
+    for_each_field<Frame>([&](const auto& field) {
+      std::vector<double>& v = frame.*field.member;
+      if (v.empty()) return;  // not given
+      broadcast(field.key, v);
+      check_each_storey(f, field.key, v, field.range, field.item);
+    });
+    if (!has_damping) {
       const double ratio = f.number("damping_ratio");
       if (!(ratio >= 0 && ratio < 1)) f.fail("damping_ratio", fmt::format("must be in [0, 1) (got {})", ratio));
-      frame.damping.assign(mass.size(), 0.0);
+      frame.damping.assign(frame.mass.size(), 0.0);
       frame.damping = stiffness_proportional_damping(frame, ratio);
       if (!std::all_of(frame.damping.begin(), frame.damping.end(), [](double c) { return std::isfinite(c); })) {
         // Storey stiffnesses spanning ~16 orders of magnitude leave the lowest eigenvalue below the
@@ -1466,11 +1453,11 @@ toml::table model_tables(const RunInput& in, toml::table& root) {
     toml::table t;
     if (!f.name.empty()) t.insert("name", f.name);
     t.insert("storeys", f.storeys());
-    t.insert("mass", number_array(f.mass));
-    t.insert("stiffness", number_array(f.stiffness));
-    t.insert("damping", number_array(f.damping));
-    if (!f.storey_height.empty()) t.insert("storey_height", number_array(f.storey_height));
-    if (key_of(f.storey_law) != storey_law_names.front()) t.insert("storey_law", std::string(key_of(f.storey_law)));
+    for_each_field<Frame>([&](const auto& field) {
+      const std::vector<double>& values = f.*field.member;
+      if (!values.empty()) t.insert(field.key, number_array(values));  // empty: not given
+    });
+    if (!is_default(f.storey_law)) t.insert("storey_law", std::string(key_of(f.storey_law)));
     for_each_storey_parameter(f.storey_law, [&](const auto& field, const std::vector<double>& values) {
       if (!values.empty()) t.insert(field.key, number_array(values));  // none: the law's defaults
     });

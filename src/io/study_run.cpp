@@ -43,7 +43,7 @@ json describe_model(const Model& model) {
   for (const Frame& f : model.frames) {
     json frame{{"m", f.mass}, {"k", f.stiffness}, {"c", f.damping}};
     // A storey law other than the first, and its parameters (the linear storey has none).
-    if (key_of(f.storey_law) != storey_law_names.front()) frame["law"] = key_of(f.storey_law);
+    if (!is_default(f.storey_law)) frame["law"] = key_of(f.storey_law);
     for_each_storey_parameter(f.storey_law, [&](const auto& field, const std::vector<double>& values) {
       frame[std::string(field.key)] = values;
     });
@@ -55,7 +55,7 @@ json describe_model(const Model& model) {
     std::visit(
         [&](const auto& law) {
           // A law other than the first is named, so that two laws with equal values differ.
-          if (law.key != gap_law_names.front()) element.push_back(law.key);
+          if (!is_default(g.law)) element.push_back(law.key);
           for_each_field<std::decay_t<decltype(law.parameters)>>(
               [&](const auto& field) { element.push_back(law.parameters.*field.member); });
         },

@@ -35,7 +35,7 @@ json describe_model(const RunInput& input) {
                {"weight_N", weight(f)},
                {"natural_frequencies_rad_s", std::vector<double>(w.begin(), w.end())}};
     // A storey law other than the linear one, with its parameters per storey.
-    if (key_of(f.storey_law) != storey_law_names.front()) frame["storey_law"] = key_of(f.storey_law);
+    if (!is_default(f.storey_law)) frame["storey_law"] = key_of(f.storey_law);
     for_each_storey_parameter(f.storey_law, [&](const auto& field, const std::vector<double>& values) {
       frame[name_with_unit(field)] = values;
     });
@@ -46,7 +46,7 @@ json describe_model(const RunInput& input) {
     json element{{"frames", {g.left_frame + 1, g.left_frame + 2}}, {"floor", g.floor + 1}};
     std::visit(
         [&](const auto& law) {
-          if (law.key != gap_law_names.front()) element["law"] = law.key;
+          if (!is_default(g.law)) element["law"] = law.key;
           write_with_units(element, law.parameters);
         },
         g.law);

@@ -30,16 +30,11 @@ void validate(const Frame& frame) {
         "{}: mass, stiffness and damping need one value per floor (got {}, {} and {})", label,
         frame.mass.size(), frame.stiffness.size(), frame.damping.size()));
   }
-  for (std::size_t i = 0; i < frame.mass.size(); ++i) {
-    const auto check = [&](const char* field, double value, bool allow_zero) {
-      if (!std::isfinite(value) || value < 0.0 || (!allow_zero && value == 0.0)) {
-        throw std::invalid_argument(fmt::format("{}: {}[{}] = {} must be {}", label, field, i + 1,
-                                                value, allow_zero ? "≥ 0" : "> 0"));
-      }
-    };
-    check("mass", frame.mass[i], false);
-    check("stiffness", frame.stiffness[i], false);
-    check("damping", frame.damping[i], true);
+  if (!frame.storey_height.empty() && frame.storey_height.size() != frame.mass.size()) {
+    throw std::invalid_argument(fmt::format("{}: storey_height needs one value per storey", label));
+  }
+  if (const std::optional<std::string> violation = first_violation(frame)) {
+    throw std::invalid_argument(fmt::format("{}: {}", label, *violation));
   }
   std::visit(
       [&](const auto& law) {
@@ -58,16 +53,6 @@ void validate(const Frame& frame) {
         }
       },
       frame.storey_law);
-  if (!frame.storey_height.empty()) {
-    if (frame.storey_height.size() != frame.mass.size()) {
-      throw std::invalid_argument(fmt::format("{}: storey_height needs one value per storey", label));
-    }
-    for (std::size_t i = 0; i < frame.storey_height.size(); ++i) {
-      if (!(frame.storey_height[i] > 0) || !std::isfinite(frame.storey_height[i])) {
-        throw std::invalid_argument(fmt::format("{}: storey_height[{}] must be > 0", label, i + 1));
-      }
-    }
-  }
 }
 
 namespace {

@@ -141,10 +141,14 @@ void expect_documented(const std::string& marker, Columns columns = {},
     }
     if constexpr (!is_custom_field<Field>) {  // a custom field has its own rules: documented is all
       bool is_required = false;
-      if constexpr (is_number_field<Field> || is_choice_field<Field>) is_required = field.required;
+      if constexpr (is_number_field<Field> || is_choice_field<Field> || is_per_storey_field<Field>) {
+        is_required = field.required;
+      }
       EXPECT_EQ(required.starts_with("yes"), is_required) << key << ": required column \"" << required << "\"";
       if (is_required) {
         EXPECT_EQ(shown_default, "—") << key;
+      } else if constexpr (is_per_storey_field<Field>) {
+        // Not given, a per-storey value is absent (or, for damping, comes from damping_ratio).
       } else if constexpr (is_number_field<Field>) {
         char* end = nullptr;
         const double shown = std::strtod(shown_default.c_str(), &end);
@@ -162,7 +166,7 @@ void expect_documented(const std::string& marker, Columns columns = {},
               << key << ": the choice \"" << name << "\" is not described";
         }
       }
-      if constexpr (is_number_field<Field>) {
+      if constexpr (is_number_field<Field> || is_per_storey_field<Field>) {
         if (std::isfinite(field.range.lo) || std::isfinite(field.range.hi)) {
           EXPECT_NE(meaning.find(field.range.describe()), std::string::npos)
               << key << ": the rule \"" << field.range.describe() << "\" is not stated";
@@ -215,7 +219,8 @@ TEST(InputDocs, TheOtherTablesDocumentExactlyTheirDeclaredKeys) {
   expect_documented<io::keys::File>("The file has a **structure**", {.required = 0, .shown_default = 1});
   expect_exactly_documented<io::keys::File>("The file has a **structure**");
   expect_documented<io::keys::Frame>("`[[frames]]`:", no_default);
-  expect_exactly_documented<io::keys::Frame>("`[[frames]]`:");
+  expect_documented<Frame>("`[[frames]]`:", no_default);
+  expect_exactly_documented<io::keys::Frame, Frame>("`[[frames]]`:");
   expect_documented<io::keys::GapElements>("`[gap_elements]` gives every element's law");
   expect_documented<io::keys::GapOverride>("`[gap_elements]` gives every element's law");
   expect_exactly_documented<io::keys::GapElements, io::keys::GapOverride>(
@@ -379,6 +384,26 @@ TEST(InputDocs, TheReaderReadsEveryDeclaredField) {
     EXPECT_NE(std::string(e.what()).find("optimize.seed: must be ≤ 4294967295 (got 4294967296)"), std::string::npos)
         << e.what();
   }
+  // [[frames]]' per-storey values (Frame::fields()): a number for every storey or one each.
+  std::string heights = physical;
+  heights.replace(heights.find("storeys = 1\nmass = 1.0\nstiffness = 100.0"), 40,
+                  "mass = [1.0, 2.0]\nstiffness = 100.0\nstorey_height = [3.0, 3.5]");
+  heights.replace(heights.find("storeys = 1\nmass = 1.0\nstiffness = 50.0"), 39,
+                  "storeys = 2\nmass = 1.0\nstiffness = 50.0\nstorey_height = [3.0, 3.5]");
+  const io::RunInput two = io::read_input_string(heights, "h.toml", ".");
+  for_each_field<Frame>([&](const auto& field) {
+    EXPECT_EQ((two.model.frames[0].*field.member).size(), 2U) << field.key;
+  });
+  EXPECT_EQ(two.model.frames[0].mass, (std::vector<double>{1.0, 2.0}));
+  EXPECT_EQ(two.model.frames[1].mass, (std::vector<double>{1.0, 1.0}));
+  EXPECT_EQ(two.model.frames[0].storey_height, (std::vector<double>{3.0, 3.5}));
+  bad = heights;
+  bad.replace(bad.find("mass = [1.0, 2.0]"), 17, "mass = [1.0, 0.0]");
+  EXPECT_NE(refused(bad).find("frames[1].mass: floor 2: must be > 0 (got 0)"), std::string::npos) << refused(bad);
+  bad = heights;
+  bad.replace(bad.find("storey_height = [3.0, 3.5]"), 26, "storey_height = [3.0, -1]");
+  EXPECT_NE(refused(bad).find("storey_height: storey 2: must be > 0 (got -1)"), std::string::npos) << refused(bad);
+
   bad = physical;
   bad.replace(bad.find("gap = 0.01\n"), 11, "");
   EXPECT_NE(refused(bad).find("gap_elements.gap: missing key"), std::string::npos) << refused(bad);

@@ -134,17 +134,14 @@ struct DimensionlessJoint {
     return std::tuple{CustomField<DimensionlessJoint>{"joint_width", "w̄ = w λ²/g, the joint's width"}};
   }
 };
-/// [[frames]]' keys besides the parameters of its storey law.
+/// [[frames]]' keys besides its per-storey values (Frame::fields()) and the parameters of its
+/// storey law.
 struct Frame {
   static constexpr auto fields() {
     using C = CustomField<Frame>;
     return std::tuple{
         C{"name", "a label for messages"},
         C{"storeys", "the number of floors"},
-        C{"storey_height", "h_i [m] of each storey"},
-        C{"mass", "floor masses M_i [kg]"},
-        C{"stiffness", "storey stiffnesses K_i [N/m]"},
-        C{"damping", "storey dashpots C_i [N·s/m]"},
         C{"damping_ratio", "ζ of stiffness-proportional damping"},
         C{"storey_law", "the storeys' law (model/law.hpp's StoreyLawParameters), \"linear\" by default"},
     };

@@ -18,6 +18,7 @@
 
 #include <Eigen/Core>
 
+#include "poundsim/fields.hpp"
 #include "poundsim/model/law.hpp"
 
 namespace poundsim {
@@ -34,6 +35,18 @@ struct Frame {
   StoreyLawParameters storey_law;
 
   [[nodiscard]] int storeys() const { return static_cast<int>(mass.size()); }
+
+  /// The per-storey values a model file gives ([[frames]], docs/input.md); damping may instead
+  /// come from a damping ratio, a rule of the reader's.
+  static constexpr auto fields() {
+    using F = PerStoreyField<Frame>;
+    return std::tuple{
+        F{"mass", &Frame::mass, "kg", positive, "floor masses M_i", true, "floor"},
+        F{"stiffness", &Frame::stiffness, "N/m", positive, "storey stiffnesses K_i", true},
+        F{"damping", &Frame::damping, "N·s/m", non_negative, "storey dashpots C_i"},
+        F{"storey_height", &Frame::storey_height, "m", positive, "storey heights h_i"},
+    };
+  }
 };
 
 /// A frame whose floors and storeys are all equal (the paper's "periodic" frames).

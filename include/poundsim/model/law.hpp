@@ -135,6 +135,12 @@ void for_each_storey_parameter(const StoreyLawParameters& law, F&& f) {
   return std::visit([](const auto& p) -> std::string_view { return std::decay_t<decltype(p)>::Law::key; }, law);
 }
 
+/// Whether a gap element's or a frame's law is the one a model file has when it names none (the
+/// first of its set): the writers (input.toml, summary.json, a study's fingerprint) name only
+/// the others.
+[[nodiscard]] inline bool is_default(const GapLaw& law) { return law.index() == 0; }
+[[nodiscard]] inline bool is_default(const StoreyLawParameters& law) { return law.index() == 0; }
+
 /// A link between two degrees of freedom (DofLayout numbering) carrying a law.
 struct Link {
   int a = 0;        ///< DOF of floor a.
