@@ -1623,8 +1623,13 @@ std::string to_toml_as_written(const RunInput& in) {
   Origin origin{in.source.string(), {}, {}};
   for (const Setting& setting : in.settings) apply_setting(root, setting, origin);
   // Paths are relative to the file's folder; the echo lives elsewhere, so they become absolute.
-  const auto absolute = [&](toml::node* node) {
-    if (node == nullptr || !node->is_string()) return;
+  const std::function<void(toml::node*)> absolute = [&](toml::node* node) {
+    if (node == nullptr) return;
+    if (toml::array* items = node->as_array()) {  // ensemble.records, or a study axis over it
+      for (toml::node& item : *items) absolute(&item);
+      return;
+    }
+    if (!node->is_string()) return;
     const std::filesystem::path p(*node->value<std::string>());
     *node->as_string() = std::filesystem::absolute(in.base_dir / p).lexically_normal().string();
   };
@@ -1636,20 +1641,18 @@ std::string to_toml_as_written(const RunInput& in) {
   }
   if (toml::table* ensemble = root.get_as<toml::table>("ensemble")) {
     absolute(ensemble->get("folder"));
-    if (toml::array* records = ensemble->get_as<toml::array>("records")) {
-      for (toml::node& r : *records) absolute(&r);
-    }
+    absolute(ensemble->get("records"));
   }
+  // A study axis over a path: its values are paths too.
+  constexpr std::array<std::string_view, 3> path_keys{"excitation.file", "ensemble.folder", "ensemble.records"};
   if (toml::table* study = root.get_as<toml::table>("study")) {
     if (toml::array* parameters = study->get_as<toml::array>("parameter")) {
       for (toml::node& node : *parameters) {
         toml::table* parameter = node.as_table();
-        if (parameter == nullptr || parameter->get("key") == nullptr ||
-            parameter->get("key")->value<std::string>() != "excitation.file") {
-          continue;
-        }
-        if (toml::array* values = parameter->get_as<toml::array>("values")) {
-          for (toml::node& v : *values) absolute(&v);
+        if (parameter == nullptr || parameter->get("key") == nullptr) continue;
+        const std::optional<std::string> key = parameter->get("key")->value<std::string>();
+        if (key && std::find(path_keys.begin(), path_keys.end(), *key) != path_keys.end()) {
+          absolute(parameter->get("values"));
         }
       }
     }

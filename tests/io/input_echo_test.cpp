@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -146,6 +147,35 @@ TEST(InputEcho, StudiesAndOptimisationsEchoTheFileAsWritten) {
     }
     expect_same_model(with_settings(in, values).model, with_settings(again, values).model, example);
   }
+  fs::remove_all(elsewhere);
+}
+
+// A study axis over a path (ensemble.folder, excitation.file) names files relative to the study's
+// file: the echo, written elsewhere, names them absolute, so that each point finds its records.
+TEST(InputEcho, AStudyAxisOverAFolderIsEchoedAbsolute) {
+  const fs::path elsewhere = fs::temp_directory_path() / "poundsim_echo_folder_axis";
+  fs::remove_all(elsewhere);
+  fs::create_directories(elsewhere);
+  const fs::path examples = fs::path(POUNDSIM_SOURCE_DIR) / "examples";
+  std::ifstream in_file(examples / "ensemble_fig2_frames.toml");
+  std::string text((std::istreambuf_iterator<char>(in_file)), std::istreambuf_iterator<char>());
+  text.replace(text.find("kind = \"ensemble\""), 17, "kind = \"study\"");
+  text += "\n[study]\neach = \"ensemble\"\nsampling = \"list\"\n"
+          "[[study.parameter]]\nkey = \"ensemble.folder\"\nvalues = [\"../data/ground_motions\", \"records\"]\n"
+          "[[study.parameter]]\nkey = \"ensemble.pattern\"\nvalues = [\"*.AT2\", \"*.txt\"]\n";
+  const RunInput in = read_input_string(text, (examples / "folder_study.toml").string(), examples);
+  const fs::path echo = elsewhere / "input.toml";
+  std::ofstream(echo) << to_toml_as_written(in);
+  const RunInput again = read_input(echo);
+  const std::vector<PointValues> points = study_points(*again.study);
+  ASSERT_EQ(points.size(), 2U);
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const RunInput from_file = with_settings(in, study_points(*in.study)[k]);
+    const RunInput from_echo = with_settings(again, points[k]);
+    ASSERT_TRUE(from_echo.ensemble.has_value());
+    EXPECT_EQ(from_echo.ensemble->records, from_file.ensemble->records) << "point " << k + 1;
+  }
+  EXPECT_EQ(with_settings(again, points[1]).ensemble->records.size(), 1U);  // examples/records/
   fs::remove_all(elsewhere);
 }
 
