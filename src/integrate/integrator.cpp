@@ -12,27 +12,32 @@ std::string_view to_string(Integrator integrator) {
 
 namespace {
 
-/// The refusal of the exact integrator for a law that is not piecewise linear, on `link`.
-IntegratorSupport refuse_exact(const std::string& link) {
-  return {false, fmt::format("the exact integrator solves phases of piecewise-linear laws in closed form; "
-                             "{} is not piecewise linear: use analysis.integrator = \"newmark\"",
+/// The refusal of a law that is not piecewise linear, on `link`: both integrators step the linear
+/// phase of each mode (LinearPhase), and Newmark's Newton iteration on a law's tangent, which a
+/// smooth law needs, is not built yet.
+IntegratorSupport refuse(Integrator integrator, const std::string& link) {
+  if (integrator == Integrator::exact) {
+    return {false, fmt::format("the exact integrator solves phases of piecewise-linear laws in closed form; "
+                               "{} is not piecewise linear",
+                               link)};
+  }
+  return {false, fmt::format("Newmark steps the linear phase of each mode and has no Newton iteration yet; "
+                             "{} is not piecewise linear",
                              link)};
 }
 
 }  // namespace
 
 IntegratorSupport supports(Integrator integrator, std::span<const LawTraits> laws) {
-  if (integrator == Integrator::newmark) return {};
   for (std::size_t i = 0; i < laws.size(); ++i) {
-    if (!laws[i].piecewise_linear) return refuse_exact(fmt::format("link {} ({})", i + 1, laws[i].name));
+    if (!laws[i].piecewise_linear) return refuse(integrator, fmt::format("link {} ({})", i + 1, laws[i].name));
   }
   return {};
 }
 
 IntegratorSupport supports(Integrator integrator, std::span<const Link> links, const DofLayout& layout) {
-  if (integrator == Integrator::newmark) return {};
   for (const Link& link : links) {
-    if (!link.traits().piecewise_linear) return refuse_exact(describe(link, layout));
+    if (!link.traits().piecewise_linear) return refuse(integrator, describe(link, layout));
   }
   return {};
 }

@@ -2,10 +2,12 @@
 /// @file
 /// Which integrator can integrate which laws. The simulator's loop advances grid steps through one
 /// interface with two implementations (src/integrate/steppers.hpp): Newmark's average
-/// acceleration, which integrates any law, and the exact piecewise-analytic integrator, which
-/// needs every law to be linear in each of its modes (LawTraits::piecewise_linear): between
-/// events it solves each phase in closed form. The simulator asks `supports` before it starts
-/// and rejects the model with the reason.
+/// acceleration and the exact piecewise-analytic integrator, which between events solves each
+/// phase in closed form. Both step the linear system of the current modes (LinearPhase, built
+/// from each law's linear form), so both need every law to be linear in each of its modes
+/// (LawTraits::piecewise_linear). Newmark will take smooth laws (Hertz, Bouc–Wen) once it
+/// iterates on their tangents (Newton); until then it refuses them rather than drop their force.
+/// The simulator asks `supports` before it starts and rejects the model with the reason.
 
 #include <span>
 #include <string>
