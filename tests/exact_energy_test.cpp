@@ -54,7 +54,7 @@ TEST(ExactEnergy, ExponentialMomentsMatchTheirAntiderivatives) {
 /// ∫ of the powers over [a, b] of a trajectory by composite 10-point Gauss–Legendre quadrature,
 /// fine enough to resolve every mode: the reference.
 EnergyMeter::Powers quadrature(const ExactTrajectory& trajectory, const LinearPhase& phase,
-                               const EnergyMeter& meter, const ContactConfiguration& config,
+                               const EnergyMeter& meter, const ContactConfiguration& config, const LinkStates& states,
                                double a, double b, int pieces) {
   Eigen::Matrix<double, 10, 1> nodes, weights;
   {
@@ -78,7 +78,7 @@ EnergyMeter::Powers quadrature(const ExactTrajectory& trajectory, const LinearPh
       state.v = x.tail(n);
       state.t = trajectory.start_time() + s;
       state.ground = trajectory.piece().at(state.t);
-      const EnergyMeter::Powers power = meter.powers(state, config);
+      const EnergyMeter::Powers power = meter.powers(state, config, states);
       const double w = 0.5 * width * weights(k);
       sum.input += w * power.input;
       sum.storey_damping += w * power.storey_damping;
@@ -104,6 +104,7 @@ TEST(ExactEnergy, ClosedFormMatchesQuadratureOnLinearAndHarmonicPieces) {
   const ExactPhase exact(phase);
   ASSERT_TRUE(exact.modal());
   const EnergyMeter meter(model, layout);
+  const LinkStates states(make_links(model, layout));  // every law in its initial state
   ExactPowerIntegrals closed(exact, meter.power_forms(config, phase.group_of(), exact.groups()));
 
   ASSERT_EQ(exact.groups(), 5);  // floors L1, L2, R1, R2, R3; the element joins L2 and R2
@@ -121,7 +122,7 @@ TEST(ExactEnergy, ClosedFormMatchesQuadratureOnLinearAndHarmonicPieces) {
     for (const auto& [a, b] : {std::pair{0.0, 1e-3}, std::pair{2.5, 2.5 + 2e-3}, std::pair{0.1, 3.1},
                                std::pair{1.0, 1.004}, std::pair{1.004, 1.008}, std::pair{1.008, 1.012}}) {
       const EnergyMeter::Powers got = closed.integrate(a, b);
-      const EnergyMeter::Powers want = quadrature(trajectory, phase, meter, config, a, b, 400);
+      const EnergyMeter::Powers want = quadrature(trajectory, phase, meter, config, states, a, b, 400);
       const double scale = std::abs(want.input) + want.storey_damping + want.gap_damping;
       ASSERT_GT(std::abs(want.input), 1e-3 * scale);
       ASSERT_GT(want.storey_damping, 1e-3 * scale);

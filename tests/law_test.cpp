@@ -45,9 +45,9 @@ TEST(PaperGapLaw, OpenTransmitsNothingContactIsTheSpringAndDashpotLockedIsRigid)
   const LinkKinematics pressed{.ua = 0.015, .ub = 0.003, .va = 0.5, .vb = 0.2};
   EXPECT_DOUBLE_EQ(gap.stored_energy(pressed, PaperGap::link_mode(GapMode::contact), {}),
                    0.5 * 2e5 * 0.002 * 0.002);
-  EXPECT_DOUBLE_EQ(gap.dissipated_power(pressed, PaperGap::link_mode(GapMode::contact)),
+  EXPECT_DOUBLE_EQ(gap.dissipated_power(pressed, PaperGap::link_mode(GapMode::contact), {}),
                    300.0 * 0.3 * 0.3);
-  EXPECT_EQ(gap.dissipated_power(pressed, PaperGap::link_mode(GapMode::open)), 0.0);
+  EXPECT_EQ(gap.dissipated_power(pressed, PaperGap::link_mode(GapMode::open), {}), 0.0);
   // Open and relaxing after a force separation: the free end's shortening s_e(t).
   const PaperGap::State relaxing{.released_shortening = 0.001, .release_time = 1.0};
   const double se = 0.001 * std::exp(-2e5 / 300.0 * 0.001);

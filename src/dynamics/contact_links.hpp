@@ -6,6 +6,7 @@
 #include <variant>
 
 #include "poundsim/dynamics/state.hpp"
+#include "poundsim/dynamics/system.hpp"
 #include "poundsim/model/law.hpp"
 
 namespace poundsim::detail {
@@ -26,13 +27,6 @@ R with_contact_law(const Link& link, F&& f) {
 
 /// The link's two floors at `x`.
 inline LinkKinematics kinematics(const KinematicState& x, const Link& link) {
-  return {.ua = x.u(link.a), .ub = x.u(link.b), .va = x.v(link.a), .vb = x.v(link.b),
-          .aa = x.a(link.a), .ab = x.a(link.b), .t = x.t};
-}
-
-/// The two floors of a typed link at `x` (both floors: contact links join two).
-template <class L>
-LinkKinematics kinematics(const KinematicState& x, const TypedLink<L>& link) {
   return {.ua = x.u(link.a), .ub = x.u(link.b), .va = x.v(link.a), .vb = x.v(link.b),
           .aa = x.a(link.a), .ab = x.a(link.b), .t = x.t};
 }

@@ -75,7 +75,7 @@ void EnergyMeter::step(const KinematicState& x0, const KinematicState& x1,
     double sum = 0.0;
     for (const auto& link : links) {
       sum += link.law.trapezoidal_power(kinematics_of(link, x0), kinematics_of(link, x1),
-                                        mode_in(link, config));
+                                        mode_in(link, config), states.at(link));
     }
     term(links.front().law.traits.energy, storey, gap) += sum;
   });
@@ -85,15 +85,15 @@ void EnergyMeter::step(const KinematicState& x0, const KinematicState& x1,
   finish_step(x1, config, states);
 }
 
-EnergyMeter::Powers EnergyMeter::powers(const KinematicState& x,
-                                        const ContactConfiguration& config) const {
+EnergyMeter::Powers EnergyMeter::powers(const KinematicState& x, const ContactConfiguration& config,
+                                        const LinkStates& states) const {
   Powers p;
   p.input = -x.ground * x.v.dot(mass_);
   links_.for_each_law([&](auto links) {
     if (links.empty()) return;
     double sum = 0.0;
     for (const auto& link : links) {
-      sum += link.law.dissipated_power(kinematics_of(link, x), mode_in(link, config));
+      sum += link.law.dissipated_power(kinematics_of(link, x), mode_in(link, config), states.at(link));
     }
     term(links.front().law.traits.energy, p.storey_damping, p.gap_damping) += sum;
   });

@@ -103,11 +103,11 @@ double PoundingSystem::shortening(const KinematicState& x, int p) const {
 }
 
 double PoundingSystem::gap_force(const KinematicState& x, const ContactState& c, int p) const {
-  const auto e = static_cast<std::size_t>(p);
-  const Link& link = contact_links_[e];
-  const LinkKinematics k = kinematics(x, link);
-  const double force = with_contact_law<double>(link, [&](const auto& law) { return law.force(k, c.config[e]); });
-  return c.rigid[e] != 0 ? force + c.stop_reaction[e] : force;
+  const Link& link = contact_links_[static_cast<std::size_t>(p)];
+  return with_contact_law<double>(link, [&](const auto& law) {
+    using L = std::decay_t<decltype(law)>;
+    return gap_force(x, c, TypedLink<L>{.a = link.a, .b = link.b, .element = link.element, .slot = link.slot, .law = law});
+  });
 }
 
 void PoundingSystem::evaluate_guards(const KinematicState& x, const LinearPhase& phase, ContactState& c,

@@ -173,7 +173,7 @@ EnergyMeter::Powers ExactStepper::quadrature_powers(const Loop& loop, double a, 
     const double mid = a + (piece + 0.5) * width;
     for (std::size_t k = 0; k < rule.nodes.size(); ++k) {
       state_at(loop, mid + 0.5 * width * rule.nodes[k], node_);
-      const EnergyMeter::Powers p = loop.meter().powers(node_, loop.contact().config);
+      const EnergyMeter::Powers p = loop.meter().powers(node_, loop.contact().config, loop.contact().states);
       const double w = 0.5 * width * rule.weights[k];
       integral.input += w * p.input;
       integral.storey_damping += w * p.storey_damping;

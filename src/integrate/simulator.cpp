@@ -324,8 +324,7 @@ void Loop::check_finite() const {
   }
   for_each_contact_link(system_.contact_table(), [&](const auto& link) {
     const auto p = static_cast<std::size_t>(link.element);
-    const double law_force = link.law.force(kinematics(state_, link), contact_.config[p]);
-    const double force = contact_.rigid[p] != 0 ? law_force + contact_.stop_reaction[p] : law_force;
+    const double force = PoundingSystem::gap_force(state_, contact_, link);
     if (!std::isfinite(force)) fail(fmt::format("the force of {} ({} N)", describe(system_.contact_links()[p], layout_), force));
   });
   const EnergyBalance& b = energy_.balance();
@@ -347,10 +346,8 @@ void Loop::record_statistics() {
   for_each_contact_link(system_.contact_table(), [&](const auto& link) {
     const auto p = static_cast<std::size_t>(link.element);
     if (contact_.transmits[p] == 0) return;
-    const LinkKinematics k = kinematics(state_, link);
-    const double force = link.law.force(k, contact_.config[p]);
-    monitor_.observe_gap(p, contact_.rigid[p] != 0 ? force + contact_.stop_reaction[p] : force,
-                         link.law.shortening(k), state_.t);
+    monitor_.observe_gap(p, PoundingSystem::gap_force(state_, contact_, link),
+                         link.law.shortening(kinematics(state_, link)), state_.t);
   });
 }
 

@@ -70,7 +70,8 @@ class EnergyMeter {
     double storey_damping = 0.0;  ///< Σ C_i (u̇_i − u̇_{i−1})²
     double gap_damping = 0.0;     ///< Σ c ṡ² over elements in contact or locked
   };
-  [[nodiscard]] Powers powers(const KinematicState& x, const ContactConfiguration& config) const;
+  [[nodiscard]] Powers powers(const KinematicState& x, const ContactConfiguration& config,
+                              const LinkStates& states) const;
 
   /// The forms of powers() in the reduced velocities of a phase whose floor DOF i moves with group
   /// group_of[i] (of `groups`).

@@ -34,6 +34,15 @@
 
 namespace poundsim {
 
+namespace detail {
+/// The two floors of a typed link at `x` (both floors: contact links join two).
+template <class L>
+LinkKinematics kinematics(const KinematicState& x, const TypedLink<L>& link) {
+  return {.ua = x.u(link.a), .ub = x.u(link.b), .va = x.v(link.a), .vb = x.v(link.b),
+          .aa = x.a(link.a), .ab = x.a(link.b), .t = x.t};
+}
+}  // namespace detail
+
 /// The rules of the system's events (the event keys of [analysis], docs/input.md). SI units;
 /// TimeHistoryOptions validates them.
 struct EventRules {
@@ -123,6 +132,14 @@ class PoundingSystem {
   /// The force element p transmits at x [N], compression positive, its stop reaction included
   /// (as of the last guard evaluation); 0 when open.
   [[nodiscard]] double gap_force(const KinematicState& x, const ContactState& c, int p) const;
+  /// The same for a link of the contact table, whose law is known: the loops that run at every
+  /// accepted state call it with no dispatch.
+  template <class L>
+  [[nodiscard]] static double gap_force(const KinematicState& x, const ContactState& c, const TypedLink<L>& link) {
+    const auto p = static_cast<std::size_t>(link.element);
+    const double force = link.law.force(detail::kinematics(x, link), c.config[p], c.states.at(link));
+    return c.rigid[p] != 0 ? force + c.stop_reaction[p] : force;
+  }
 
   /// Applies the events whose guards `fired` (> 0) at x — mode changes, impacts, locks — and
   /// then sets the accelerations, the guards g, dg at the new state and the impact hysteresis.

@@ -90,7 +90,7 @@ concept ContactLaw = LawState<typename L::State> &&
   { law.relaxation(mode, state, 0.0) } -> std::same_as<Relaxation>;
   { law.on_guard(0, k, mode_out, state_out, SeparationCriterion::displacement) }
       -> std::same_as<Transition>;
-  { law.force(k, mode) } -> std::same_as<double>;
+  { law.force(k, mode, state) } -> std::same_as<double>;
   { law.shortening(k) } -> std::same_as<double>;
   { law.stop_distance(k, mode, state) } -> std::same_as<double>;
   { law.stop_guard_is_active(mode) } -> std::same_as<bool>;

@@ -56,13 +56,13 @@ struct LinearStorey {
                                      const State& /*state*/) const {
     return stored_energy(k.ua - k.ub);
   }
-  [[nodiscard]] double dissipated_power(const LinkKinematics& k, LinkMode /*mode*/) const {
+  [[nodiscard]] double dissipated_power(const LinkKinematics& k, LinkMode /*mode*/, const State& /*state*/) const {
     return dissipated_power(k.va - k.vb);
   }
   /// C ḋ̄² with ḋ̄ the mean of the rates at both ends of a step: the trapezoidal rule, which
   /// Newmark's average-acceleration scheme satisfies exactly.
-  [[nodiscard]] double trapezoidal_power(const LinkKinematics& k0, const LinkKinematics& k1,
-                                         LinkMode /*mode*/) const {
+  [[nodiscard]] double trapezoidal_power(const LinkKinematics& k0, const LinkKinematics& k1, LinkMode /*mode*/,
+                                         const State& /*state*/) const {
     const double rate = 0.5 * (k0.va + k1.va - (k0.vb + k1.vb));
     return dissipated_power(rate);
   }

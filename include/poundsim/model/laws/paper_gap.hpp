@@ -95,13 +95,13 @@ struct PaperGap {
     return 0.5 * (parameters.stiffness * s * s);
   }
   /// c ṡ² in contact and locked, 0 open [W] (the relaxation is booked apart).
-  [[nodiscard]] double dissipated_power(const LinkKinematics& k, LinkMode mode) const {
+  [[nodiscard]] double dissipated_power(const LinkKinematics& k, LinkMode mode, const State& /*state*/) const {
     const double rate = k.va - k.vb;
     return dashpot(mode) * rate * rate;
   }
   /// c ṡ̄² with ṡ̄ the mean of the rates at both ends of a step (the trapezoidal rule).
-  [[nodiscard]] double trapezoidal_power(const LinkKinematics& k0, const LinkKinematics& k1,
-                                         LinkMode mode) const {
+  [[nodiscard]] double trapezoidal_power(const LinkKinematics& k0, const LinkKinematics& k1, LinkMode mode,
+                                         const State& /*state*/) const {
     const double rate = 0.5 * (k0.va + k1.va - k0.vb - k1.vb);
     return dashpot(mode) * rate * rate;
   }
@@ -135,7 +135,7 @@ struct PaperGap {
   [[nodiscard]] Transition on_guard(int guard, const LinkKinematics& k, LinkMode& mode,
                                     State& state, SeparationCriterion separation) const;
   /// F = c ṡ + k s in contact and locked (without the stop reaction), 0 open [N].
-  [[nodiscard]] double force(const LinkKinematics& k, LinkMode mode) const {
+  [[nodiscard]] double force(const LinkKinematics& k, LinkMode mode, const State& /*state*/) const {
     if (gap_mode(mode) == GapMode::open) return 0.0;
     return contact_force(parameters, k.ua - k.ub - parameters.gap, k.va - k.vb);
   }
