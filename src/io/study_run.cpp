@@ -71,7 +71,7 @@ json describe_analysis(const RunInput& in) {
          {"integrator", to_string(o.integrator)},
          {"event_tolerance", o.event_tolerance},
          {"lock_time", o.lock_time},
-         {"separation", o.separation == SeparationCriterion::force ? "force" : "displacement"}};
+         {"separation", to_string(o.separation)}};
   if (in.frf) {
     const FrfSettings& f = *in.frf;
     a["frf"] = {{"amplitude_g", f.amplitude_g},     {"ratios", f.ratios},

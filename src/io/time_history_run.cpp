@@ -267,7 +267,7 @@ json to_json(const TimeHistoryResult& result) {
                 {"output_dt_s", input.analysis.output_dt},
                 {"event_tolerance_s", o.event_tolerance},
                 {"lock_time_s", o.lock_time},
-                {"separation", o.separation == SeparationCriterion::force ? "force" : "displacement"}};
+                {"separation", to_string(o.separation)}};
   return json{{"poundsim_version", POUNDSIM_VERSION},
               {"input", input.source.string()},
               {"title", input.title},

@@ -96,11 +96,7 @@ struct TimeHistoryOptions {
                     "a pressed pair whose next bounce would be shorter locks (persistent contact)"},
         NumberField{"rest_velocity_ratio", &O::rest_velocity_ratio, "", below_one,
                     "an impact closing slower than this fraction of its floors' speeds is plastic"},
-        ChoiceField{"separation", &O::separation,
-                    std::array{std::pair<std::string_view, SeparationCriterion>{
-                                   "displacement", SeparationCriterion::displacement},
-                               std::pair<std::string_view, SeparationCriterion>{"force",
-                                                                                SeparationCriterion::force}},
+        ChoiceField{"separation", &O::separation, separation_criterion_names,
                     "contact ends when s returns to 0, or when the element force would become tensile"},
     };
   }

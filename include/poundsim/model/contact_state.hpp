@@ -13,10 +13,13 @@
 /// For a rigid stop (ε = 0) there is no contact phase: open ──impact──▶ open or locked, and
 /// unlock returns to open.
 
+#include <array>
 #include <cstdint>
 #include <string_view>
+#include <utility>
 #include <vector>
 
+#include "poundsim/fields.hpp"
 #include "poundsim/model/laws/law_traits.hpp"
 
 namespace poundsim {
@@ -42,5 +45,14 @@ enum class SeparationCriterion : std::uint8_t {
   /// its own, c ṡ_e + k s_e = 0, and touches again when the floors close on its free end.
   force,
 };
+
+/// The names of the criteria in a model file (analysis.separation) and in the summaries.
+inline constexpr std::array<std::pair<std::string_view, SeparationCriterion>, 2> separation_criterion_names{{
+    {"displacement", SeparationCriterion::displacement},
+    {"force", SeparationCriterion::force},
+}};
+[[nodiscard]] constexpr std::string_view to_string(SeparationCriterion criterion) {
+  return name_in(separation_criterion_names, criterion);
+}
 
 }  // namespace poundsim
