@@ -28,32 +28,32 @@ FrequencyResponseOptions frequency_response_options(const RunInput& input) {
 void write_frf_table(OutputFile& out, const Model& model, const std::vector<FrfPoint>& points) {
   const int frames = model.frame_count();
   const double w1 = reference_weight(model);
-  out.text("ratio");
-  for (int f = 1; f <= frames; ++f) out.print(",V{}_W", f);
-  for (int f = 1; f <= frames; ++f) out.print(",V{}_free_W", f);
-  out.text(",periodicity,branch,transient_periods,omega_rad_s");
-  for (int f = 1; f <= frames; ++f) out.print(",S{}_W", f);
-  for (int f = 1; f <= frames; ++f) out.print(",S{}_free_W", f);
-  for (int f = 1; f <= frames; ++f) out.print(",top{}_m", f);
-  for (int f = 1; f <= frames; ++f) out.print(",top{}_free_m", f);
-  out.text(",events,impacts\n");
+  CsvWriter csv(out);
+  const auto per_frame = [&](std::string_view pattern) {
+    for (int f = 1; f <= frames; ++f) csv.text(fmt::format(fmt::runtime(pattern), f));
+  };
+  csv.text("ratio");
+  per_frame("V{}_W");
+  per_frame("V{}_free_W");
+  csv.texts({"periodicity", "branch", "transient_periods", "omega_rad_s"});
+  per_frame("S{}_W");
+  per_frame("S{}_free_W");
+  per_frame("top{}_m");
+  per_frame("top{}_free_m");
+  csv.texts({"events", "impacts"}).end_row();
   const auto row = [&](const std::vector<double>& values, double scale) {
-    for (const double v : values) {
-      out.character(',');
-      out.number(v / scale);
-    }
+    for (const double v : values) csv.number(v / scale);
   };
   for (const FrfPoint& p : points) {
-    out.number(p.ratio);
+    csv.number(p.ratio);
     row(p.interacting.base_shear, w1);
     row(p.free.base_shear, w1);
-    out.print(",{},{},{},", p.periodicity, to_string(p.branch), p.transient_periods);
-    out.number(p.omega);
+    csv.integer(p.periodicity).text(to_string(p.branch)).integer(p.transient_periods).number(p.omega);
     row(p.interacting.storey_shear, w1);
     row(p.free.storey_shear, w1);
     row(p.interacting.top_displacement, 1.0);
     row(p.free.top_displacement, 1.0);
-    out.print(",{},{}\n", p.events, p.impacts);
+    csv.integer(p.events).integer(p.impacts).end_row();
   }
 }
 

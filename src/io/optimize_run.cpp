@@ -217,20 +217,20 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
   } else {
     bare_figures = baseline_figures(best_point, s.threads);
   }
-  OutputFile& csv = out.open("evaluations.csv");
-  csv.text("evaluation,stage");
-  for (const OptimizeVariable& v : s.variables) {
-    csv.character(',');
-    csv.csv_field(v.key);
-  }
-  csv.text(",objective,status,error\n");
+  CsvWriter csv(out.open("evaluations.csv"));
+  csv.texts({"evaluation", "stage"});
+  for (const OptimizeVariable& v : s.variables) csv.text(v.key);
+  csv.texts({"objective", "status", "error"}).end_row();
   for (std::size_t k = 0; k < problem.evaluations().size(); ++k) {
     const Evaluation& e = problem.evaluations()[k];
-    csv.print("{},{}", k + 1, e.stage);
-    for (const double xi : e.x) csv.print(",{}", xi);
-    csv.print(",{},{},", e.status == "done" ? fmt::format("{}", e.objective) : "", e.status);
-    csv.csv_field(e.error);
-    csv.character('\n');
+    csv.integer(static_cast<std::int64_t>(k + 1)).text(e.stage);
+    for (const double xi : e.x) csv.number(xi);
+    if (e.status == "done") {
+      csv.number(e.objective);
+    } else {
+      csv.empty();
+    }
+    csv.text(e.status).text(e.error).end_row();
   }
   const double run_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const auto [metric, meaning] = objective_metric(s.objective);

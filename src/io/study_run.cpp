@@ -107,14 +107,17 @@ json to_json(const SettingValue& v) {
       v.value);
 }
 
-/// A parameter's or metric's value as one CSV field (OutputFile::csv_field quotes text).
-void csv_value(OutputFile& f, const json& v) {
+/// A parameter's or metric's value as one CSV field: a number, text, an array as its JSON, or
+/// nothing.
+void csv_value(CsvWriter& csv, const json& v) {
   if (v.is_number()) {
-    f.print("{}", v.get<double>());
+    csv.number(v.get<double>());
   } else if (v.is_string()) {
-    f.csv_field(v.get<std::string>());
+    csv.text(v.get<std::string>());
   } else if (!v.is_null()) {
-    f.csv_field(v.dump());
+    csv.text(v.dump());
+  } else {
+    csv.empty();
   }
 }
 
@@ -408,30 +411,16 @@ void write_study_csv(OutputFile& f, const std::vector<std::string>& parameters,
   for (const auto& r : rows) {
     for (const auto& [k, v] : r.metrics.items()) metric_keys.insert(k);
   }
-  f.text("id,status");
-  for (const std::string& p : parameters) {
-    f.character(',');
-    f.csv_field(p);
-  }
-  for (const std::string& k : metric_keys) {
-    f.character(',');
-    f.csv_field(k);
-  }
-  f.text(",run_time_s,error\n");
+  CsvWriter csv(f);
+  csv.texts({"id", "status"});
+  for (const std::string& p : parameters) csv.text(p);
+  for (const std::string& k : metric_keys) csv.text(k);
+  csv.texts({"run_time_s", "error"}).end_row();
   for (const auto& r : rows) {
-    f.print("{},", r.id + 1);
-    f.csv_field(r.status);
-    for (const std::string& p : parameters) {
-      f.character(',');
-      csv_value(f, r.parameters.value(p, json()));
-    }
-    for (const std::string& k : metric_keys) {
-      f.character(',');
-      csv_value(f, r.metrics.value(k, json()));
-    }
-    f.print(",{},", r.run_time);
-    f.csv_field(r.error);
-    f.character('\n');
+    csv.integer(r.id + 1).text(r.status);
+    for (const std::string& p : parameters) csv_value(csv, r.parameters.value(p, json()));
+    for (const std::string& k : metric_keys) csv_value(csv, r.metrics.value(k, json()));
+    csv.number(r.run_time).text(r.error).end_row();
   }
 }
 

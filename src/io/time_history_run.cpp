@@ -311,8 +311,8 @@ TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem:
   const DofLayout layout(model);
 
   OutputTransaction out(out_dir);
-  OutputFile& history = out.open("history.csv");
-  OutputFile& events = out.open("events.csv");
+  CsvWriter history(out.open("history.csv"));
+  CsvWriter events(out.open("events.csv"));
 
   // Columns in frame order, then floor order.
   std::vector<int> dofs;
@@ -321,43 +321,35 @@ TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem:
   }
   history.text("t");
   for (const char* q : {"u", "v", "a"}) {
-    for (const int d : dofs) history.print(",{}_{}", q, dof_label(layout, d));
+    for (const int d : dofs) history.text(fmt::format("{}_{}", q, dof_label(layout, d)));
   }
-  for (int f = 0; f < model.frame_count(); ++f) history.print(",V_{}", f + 1);
-  for (const GapElement& g : model.gaps) history.print(",F_{}_{}", g.left_frame + 1, g.floor + 1);
-  history.text(",E_input,E_kinetic,E_storey_strain,E_gap_strain,E_storey_damping,E_gap_damping,E_impact,E_residual\n");
+  for (int f = 0; f < model.frame_count(); ++f) history.text(fmt::format("V_{}", f + 1));
+  for (const GapElement& g : model.gaps) history.text(fmt::format("F_{}_{}", g.left_frame + 1, g.floor + 1));
+  history.texts({"E_input", "E_kinetic", "E_storey_strain", "E_gap_strain", "E_storey_damping", "E_gap_damping",
+                 "E_impact", "E_residual"}).end_row();
 
-  events.text("t,frame_left,frame_right,floor,kind,relative_velocity_before,relative_velocity_after,impulse\n");
+  events.texts({"t", "frame_left", "frame_right", "floor", "kind", "relative_velocity_before",
+                "relative_velocity_after", "impulse"}).end_row();
   TimeHistoryObserver observer;
   observer.on_event = [&](const Event& e) {
     const GapElement& g = model.gaps[static_cast<std::size_t>(e.gap)];
-    events.print("{},{},{},{},{},{},{},{}\n", e.time, g.left_frame + 1, g.left_frame + 2,
-                 g.floor + 1, to_string(e.kind), e.rate_before, e.rate_after, e.impulse);
+    events.number(e.time).integer(g.left_frame + 1).integer(g.left_frame + 2).integer(g.floor + 1);
+    events.text(to_string(e.kind)).number(e.rate_before).number(e.rate_after).number(e.impulse).end_row();
   };
   observer.on_output = [&](const Simulator& sim) {
     const KinematicState& x = sim.state();
     history.number(x.t);
     for (const Eigen::VectorXd* q : {&x.u, &x.v, &x.a}) {
-      for (const int d : dofs) {
-        history.character(',');
-        history.number((*q)(d));
-      }
+      for (const int d : dofs) history.number((*q)(d));
     }
-    for (int f = 0; f < model.frame_count(); ++f) {
-      history.character(',');
-      history.number(sim.base_shear(f));
-    }
-    for (int p = 0; p < model.gap_count(); ++p) {
-      history.character(',');
-      history.number(sim.gap_force(p));
-    }
+    for (int f = 0; f < model.frame_count(); ++f) history.number(sim.base_shear(f));
+    for (int p = 0; p < model.gap_count(); ++p) history.number(sim.gap_force(p));
     const EnergyBalance& e = sim.energy();
     for (const double term : {e.input, e.kinetic, e.storey_strain, e.gap_strain, e.storey_damping,
                               e.gap_damping, e.impact_loss, e.residual()}) {
-      history.character(',');
       history.number(term);
     }
-    history.character('\n');
+    history.end_row();
   };
   std::optional<TimeHistoryAnalysis> analysis;
   try {

@@ -93,5 +93,25 @@ TEST(OutputFile, NumbersReadBackExactly) {
   fs::remove_all(dir);
 }
 
+// Every CSV goes through CsvWriter (RFC 4180): commas between fields, a line feed after each row,
+// text quoted only when it must be (a comma, a double quote — doubled — or a line break).
+TEST(CsvWriter, WritesRfc4180Rows) {
+  const fs::path dir = fs::temp_directory_path() / "poundsim_output_csv";
+  fs::remove_all(dir);
+  {
+    OutputTransaction out(dir);
+    CsvWriter csv(out.open("t.csv"));
+    csv.texts({"id", "name", "x", "note"}).end_row();
+    csv.integer(-7).text("frame \"A\", left").number(0.1).empty().end_row();
+    csv.integer(8).text("two\nlines").number(-2.5e-300).text("plain").end_row();
+    out.commit();
+  }
+  std::ifstream in(dir / "t.csv");
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_EQ(text.str(), "id,name,x,note\n-7,\"frame \"\"A\"\", left\",0.1,\n8,\"two\nlines\",-2.5e-300,plain\n");
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace poundsim::io

@@ -8,10 +8,13 @@
 /// A run stopped by a signal leaves none either: the program's signal thread calls
 /// abandon_all_outputs() before the signal ends the process.
 
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <initializer_list>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <fmt/format.h>
@@ -43,7 +46,7 @@ class OutputFile {
   }
   void character(char c) { buffer_.push_back(c); }
   /// Appends `s` as one CSV field (RFC 4180): as it is, or — when it holds a comma, a double
-  /// quote or a line break — in double quotes with every double quote doubled.
+  /// quote or a line break — in double quotes with every double quote doubled (CsvWriter's).
   void csv_field(std::string_view s);
   void flush();
   /// Flushes and closes; throws std::runtime_error naming the file on any write error.
@@ -58,6 +61,52 @@ class OutputFile {
   std::FILE* file_;
   std::filesystem::path path_;
   fmt::memory_buffer buffer_;
+};
+
+/// A CSV table (RFC 4180) written row by row into an OutputFile; every CSV poundsim writes goes
+/// through it. Fields are separated by commas and each row ends with a line feed; text is quoted
+/// only when it holds a comma, a double quote or a line break; a number is written in the
+/// shortest form that reads back to the same double, an integer as an integer, a missing value
+/// as an empty field.
+class CsvWriter {
+ public:
+  explicit CsvWriter(OutputFile& file) : file_(file) {}
+  CsvWriter& text(std::string_view s) {
+    separate();
+    file_.csv_field(s);
+    return *this;
+  }
+  CsvWriter& number(double x) {
+    separate();
+    file_.number(x);
+    return *this;
+  }
+  CsvWriter& integer(std::int64_t n) {
+    separate();
+    file_.print("{}", n);
+    return *this;
+  }
+  CsvWriter& empty() {
+    separate();
+    return *this;
+  }
+  /// Text fields, e.g. a header's fixed names.
+  CsvWriter& texts(std::initializer_list<std::string_view> fields) {
+    for (const std::string_view f : fields) text(f);
+    return *this;
+  }
+  void end_row() {
+    file_.character('\n');
+    first_ = true;
+  }
+
+ private:
+  void separate() {
+    if (!first_) file_.character(',');
+    first_ = false;
+  }
+  OutputFile& file_;
+  bool first_ = true;
 };
 
 /// The folder that `file` is written in: its parent, or the current folder for a bare name.
