@@ -23,7 +23,7 @@
 #include "poundsim/integrate/simulator.hpp"
 #include "poundsim/io/input.hpp"
 #include "poundsim/model/dimensionless.hpp"
-#include "poundsim/model/gap_element.hpp"
+#include "poundsim/model/laws/paper_gap.hpp"
 #include "poundsim/model/model.hpp"
 #include "../test_files.hpp"
 

@@ -1,17 +1,8 @@
 #pragma once
 /// @file
-/// The mode of every gap element: which linear phase it is in. (What a law keeps besides its mode
-/// — the paper's element: the relaxation of its spring after a force separation — is the law's
-/// own State, model/laws/.)
-///
-/// Modes and the events that change them (see docs/model.md for the reasoning):
-///
-///     open ──contact (s ↑ 0)──▶ contact ──impact (s ↑ ε)──▶ contact (velocities jump)
-///       ▲                         │   │                      or locked (chatter suppressed)
-///       └──separation (s ↓ 0 or F ↓ 0)┘   └◀──unlock (stop reaction λ ↓ 0)── locked
-///
-/// For a rigid stop (ε = 0) there is no contact phase: open ──impact──▶ open or locked, and
-/// unlock returns to open.
+/// The mode of every gap element: which linear phase its law is in (each law names its own modes:
+/// the paper's element's GapMode, model/laws/paper_gap.hpp), and how an element in contact
+/// separates. What a law keeps besides its mode is its own State (model/laws/).
 
 #include <array>
 #include <cstdint>
@@ -23,14 +14,6 @@
 #include "poundsim/model/laws/law_traits.hpp"
 
 namespace poundsim {
-
-enum class GapMode : std::uint8_t {
-  open,     ///< s ≤ 0 (or the element separated and has not touched again): no force.
-  contact,  ///< 0 < s < ε: spring and dashpot act, F = c ṡ + k s.
-  locked,   ///< s = ε held by the stop: the floors move together; the stop reaction λ ≥ 0.
-};
-
-[[nodiscard]] std::string_view to_string(GapMode mode);
 
 /// The mode of every gap element's link (its law's LinkMode; for the paper's element a GapMode,
 /// PaperGap::link_mode), in Model::gaps order. It selects the linear system of the phase.

@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "poundsim/model/frame.hpp"
-#include "poundsim/model/gap_element.hpp"
+#include "poundsim/model/laws/paper_gap.hpp"
 #include "poundsim/model/law.hpp"
 
 namespace poundsim {

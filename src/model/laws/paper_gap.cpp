@@ -8,6 +8,33 @@
 
 namespace poundsim {
 
+std::optional<FieldRule> GapProperties::rule_violation() const {
+  if (shortening == 0 && (stiffness > 0 || damping > 0)) {
+    return FieldRule{{"shortening", "stiffness", "damping"},
+                     "an element with shortening = 0 is a rigid stop whose spring and dashpot never "
+                     "act; give shortening > 0 or stiffness = damping = 0"};
+  }
+  return std::nullopt;
+}
+
+void validate(const GapProperties& p, const std::string& what) {
+  if (const auto violation = first_violation(p)) {
+    throw std::invalid_argument(fmt::format("{}: {}", what, *violation));
+  }
+  if (const auto rule = p.rule_violation()) {
+    throw std::invalid_argument(fmt::format("{}: {}", what, rule->message));
+  }
+}
+
+std::string_view to_string(GapMode mode) {
+  switch (mode) {
+    case GapMode::open: return "open";
+    case GapMode::contact: return "contact";
+    case GapMode::locked: return "locked";
+  }
+  return "?";
+}
+
 LinkMode PaperGap::initial_mode(double d) const {
   const double s = d - parameters.gap;
   if (s <= 0) return link_mode(GapMode::open);
