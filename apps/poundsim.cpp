@@ -23,7 +23,7 @@
 #include "poundsim/error.hpp"
 #include "poundsim/io/input.hpp"
 #include "poundsim/io/frequency_response_run.hpp"
-#include "poundsim/io/optimize_run.hpp"
+#include "poundsim/optimize/optimize_run.hpp"
 #include "poundsim/io/output_files.hpp"
 #include "poundsim/io/study_database.hpp"
 #include "poundsim/io/study_run.hpp"
@@ -187,9 +187,9 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (kind == AnalysisKind::optimize) {
-      const poundsim::io::OptimizationResult result = poundsim::io::run_optimization(input, out_dir, progress);
+      const poundsim::optimize::OptimizationResult result = poundsim::optimize::run_optimization(input, out_dir, progress);
       bar.finish();
-      if (!quiet) fmt::print("{}", poundsim::io::report(result, out_dir));
+      if (!quiet) fmt::print("{}", poundsim::optimize::report(result, out_dir));
       return 0;
     }
     if (kind == AnalysisKind::frf) {

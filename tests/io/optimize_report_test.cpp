@@ -15,7 +15,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "poundsim/io/optimize_run.hpp"
+#include "poundsim/optimize/optimize_run.hpp"
 #include "poundsim/io/output_files.hpp"
 #include "poundsim/io/study_run.hpp"
 #include "../test_files.hpp"
@@ -23,6 +23,9 @@
 
 namespace poundsim::io {
 namespace {
+
+using optimize::OptimizationResult;
+using optimize::run_optimization;
 
 namespace fs = std::filesystem;
 using poundsim::testing::slurp;

@@ -15,13 +15,16 @@
 #include <gtest/gtest.h>
 
 #include "poundsim/error.hpp"
-#include "poundsim/io/optimize_run.hpp"
+#include "poundsim/optimize/optimize_run.hpp"
 #include "poundsim/io/study_database.hpp"
 #include "../test_files.hpp"
 #include "../test_models.hpp"
 
 namespace poundsim::io {
 namespace {
+
+using optimize::OptimizationResult;
+using optimize::run_optimization;
 
 namespace fs = std::filesystem;
 using poundsim::testing::slurp;

@@ -1,4 +1,4 @@
-#include "poundsim/io/optimize_run.hpp"
+#include "poundsim/optimize/optimize_run.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -17,7 +17,9 @@
 #include "poundsim/io/study_run.hpp"
 #include "poundsim/analysis/response_metrics.hpp"
 
-namespace poundsim::io {
+namespace poundsim::optimize {
+
+using namespace io;  // the reader, the study points and the output files of a run
 
 namespace {
 
@@ -267,9 +269,9 @@ json optimum_values(const OptimizationResult& result) {
 json to_json(const OptimizationResult& result) {
   const OptimizeSettings& s = result.settings;
   // The optimum and bare pounding by the same measure, the one minimised.
-  const json optimum_figures = to_json(result.optimum_figures);
+  const json optimum_figures = io::to_json(result.optimum_figures);
   const json comparison{{"optimum", optimum_figures},
-                        {"bare_pounding", to_json(result.bare_figures)},
+                        {"bare_pounding", io::to_json(result.bare_figures)},
                         {"objective", {{"metric", result.metric},
                                        {"meaning", result.meaning},
                                        {"optimum", result.objective},
@@ -308,4 +310,4 @@ std::string report(const OptimizationResult& r, const std::filesystem::path& out
   return text;
 }
 
-}  // namespace poundsim::io
+}  // namespace poundsim::optimize

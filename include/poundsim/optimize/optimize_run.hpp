@@ -16,7 +16,11 @@
 #include "poundsim/analysis/figures_of_merit.hpp"
 #include "poundsim/io/input.hpp"
 
-namespace poundsim::io {
+namespace poundsim::optimize {
+
+using io::Objective;
+using io::OptimizeSettings;
+using io::RunInput;
 
 /// The figure that `objective` minimises, of a point's figures.
 [[nodiscard]] inline double objective_of(const PointFigures& figures, Objective objective) {
@@ -66,4 +70,4 @@ nlohmann::json to_json(const OptimizationResult& result);
 /// written into `out_dir`.
 std::string report(const OptimizationResult& result, const std::filesystem::path& out_dir);
 
-}  // namespace poundsim::io
+}  // namespace poundsim::optimize
