@@ -72,8 +72,8 @@ void add_columns(const TimeHistoryFigures& t, const std::string& prefix, bool co
     add("amp_acc_" + at, floor.amp_acc);
   }
   for (const JointFigures& j : t.joints) add(fmt::format("min_gap_{}_{}_m", j.left_frame + 1, j.floor + 1), j.min_gap_m);
-  add("max_peak_V_W", t.max_peak_V_W);
-  add("max_ratio_to_free", t.max_ratio_to_free);
+  add(std::string(column_names::max_peak_V_W), t.max_peak_V_W);
+  add(std::string(column_names::max_ratio_to_free), t.max_ratio_to_free);
   add("impacts", t.impacts, true);
   add("max_impact_impulse_Ns", t.max_impact_impulse_Ns);
   add("max_gap_force_N", t.max_gap_force_N);
@@ -138,8 +138,8 @@ std::vector<FigureColumn> PointFigures::columns() const {
             out.push_back({fmt::format("free_peak_V{}_W", f + 1), r.frames[f].free_peak_V_W});
             out.push_back({fmt::format("ratio_to_free_{}", f + 1), r.frames[f].ratio_to_free});
           }
-          out.push_back({"max_peak_V_W", r.max_peak_V_W});
-          out.push_back({"max_ratio_to_free", r.max_ratio_to_free});
+          out.push_back({std::string(column_names::max_peak_V_W), r.max_peak_V_W});
+          out.push_back({std::string(column_names::max_ratio_to_free), r.max_ratio_to_free});
         } else if constexpr (std::is_same_v<R, TimeHistoryFigures>) {
           add_columns(r, "", true, out);
         } else {

@@ -358,8 +358,10 @@ json to_json(const StudyResult& result) {
     for (const StudyDatabase::Row& r : result.rows) {
       json entry{{"record", r.parameters.value("excitation.file", json())}, {"status", r.status}};
       if (r.status == "done") {
-        for (const char* k : {"pga_g", "max_peak_V_W", "max_ratio_to_free", "impacts", "max_impact_impulse_Ns"}) {
-          entry[k] = r.metrics.value(k, json());
+        for (const std::string_view k :
+             {std::string_view("pga_g"), column_names::max_peak_V_W, column_names::max_ratio_to_free, std::string_view("impacts"),
+              std::string_view("max_impact_impulse_Ns")}) {
+          entry[std::string(k)] = r.metrics.value(std::string(k), json());
         }
       } else {
         entry["error"] = r.error;
@@ -395,7 +397,7 @@ std::string report(const StudyResult& r, const std::filesystem::path& out_dir) {
   }
   if (r.lowest_max_peak) {
     const BestPoint& b = *r.lowest_max_peak;
-    text += fmt::format("  lowest larger peak V/W {:.4f} at point {}: {}\n", b.metrics["max_peak_V_W"].get<double>(),
+    text += fmt::format("  lowest larger peak V/W {:.4f} at point {}: {}\n", b.metrics[std::string(column_names::max_peak_V_W)].get<double>(),
                         b.id, b.parameters.dump());
   }
   text += fmt::format("  wrote {}/study.sqlite, study.csv, summary.json, input.toml{}\n", out_dir.string(), incomplete);
@@ -540,9 +542,10 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
       continue;
     }
     done_metrics.push_back(r.metrics);
-    const double objective = r.metrics.value("max_peak_V_W", std::numeric_limits<double>::infinity());
+    const std::string ranked_by(column_names::max_peak_V_W);
+    const double objective = r.metrics.value(ranked_by, std::numeric_limits<double>::infinity());
     if (!result.lowest_max_peak ||
-        objective < result.lowest_max_peak->metrics["max_peak_V_W"].get<double>()) {
+        objective < result.lowest_max_peak->metrics[ranked_by].get<double>()) {
       result.lowest_max_peak = BestPoint{r.id + 1, r.parameters, r.metrics};
     }
   }

@@ -45,8 +45,10 @@ nlopt::algorithm algorithm(const std::string& name, const RunInput& input, const
 
 /// The column of the figure that `objective` minimises, and what it measures.
 std::pair<std::string, std::string> objective_metric(Objective objective) {
-  if (objective == Objective::max_peak) return {"max_peak_V_W", "the larger of the frames' peak base shear V/W"};
-  return {"max_ratio_to_free", "the larger of the frames' peak V/W divided by the same frame's peak without gap elements"};
+  if (objective == Objective::max_peak) {
+    return {std::string(column_names::max_peak_V_W), "the larger of the frames' peak base shear V/W"};
+  }
+  return {std::string(column_names::max_ratio_to_free), "the larger of the frames' peak V/W divided by the same frame's peak without gap elements"};
 }
 
 /// The overrides that set the design variables to `x`.

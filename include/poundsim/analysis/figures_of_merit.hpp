@@ -9,6 +9,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -78,6 +79,13 @@ struct BareComparison {
   std::vector<double> bare_peak_V_W, ratio_to_bare;  ///< Per frame.
   double max_ratio_to_bare = 0.0;
 };
+
+/// The columns of the two figures every point has, which the optimiser minimises and a study
+/// ranks its points by.
+namespace column_names {
+inline constexpr std::string_view max_peak_V_W = "max_peak_V_W";
+inline constexpr std::string_view max_ratio_to_free = "max_ratio_to_free";
+}  // namespace column_names
 
 /// One study column: a figure's name and value. A count is written without a decimal point.
 struct FigureColumn {
