@@ -53,11 +53,7 @@ GuardForm PaperGap::guard_form(int guard, LinkMode mode, SeparationCriterion sep
       return {};
     case GapMode::contact:
       if (guard == 0) return {.kind = Kind::affine, .d_coefficient = 1.0};
-      if (separation == SeparationCriterion::force) {
-        return {.kind = Kind::affine, .d_coefficient = -parameters.stiffness,
-                .rate_coefficient = -parameters.damping};
-      }
-      return {.kind = Kind::affine, .d_coefficient = -1.0};
+      return spring_dashpot().separation_form(separation);
     case GapMode::locked:
       if (guard == 0) return {.kind = Kind::reaction};
       return {};
@@ -66,12 +62,8 @@ GuardForm PaperGap::guard_form(int guard, LinkMode mode, SeparationCriterion sep
 }
 
 Relaxation PaperGap::relaxation(LinkMode mode, const State& state, double t) const {
-  const GapProperties& gp = parameters;
-  const bool relaxing =
-      gap_mode(mode) == GapMode::open && state.released_shortening != 0.0 && gp.damping > 0;
-  if (!relaxing) return {};
-  return {.amplitude = state.free_end_shortening(t, gp.stiffness, gp.damping),
-          .rate = gp.stiffness / gp.damping};
+  if (gap_mode(mode) != GapMode::open) return {};
+  return spring_dashpot().relaxation(state, t);
 }
 
 Transition PaperGap::on_guard(int guard, const LinkKinematics& k, LinkMode& mode,
@@ -79,7 +71,7 @@ Transition PaperGap::on_guard(int guard, const LinkKinematics& k, LinkMode& mode
   if (guard == 1) {  // separation from contact
     mode = link_mode(GapMode::open);
     const double s = shortening(k);
-    state = separation == SeparationCriterion::force && s > 0 ? State{s, k.t} : State{};
+    state = SpringDashpot::released(s, k.t, separation);
     return Transition::separation;
   }
   switch (gap_mode(mode)) {
@@ -101,7 +93,7 @@ double PaperGap::stop_distance(const LinkKinematics& k, LinkMode mode,
                                const State& state) const {
   const double s = shortening(k);
   if (gap_mode(mode) == GapMode::contact) return s - parameters.shortening;
-  return s - state.free_end_shortening(k.t, parameters.stiffness, parameters.damping);
+  return s - spring_dashpot().free_end(state, k.t);
 }
 
 }  // namespace poundsim

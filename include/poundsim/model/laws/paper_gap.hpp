@@ -29,6 +29,7 @@
 #include "poundsim/model/contact_state.hpp"
 #include "poundsim/model/laws/contact_law.hpp"
 #include "poundsim/model/laws/law_traits.hpp"
+#include "poundsim/model/laws/spring_dashpot.hpp"
 
 namespace poundsim {
 
@@ -120,22 +121,11 @@ struct PaperGap {
 
   Parameters parameters;
 
-  /// What the element keeps between events: after a separation with its spring compressed (the
-  /// force criterion), its free end relaxes on its own, s_e(t) = released_shortening ·
-  /// exp(−k (t − release_time) / c), until the floors touch it again.
-  struct State {
-    double released_shortening = 0.0;  ///< s_e at release [m]; 0 when the element is relaxed.
-    double release_time = 0.0;         ///< [s] on the simulation's clock
-    /// Shortening of the element's free end at time t [m] (0 for a plain open element). Inline:
-    /// every guard evaluation of an open element asks it.
-    [[nodiscard]] double free_end_shortening(double t, double stiffness, double damping) const {
-      if (released_shortening == 0.0) return 0.0;
-      if (damping <= 0.0) return 0.0;  // a spring without dashpot recovers at once
-      return released_shortening * std::exp(-stiffness / damping * (t - release_time));
-    }
-    void shift_clock(double origin) { release_time -= origin; }
-    [[nodiscard]] bool operator==(const State&) const = default;
-  };
+  /// What the element keeps between events: the free end that relaxes after a separation with
+  /// its spring compressed (the force criterion), SpringDashpot::FreeEnd.
+  using State = SpringDashpot::FreeEnd;
+  /// Its spring and dashpot, which act while 0 < s (spring_dashpot.hpp).
+  [[nodiscard]] SpringDashpot spring_dashpot() const { return {parameters.stiffness, parameters.damping}; }
 
   PaperGap() = default;
   // Implicit: a GapLaw (model.hpp) is made from the paper's properties as before there were laws.
@@ -172,9 +162,8 @@ struct PaperGap {
   /// ½ k s² (contact, locked) or ½ k s_e(t)² (open, relaxing) [J].
   [[nodiscard]] double stored_energy(const LinkKinematics& k, LinkMode mode,
                                      const State& state) const {
-    const double s = gap_mode(mode) == GapMode::open
-                         ? state.free_end_shortening(k.t, parameters.stiffness, parameters.damping)
-                         : poundsim::shortening(parameters, k.ua, k.ub);
+    const double s = gap_mode(mode) == GapMode::open ? spring_dashpot().free_end(state, k.t)
+                                                     : poundsim::shortening(parameters, k.ua, k.ub);
     return 0.5 * (parameters.stiffness * s * s);
   }
   /// c ṡ² in contact and locked, 0 open [W] (the relaxation is booked apart).
@@ -192,10 +181,8 @@ struct PaperGap {
   /// [J]; 0 when not relaxing.
   [[nodiscard]] double relaxation_release(LinkMode mode, const State& state, double t0,
                                           double t1) const {
-    if (gap_mode(mode) != GapMode::open || state.released_shortening == 0.0) return 0.0;
-    const double s0 = state.free_end_shortening(t0, parameters.stiffness, parameters.damping);
-    const double s1 = state.free_end_shortening(t1, parameters.stiffness, parameters.damping);
-    return 0.5 * parameters.stiffness * (s0 * s0 - s1 * s1);
+    if (gap_mode(mode) != GapMode::open) return 0.0;
+    return spring_dashpot().relaxation_release(state, t0, t1);
   }
   /// The dashpot c acting in `mode` [N·s/m]: 0 open.
   [[nodiscard]] double dashpot(LinkMode mode) const {
@@ -220,7 +207,7 @@ struct PaperGap {
   /// F = c ṡ + k s in contact and locked (without the stop reaction), 0 open [N].
   [[nodiscard]] double force(const LinkKinematics& k, LinkMode mode, const State& /*state*/) const {
     if (gap_mode(mode) == GapMode::open) return 0.0;
-    return contact_force(parameters, k.ua - k.ub - parameters.gap, k.va - k.vb);
+    return spring_dashpot().force(k.ua - k.ub - parameters.gap, k.va - k.vb);
   }
   /// s = u_L − u_R − δ [m].
   [[nodiscard]] double shortening(const LinkKinematics& k) const {
@@ -238,41 +225,24 @@ struct PaperGap {
   [[nodiscard]] double position_noise(const LinkKinematics& k) const {
     return kNoise * (std::abs(k.ua) + std::abs(k.ub) + parameters.gap + parameters.shortening);
   }
-  /// A guard within a few ulps of zero is zero, and zero does not fire: without this floor, a
-  /// guard that stays at zero for a while (a pair released with ṡ = 0 at the stop) would flicker
-  /// in the last bit and stall event location.
-  static constexpr double kNoise = 8 * std::numeric_limits<double>::epsilon();
+  static constexpr double kNoise = SpringDashpot::kNoise;
   [[nodiscard]] double restitution() const { return parameters.restitution; }
   [[nodiscard]] static LinkMode locked_mode() { return link_mode(GapMode::locked); }
 };
 
 inline void PaperGap::guards(const LinkKinematics& k, LinkMode mode, const State& state,
-                      const GuardContext& context, std::span<GuardValue, 2> out) const {
-  const GapProperties& gp = parameters;
+                             const GuardContext& context, std::span<GuardValue, 2> out) const {
   const double s = shortening(k);
-  const double rate = k.va - k.vb;
   const double s_noise = position_noise(k);
   switch (gap_mode(mode)) {
-    case GapMode::open: {
-      const double se = state.free_end_shortening(k.t, gp.stiffness, gp.damping);
-      const double se_rate = gp.damping > 0 ? -gp.stiffness / gp.damping * se : 0.0;
-      out[0] = {.active = true, .value = s - se, .rate = rate - se_rate, .noise = s_noise,
-                .hysteresis = true};
+    case GapMode::open:
+      out[0] = spring_dashpot().approach_guard(k, s, s_noise, state);
       out[1] = {};
       return;
-    }
     case GapMode::contact:
-      out[0] = {.active = true, .value = s - gp.shortening, .rate = rate, .noise = s_noise,
+      out[0] = {.active = true, .value = s - parameters.shortening, .rate = k.va - k.vb, .noise = s_noise,
                 .hysteresis = true};
-      if (context.separation == SeparationCriterion::force) {
-        const double accel = k.aa - k.ab;
-        const double f_noise = kNoise * (gp.damping * (std::abs(k.va) + std::abs(k.vb)) +
-                                         gp.stiffness * s_noise / kNoise);
-        out[1] = {.active = true, .value = -contact_force(gp, s, rate),
-                  .rate = -(gp.damping * accel + gp.stiffness * rate), .noise = f_noise};
-      } else {
-        out[1] = {.active = true, .value = -s, .rate = -rate, .noise = s_noise};
-      }
+      out[1] = spring_dashpot().separation_guard(k, s, s_noise, context.separation);
       return;
     case GapMode::locked:
       out[0] = {.active = true, .value = -context.reaction,
