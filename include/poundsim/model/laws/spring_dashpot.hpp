@@ -33,10 +33,10 @@ struct SpringDashpot {
     double release_time = 0.0;         ///< [s] on the simulation's clock
     /// Shortening of the element's free end at time t [m] (0 for a plain open element). Inline:
     /// every guard evaluation of an open element asks it.
-    [[nodiscard]] double free_end_shortening(double t, double stiffness, double damping) const {
+    [[nodiscard]] double free_end_shortening(double t, double spring, double dashpot) const {
       if (released_shortening == 0.0) return 0.0;
-      if (damping <= 0.0) return 0.0;  // a spring without dashpot recovers at once
-      return released_shortening * std::exp(-stiffness / damping * (t - release_time));
+      if (dashpot <= 0.0) return 0.0;  // a spring without dashpot recovers at once
+      return released_shortening * std::exp(-spring / dashpot * (t - release_time));
     }
     void shift_clock(double origin) { release_time -= origin; }
     [[nodiscard]] bool operator==(const FreeEnd&) const = default;
