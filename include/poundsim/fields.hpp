@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <tuple>
@@ -266,6 +267,18 @@ std::optional<std::string> first_violation(const S& s) {
     }
   });
   return found;
+}
+
+/// Throws std::invalid_argument "what: …" when a declared field of `s` is out of its range or the
+/// rule between its fields (s.rule_violation()) is broken: a law's parameters, checked once.
+template <Configuration S>
+void validate_fields(const S& s, std::string_view what) {
+  if (const std::optional<std::string> violation = first_violation(s)) {
+    throw std::invalid_argument(fmt::format("{}: {}", what, *violation));
+  }
+  if constexpr (requires { s.rule_violation(); }) {
+    if (const auto rule = s.rule_violation()) throw std::invalid_argument(fmt::format("{}: {}", what, rule->message));
+  }
 }
 
 }  // namespace poundsim

@@ -48,7 +48,7 @@ void validate(const Model& model) {
         g.floor >= model.frames[g.left_frame + 1].storeys()) {
       throw std::invalid_argument(what + ": no such floors");
     }
-    std::visit([&](const auto& law) { validate(law.parameters, what); }, g.law);
+    std::visit([&](const auto& law) { validate_fields(law.parameters, what); }, g.law);
   }
 }
 
@@ -101,10 +101,21 @@ std::vector<Link> make_links(const Model& model, const DofLayout& layout) {
                          },
                          frame.storey_law)});
   }
+  const auto mass = [&](int dof) {
+    return model.frames[static_cast<std::size_t>(layout.frame_of(dof))].mass[static_cast<std::size_t>(layout.floor_of(dof))];
+  };
   for (int p = 0; p < model.gap_count(); ++p) {
-    links.push_back({.a = layout.gap_left(p),
-                     .b = layout.gap_right(p),
-                     .law = std::visit([](const auto& law) -> Law { return law; }, model.gaps[p].law),
+    const int a = layout.gap_left(p), b = layout.gap_right(p);
+    links.push_back({.a = a,
+                     .b = b,
+                     .law = std::visit(
+                         [&](auto law) -> Law {
+                           // A law whose parameters depend on the floors it joins (a dashpot tuned
+                           // to their reduced mass) is bound to them here.
+                           if constexpr (requires { law.bind_masses(1.0, 1.0); }) law.bind_masses(mass(a), mass(b));
+                           return law;
+                         },
+                         model.gaps[p].law),
                      .element = p});
   }
   // Each link's index among its law's links: where LinkStates keeps its state.

@@ -27,12 +27,13 @@
 #include <vector>
 
 #include "poundsim/model/laws/linear_storey.hpp"
+#include "poundsim/model/laws/kelvin_voigt.hpp"
 #include "poundsim/model/laws/paper_gap.hpp"
 
 namespace poundsim {
 
 /// The closed set of laws.
-using Law = std::variant<LinearStorey, PaperGap>;
+using Law = std::variant<LinearStorey, PaperGap, KelvinVoigt>;
 
 namespace detail {
 /// std::variant<Wrap<L>...> of the laws L of the variant V for which Keep<L>::value, in V's order.

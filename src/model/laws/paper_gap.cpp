@@ -17,15 +17,6 @@ std::optional<FieldRule> GapProperties::rule_violation() const {
   return std::nullopt;
 }
 
-void validate(const GapProperties& p, const std::string& what) {
-  if (const auto violation = first_violation(p)) {
-    throw std::invalid_argument(fmt::format("{}: {}", what, *violation));
-  }
-  if (const auto rule = p.rule_violation()) {
-    throw std::invalid_argument(fmt::format("{}: {}", what, rule->message));
-  }
-}
-
 std::string_view to_string(GapMode mode) {
   switch (mode) {
     case GapMode::open: return "open";

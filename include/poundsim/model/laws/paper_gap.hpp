@@ -94,9 +94,6 @@ struct GapProperties {
   return p.damping * s_rate + p.stiffness * s;
 }
 
-/// Throws std::invalid_argument naming `what` and the field when a property is out of range or
-/// breaks the rule between them.
-void validate(const GapProperties& p, const std::string& what);
 
 /// The element's modes and the events that change them (see docs/model.md for the reasoning):
 ///
