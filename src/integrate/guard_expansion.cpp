@@ -49,6 +49,10 @@ void GuardExpansion::build(const ExactTrajectory& trajectory, const Eigen::Matri
   } else {
     rows_ = rows;
     row_norm_ = rows.rowwise().norm();
+    balanced_row_norm_.resize(g);
+    for (Eigen::Index j = 0; j < g; ++j)
+      balanced_row_norm_(j) = rows.row(j).cwiseProduct(phase.scale().transpose()).norm();
+    balanced_start_norm_ = trajectory.homogeneous_start().cwiseQuotient(phase.scale()).norm();
   }
   // At s = 0 each expansion returns the start value itself rather than its sum (which differs
   // from it by round-off), so a guard that starts a segment exactly at zero (just biased after an
@@ -127,9 +131,9 @@ double GuardExpansion::derivative_bound(int j, int order, double a, double b) co
                std::exp(re * (re > 0 ? b : a));
     }
   } else {
-    // ‖e^{As}‖ ≤ e^{μ s} with μ the logarithmic norm.
+    // r Aᵖ e^{As} h = (r D) Âᵖ e^{Âs} (D⁻¹ h) and ‖e^{Âs}‖ ≤ e^{μ s}, μ the logarithmic norm of Â.
     const double mu = tr.phase().log_norm();
-    bound += row_norm_(j) * power(tr.phase().norm(), order) * tr.homogeneous_start().norm() *
+    bound += balanced_row_norm_(j) * power(tr.phase().norm(), order) * balanced_start_norm_ *
              std::exp(mu * (mu > 0 ? b : a));
   }
   return bound;
@@ -183,7 +187,16 @@ std::optional<Crossing> search(const GuardExpansion& guards, int j, double a, do
   const auto [ga, da] = guards.value_and_rate(j, a);
   const auto [gb, db] = guards.value_and_rate(j, b);
   push({a, b, ga, da, gb, db});
+  // A proof that needs more pieces than this means bounds far looser than the guard (the stall
+  // the balanced bounds of exact_phase.cpp removed): stop with a message rather than hang.
+  constexpr int kMaxPieces = 1 << 20;
+  int pieces = 0;
   while (depth > 0) {
+    if (++pieces > kMaxPieces)
+      throw SimulationError(
+          "event location: proving where a guard crosses zero took more than 2^20 sub-intervals of "
+          "one step (derivative bounds far looser than the guard); try the newmark integrator",
+          StopReason::event_location);
     const Interval in = stack[--depth];
     const double h = in.b - in.a;
     if (in.ga > 0) return Crossing{j, in.a, in.a};  // already past zero at the start

@@ -60,12 +60,14 @@ class ExactPhase {
   /// returned again for the same ω (valid until the next call with another ω). Because of that
   /// cache, one ExactPhase must not be used by several threads at once.
   [[nodiscard]] const Eigen::VectorXcd& harmonic_response(double omega) const;
-  /// max |λ| [1/s]: the fastest rate of the phase (‖A‖₂, an upper bound, when not modal()).
+  /// max |λ| [1/s]: the fastest rate of the phase (‖Â‖₂, an upper bound, when not modal()).
   [[nodiscard]] double spectral_radius() const { return spectral_radius_; }
-  /// ‖A‖₂ and the logarithmic norm μ₂(A): bounds for the matrix-exponential path, computed only
-  /// for it (NaN when modal()).
+  /// ‖Â‖₂ and the logarithmic norm μ₂(Â) of the balanced Â = D⁻¹ A D: bounds for the
+  /// matrix-exponential path, computed only for it (NaN when modal()).
   [[nodiscard]] double norm() const { return norm_; }
   [[nodiscard]] double log_norm() const { return log_norm_; }
+  /// D = diag(1, ω_i) of the balancing: e^{As} = D e^{Âs} D⁻¹.
+  [[nodiscard]] const Eigen::VectorXd& scale() const { return scale_; }
 
  private:
   Eigen::Index n_ = 0;

@@ -54,6 +54,8 @@ class GuardExpansion {
   Eigen::MatrixXcd modal_;            // γ (modal path)
   Eigen::MatrixXd rows_;              // R (matrix-exponential path)
   Eigen::VectorXd row_norm_;
+  Eigen::VectorXd balanced_row_norm_;  // ‖r_j D‖, D the phase's balancing (derivative bounds)
+  double balanced_start_norm_ = 0.0;   // ‖D⁻¹ h₀‖
   struct Remembered {
     double s = std::numeric_limits<double>::quiet_NaN(), value = 0.0, rate = 0.0;
   };
