@@ -15,18 +15,20 @@
 namespace poundsim {
 namespace {
 
-TEST(IntegratorSupport, BothNeedPiecewiseLinearLaws) {
-  const LawTraits smooth{.piecewise_linear = false, .has_stop = false, .energy = EnergyGroup::gap_element,
-                         .name = "a smooth contact law"};
-  const std::array<LawTraits, 3> laws{LinearStorey::traits, PaperGap::traits, smooth};
+TEST(IntegratorSupport, ExactNeedsPiecewiseLinearLawsNewmarkATangent) {
+  const LawTraits without_tangent{.piecewise_linear = false, .newton = false, .has_stop = false,
+                                  .energy = EnergyGroup::gap_element, .name = "a law without tangent"};
+  const std::array<LawTraits, 3> laws{LinearStorey::traits, PaperGap::traits, Hertz::traits};
   const IntegratorSupport exact = supports(Integrator::exact, laws);
   EXPECT_FALSE(exact);
-  EXPECT_NE(exact.reason.find("link 3 (a smooth contact law) is not piecewise linear"), std::string::npos)
+  EXPECT_NE(exact.reason.find("link 3 (the Hertz contact) is not piecewise linear: use integrator = \"newmark\""),
+            std::string::npos)
       << exact.reason;
-  const IntegratorSupport newmark = supports(Integrator::newmark, laws);
+  EXPECT_TRUE(supports(Integrator::newmark, laws));
+  const std::array<LawTraits, 2> untangent{LinearStorey::traits, without_tangent};
+  const IntegratorSupport newmark = supports(Integrator::newmark, untangent);
   EXPECT_FALSE(newmark);
-  EXPECT_NE(newmark.reason.find("no Newton iteration yet; link 3 (a smooth contact law)"), std::string::npos)
-      << newmark.reason;
+  EXPECT_NE(newmark.reason.find("link 2 (a law without tangent) is neither"), std::string::npos) << newmark.reason;
   EXPECT_TRUE(supports(Integrator::exact, std::span(laws).first(2)));
   EXPECT_TRUE(supports(Integrator::newmark, std::span(laws).first(2)));
 }

@@ -13,6 +13,7 @@
 #include "poundsim/integrate/simulator.hpp"
 #include "poundsim/io/input.hpp"
 #include "poundsim/model/model.hpp"
+#include "collision.hpp"
 
 namespace poundsim {
 namespace {
@@ -30,32 +31,11 @@ TEST(KelvinVoigt, DampingRatioGivesTheRestitution) {
   EXPECT_NEAR(law.damping, 2 * KelvinVoigt::damping_ratio(0.6) * std::sqrt(1e5 * 1.2), 1e-9);
 }
 
-struct Collision {
-  double contact = -1, separation = -1, closing = 0, parting = 0;
-  double relative_residual = 0;
-};
-
 /// Frames of 2 and 3 kg on storeys 10¹¹ times softer than the contact (free masses to 1e-11),
 /// closing at 1.5 m/s across a gap of 0.01 m.
-Collision collide(Integrator integrator, double dt) {
-  const KelvinVoigt law{.parameters = {.stiffness = 1e5, .gap = 0.01, .restitution = 0.6}};
-  const Model model = make_model({make_uniform_frame(1, 2.0, 1e-6, 0.0), make_uniform_frame(1, 3.0, 1e-6, 0.0)}, law);
-  InitialConditions ic;
-  ic.velocity = {{1.0}, {-0.5}};
-  Simulator sim(model, NoExcitation{}, TimeHistoryOptions{.dt = dt, .integrator = integrator}, ic);
-  Collision c;
-  sim.set_event_handler([&](const Event& e) {
-    if (e.kind == EventKind::contact) {
-      c.contact = e.time;
-      c.closing = e.rate_before;
-    } else if (e.kind == EventKind::separation) {
-      c.separation = e.time;
-      c.parting = e.rate_after;
-    }
-  });
-  sim.advance_to(0.03);
-  c.relative_residual = sim.energy_meter().max_relative_residual();
-  return c;
+testing::Collision collide(Integrator integrator, double dt) {
+  const KelvinVoigt law{.parameters = {.stiffness = 1e5, .gap = testing::kGap, .restitution = 0.6}};
+  return testing::collide(law, dt, integrator, 0.03);
 }
 
 TEST(KelvinVoigt, TwoFreeMassesPartAfterPiOverOmegaDWithRestitutionE) {
@@ -64,7 +44,7 @@ TEST(KelvinVoigt, TwoFreeMassesPartAfterPiOverOmegaDWithRestitutionE) {
   const double omega_d = std::sqrt(k / reduced) * std::sqrt(1 - xi * xi);
   for (const auto& [integrator, dt, tolerance] :
        {std::tuple{Integrator::exact, 1e-3, 1e-9}, std::tuple{Integrator::newmark, 1e-5, 1e-4}}) {
-    const Collision c = collide(integrator, dt);
+    const testing::Collision c = collide(integrator, dt);
     const std::string name(to_string(integrator));
     ASSERT_GT(c.contact, 0.0) << name;
     ASSERT_GT(c.separation, c.contact) << name;

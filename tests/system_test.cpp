@@ -70,7 +70,7 @@ AfterEvents fire_just_past_the_gap(const PoundingSystem& system, Recorder& recor
   LinearPhase& phase = recorder.activate(r.contact);
   system.refresh_flags(r.contact);
   r.x.u(0) = kGap + 1e-9;
-  system.equilibrate(phase, r.x);
+  system.equilibrate(phase, r.x, r.contact);
   system.evaluate_guards(r.x, phase, r.contact, r.g, r.dg);
   EXPECT_GT(r.g[0], 0.0);
   const std::vector<double> fired = r.g;

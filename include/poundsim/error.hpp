@@ -25,6 +25,7 @@ enum class StopReason : std::uint8_t {
   event_location,  ///< An event could not be located.
   resonance,       ///< Exact integrator: forcing at a natural frequency of an undamped phase.
   singular_phase,  ///< A phase's Newmark matrix could not be factorised.
+  no_convergence,  ///< Newton's iterations (smooth laws) did not converge within a step.
   other,           ///< Any other numerical failure.
 };
 

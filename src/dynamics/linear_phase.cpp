@@ -1,6 +1,8 @@
 #include "poundsim/dynamics/linear_phase.hpp"
 
+#include <algorithm>
 #include <optional>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -40,6 +42,10 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
   std::vector<int> leader(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) leader[i] = i;
   for (const Link& link : make_links(model, layout)) {
+    if (link.smooth_in(mode_of(link, configuration_))) {
+      smooth_links_.push_back({.element = link.element, .a = link.a, .b = link.b});
+      continue;
+    }
     const std::optional<LinearForm> form = link.linear_form(mode_of(link, configuration_));
     if (!form) continue;  // the link transmits nothing in this mode (an open gap element)
     add_link(k_triplets, link.a, link.b, form->stiffness);
@@ -67,6 +73,10 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
     }
   }
   for (int i = 0; i < n; ++i) group_of_[i] = group_of_[leader[i]];
+  for (SmoothLink& link : smooth_links_) {
+    link.group_a = group_of_[static_cast<std::size_t>(link.a)];
+    link.group_b = group_of_[static_cast<std::size_t>(link.b)];
+  }
   const auto nr = static_cast<Eigen::Index>(representative_.size());
 
   offset_ = Eigen::VectorXd::Zero(n);
@@ -103,6 +113,11 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
     }
   }
   for (Eigen::Index i = 0; i < nr; ++i) pattern.emplace_back(i, i, 0.0);
+  for (const SmoothLink& link : smooth_links_) {
+    if (link.group_a != link.group_b) {
+      pattern.emplace_back(std::min(link.group_a, link.group_b), std::max(link.group_a, link.group_b), 0.0);
+    }
+  }
   effective_.resize(nr, nr);
   effective_.setFromTriplets(pattern.begin(), pattern.end());
   effective_.makeCompressed();
@@ -119,17 +134,36 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
   }
   step_solver_.analyzePattern(effective_);
   substep_solver_.analyzePattern(effective_);
+  if (!smooth_links_.empty()) {
+    const auto slot = [&](int row, int col) -> Eigen::Index {
+      if (row > col) std::swap(row, col);
+      const Eigen::Index start = effective_.outerIndexPtr()[col], end = effective_.outerIndexPtr()[col + 1];
+      for (Eigen::Index k = start; k < end; ++k) {
+        if (effective_.innerIndexPtr()[k] == row) return k;
+      }
+      return -1;
+    };
+    for (const SmoothLink& link : smooth_links_) {
+      tangent_slots_.push_back(link.group_a == link.group_b
+                                   ? TangentSlots{}
+                                   : TangentSlots{.aa = slot(link.group_a, link.group_a),
+                                                  .bb = slot(link.group_b, link.group_b),
+                                                  .ab = slot(link.group_a, link.group_b)});
+    }
+    tangent_solver_.analyzePattern(effective_);
+  }
   q_work_.resize(nr);
   qd_work_.resize(nr);
   rhs_work_.resize(nr);
 }
 
-void LinearPhase::equilibrate(double ground, KinematicState& state) const {
+void LinearPhase::equilibrate(double ground, KinematicState& state, std::span<const ForceTangent> smooth) const {
   gather(state.u, q_work_);
   gather(state.v, qd_work_);
   rhs_work_ = constant_load_ - ground * mass_;
   rhs_work_.noalias() -= damping_ * qd_work_;
   rhs_work_.noalias() -= stiffness_ * q_work_;
+  if (!smooth_links_.empty()) add_smooth_loads(smooth, rhs_work_);
   rhs_work_.array() /= mass_.array();
   state.ground = ground;
   if (unreduced_) {
@@ -169,6 +203,34 @@ void LinearPhase::factorize(Solver& solver, double tau) const {
         fmt::format("the Newmark effective matrix could not be factorised (step {} s)", tau),
         StopReason::singular_phase);
   }
+}
+
+void LinearPhase::add_smooth_loads(std::span<const ForceTangent> by_element, Eigen::Ref<Eigen::VectorXd> reduced) const {
+  for (const SmoothLink& link : smooth_links_) {
+    const double force = by_element[static_cast<std::size_t>(link.element)].force;
+    reduced(link.group_a) -= force;
+    reduced(link.group_b) += force;
+  }
+}
+
+const LinearPhase::Solver& LinearPhase::tangent_solver(double tau, std::span<const ForceTangent> by_element) const {
+  Eigen::Map<Eigen::VectorXd> values(effective_.valuePtr(), effective_.nonZeros());
+  values = effective_m_ + (0.5 * tau) * effective_c_ + (0.25 * tau * tau) * effective_k_;
+  for (std::size_t i = 0; i < smooth_links_.size(); ++i) {
+    const TangentSlots& slots = tangent_slots_[i];
+    if (slots.ab < 0) continue;  // both floors in one group: the force is internal to it
+    const ForceTangent& t = by_element[static_cast<std::size_t>(smooth_links_[i].element)];
+    const double entry = 0.5 * tau * t.damping + 0.25 * tau * tau * t.stiffness;
+    values(slots.aa) += entry;
+    values(slots.bb) += entry;
+    values(slots.ab) -= entry;
+  }
+  tangent_solver_.factorize(effective_);
+  if (tangent_solver_.info() != Eigen::Success) {
+    throw SimulationError(fmt::format("the Newmark tangent matrix could not be factorised (step {} s)", tau),
+                          StopReason::singular_phase);
+  }
+  return tangent_solver_;
 }
 
 const LinearPhase::Solver& LinearPhase::substep_solver(double tau) const {

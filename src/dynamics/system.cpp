@@ -72,13 +72,14 @@ ContactState PoundingSystem::initial_contact(const KinematicState& x) const {
   c.stop_noise.assign(ng, 0.0);
   c.link_in.assign(static_cast<std::size_t>(layout_.size()), 0.0);
   c.impacts.reserve(ng);
+  c.smooth.assign(ng, ForceTangent{});
   return c;
 }
 
 void PoundingSystem::refresh_flags(ContactState& c, std::size_t p) const {
   // What the element's law does in its mode, asked when the mode changes rather than per step.
   const std::optional<LinearForm> form = contact_links_[p].linear_form(c.config[p]);
-  c.transmits[p] = form.has_value();
+  c.transmits[p] = form.has_value() || contact_links_[p].smooth_in(c.config[p]);
   c.rigid[p] = form && form->rigid;
 }
 
@@ -92,8 +93,26 @@ LinearPhase& PoundingSystem::activate(ContactState& c, EventHandler& handler) co
   return phase;
 }
 
-void PoundingSystem::equilibrate(LinearPhase& phase, KinematicState& x) const {
-  phase.equilibrate(ground_acceleration(x.t), x);
+void PoundingSystem::equilibrate(LinearPhase& phase, KinematicState& x, ContactState& c) const {
+  if (!phase.has_smooth_links()) {
+    phase.equilibrate(ground_acceleration(x.t), x);
+    return;
+  }
+  smooth_forces(x, c, c.smooth);
+  phase.equilibrate(ground_acceleration(x.t), x, c.smooth);
+}
+
+void PoundingSystem::smooth_forces(const KinematicState& x, const ContactState& c,
+                                   std::span<ForceTangent> by_element) const {
+  contact_table_.for_each_law([&](auto links) {
+    using L = typename std::decay_t<decltype(links)>::value_type;
+    if constexpr (SmoothLaw<decltype(L::law)>) {
+      for (const auto& link : links) {
+        const auto p = static_cast<std::size_t>(link.element);
+        by_element[p] = link.law.force_tangent(kinematics(x, link), c.config[p], c.states.at(link));
+      }
+    }
+  });
 }
 
 double PoundingSystem::shortening(const KinematicState& x, int p) const {
@@ -146,10 +165,21 @@ void PoundingSystem::compute_stop_reactions(const KinematicState& x, const Linea
   const Eigen::VectorXd& m = phase.full_mass();
   const LinearPhase::SparseMatrix& cm = phase.full_damping();
   const LinearPhase::SparseMatrix& k = phase.full_stiffness();
+  // A smooth law's force on a floor of the chain is a load like f_S: −F on its floor a, +F on b.
+  if (phase.has_smooth_links()) smooth_forces(x, c, c.smooth);
+  const auto smooth_load = [&](int floor) {
+    double load = 0.0;
+    for (const LinearPhase::SmoothLink& link : phase.smooth_links()) {
+      const double force = c.smooth[static_cast<std::size_t>(link.element)].force;
+      if (link.a == floor) load -= force;
+      if (link.b == floor) load += force;
+    }
+    return load;
+  };
   for (std::size_t p = 0; p < c.config.size(); ++p) {
     if (c.rigid[p] == 0) continue;
     const int l = contact_links_[p].a;
-    const double load = phase.full_constant_load()(l);
+    const double load = phase.full_constant_load()(l) + smooth_load(l);
     double f = load - m(l) * (ground + x.a(l));
     double magnitude = std::abs(load) + m(l) * (std::abs(ground) + std::abs(x.a(l)));
     for (LinearPhase::SparseMatrix::InnerIterator it(cm, l); it; ++it) {  // symmetric: column = row
@@ -205,7 +235,7 @@ LinearPhase& PoundingSystem::apply_events(std::span<const double> fired, Kinemat
   }
   LinearPhase* phase = &activate(c, handler);
   if (!c.impacts.empty()) phase = &resolve_impacts(x, c, *phase, handler);
-  equilibrate(*phase, x);
+  equilibrate(*phase, x, c);
   evaluate_guards(x, *phase, c, g, dg);
   set_impact_biases(x, c, g);
   return *phase;
@@ -231,7 +261,6 @@ LinearPhase& PoundingSystem::resolve_impacts(KinematicState& x, ContactState& c,
   Eigen::VectorXd& v = x.v;
   const double kinetic_before = kinetic_energy(v);
   const std::size_t elements = c.config.size();
-  const double ground = ground_acceleration(x.t);
 
   std::vector<double> left_before(elements), right_before(elements), impulse(elements, 0.0);
   std::vector<char> involved(elements, 0);
@@ -323,7 +352,7 @@ LinearPhase& PoundingSystem::resolve_impacts(KinematicState& x, ContactState& c,
       if (!joined) break;
     }
 
-    phase->equilibrate(ground, x);
+    equilibrate(*phase, x, c);
     std::vector<int> locking;
     for (std::size_t p = 0; p < elements; ++p) {
       if (!involved[p] || c.rigid[p] != 0) continue;

@@ -1,5 +1,6 @@
 #include "poundsim/integrate/integrator.hpp"
 
+#include <optional>
 #include <vector>
 
 #include <fmt/format.h>
@@ -12,32 +13,36 @@ std::string_view to_string(Integrator integrator) {
 
 namespace {
 
-/// The refusal of a law that is not piecewise linear, on `link`: both integrators step the linear
-/// phase of each mode (LinearPhase), and Newmark's Newton iteration on a law's tangent, which a
-/// smooth law needs, is not built yet.
-IntegratorSupport refuse(Integrator integrator, const std::string& link) {
+/// Why `integrator` cannot integrate a law with these traits on `link`; nothing when it can.
+/// Both step the linear phase of each mode (LinearPhase); Newmark also solves a law that gives its
+/// tangent by Newton iterations, the exact integrator has no closed form for it.
+std::optional<IntegratorSupport> refusal(Integrator integrator, const LawTraits& law, const std::string& link) {
+  if (law.piecewise_linear) return std::nullopt;
   if (integrator == Integrator::exact) {
-    return {false, fmt::format("the exact integrator solves phases of piecewise-linear laws in closed form; "
-                               "{} is not piecewise linear",
-                               link)};
+    return IntegratorSupport{false, fmt::format("the exact integrator solves phases of piecewise-linear laws in "
+                                                "closed form; {} is not piecewise linear: use integrator = \"newmark\"",
+                                                link)};
   }
-  return {false, fmt::format("Newmark steps the linear phase of each mode and has no Newton iteration yet; "
-                             "{} is not piecewise linear",
-                             link)};
+  if (law.newton) return std::nullopt;
+  return IntegratorSupport{false, fmt::format("Newmark solves piecewise-linear laws and laws that give their "
+                                              "tangent (Newton); {} is neither",
+                                              link)};
 }
 
 }  // namespace
 
 IntegratorSupport supports(Integrator integrator, std::span<const LawTraits> laws) {
   for (std::size_t i = 0; i < laws.size(); ++i) {
-    if (!laws[i].piecewise_linear) return refuse(integrator, fmt::format("link {} ({})", i + 1, laws[i].name));
+    if (auto no = refusal(integrator, laws[i], fmt::format("link {} ({})", i + 1, laws[i].name))) return *no;
   }
   return {};
 }
 
 IntegratorSupport supports(Integrator integrator, std::span<const Link> links, const DofLayout& layout) {
   for (const Link& link : links) {
-    if (!link.traits().piecewise_linear) return refuse(integrator, describe(link, layout));
+    if (!link.traits().piecewise_linear) {
+      if (auto no = refusal(integrator, link.traits(), describe(link, layout))) return *no;
+    }
   }
   return {};
 }

@@ -7,6 +7,10 @@
 
 #include "hermite_cubic.hpp"
 
+#include <fmt/format.h>
+
+#include "poundsim/error.hpp"
+
 namespace poundsim::detail {
 
 /// Evaluates guards on Newmark sub-steps from the start of the current step.
@@ -25,15 +29,50 @@ class NewmarkStepper::TrialEvaluator final : public GuardEvaluator {
   Loop& loop_;
 };
 
-NewmarkStepper::NewmarkStepper(int dofs) : newmark_(dofs) {
+NewmarkStepper::NewmarkStepper(int dofs, int gap_elements)
+    : newmark_(dofs), smooth_(static_cast<std::size_t>(gap_elements)) {
   trial_.resize(dofs);
   upper_.resize(dofs);
 }
 
+namespace {
+/// The system's smooth forces at Newton's iterates, with the loop's contact state.
+class SystemSmoothForces final : public SmoothForces {
+ public:
+  explicit SystemSmoothForces(const Loop& loop) : loop_(loop) {}
+  void evaluate(const KinematicState& x, std::span<ForceTangent> by_element) override {
+    loop_.system().smooth_forces(x, loop_.contact(), by_element);
+  }
+
+ private:
+  const Loop& loop_;
+};
+}  // namespace
+
 void NewmarkStepper::trial_step(Loop& loop, double tau, bool nominal, KinematicState& out) {
   const LinearPhase& phase = loop.phase();
-  const LinearPhase::Solver& solver = nominal ? phase.step_solver() : phase.substep_solver(tau);
-  newmark_.step(phase, solver, loop.state(), tau, loop.system().ground_acceleration(loop.state().t + tau), out);
+  const double ground_end = loop.system().ground_acceleration(loop.state().t + tau);
+  if (!phase.has_smooth_links()) {
+    const LinearPhase::Solver& solver = nominal ? phase.step_solver() : phase.substep_solver(tau);
+    newmark_.step(phase, solver, loop.state(), tau, ground_end, out);
+    return;
+  }
+  SystemSmoothForces forces(loop);
+  const NewtonOutcome outcome =
+      newmark_.step_newton(phase, loop.state(), tau, ground_end, forces, smooth_, loop.options().newton(), out);
+  ResponseStatistics& counts = loop.monitor().counts();
+  ++counts.newton_steps;
+  counts.newton_iterations += outcome.iterations;
+  if (!outcome.converged) {
+    const Link& link = loop.system().contact_links()[static_cast<std::size_t>(outcome.worst_element)];
+    throw SimulationError(
+        fmt::format("Newton's iterations did not converge within {} iterations in the step from t = {} s to {} s; "
+                    "the force of {} changed most in the last one. A smaller dt, or a larger "
+                    "newton_max_iterations or newton_tolerance, may help",
+                    outcome.iterations, loop.state().t, loop.state().t + tau,
+                    describe(link, loop.system().layout())),
+        StopReason::no_convergence);
+  }
 }
 
 void NewmarkStepper::integrate_to(Loop& loop, double t_end, bool nominal) {

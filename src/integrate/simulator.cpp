@@ -149,7 +149,7 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
   if (options_.integrator == Integrator::exact) {
     stepper_ = std::make_unique<detail::ExactStepper>(n, gaps);
   } else {
-    stepper_ = std::make_unique<detail::NewmarkStepper>(n);
+    stepper_ = std::make_unique<detail::NewmarkStepper>(n, gaps);
   }
   contact_ = system_.initial_contact(state_);
   settle_state();
@@ -159,7 +159,7 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
 void Simulator::settle_state() {
   activate_phase();
   system_.refresh_flags(contact_);  // events refresh them through the system (EventHandler)
-  system_.equilibrate(*phase_, state_);
+  system_.equilibrate(*phase_, state_, contact_);
   evaluate_guards(state_, guards_.lo, guards_.rate_lo);
   apply_pending_events();
   energy_.start(state_, contact_.config, contact_.states);

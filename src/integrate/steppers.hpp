@@ -36,7 +36,7 @@ class Stepper {
 /// the step), the first event is located on Newmark sub-steps to event_tolerance.
 class NewmarkStepper final : public Stepper {
  public:
-  explicit NewmarkStepper(int dofs);
+  NewmarkStepper(int dofs, int gap_elements);
   void integrate_to(Loop& loop, double t_end, bool nominal) override;
 
  private:
@@ -48,6 +48,7 @@ class NewmarkStepper final : public Stepper {
 
   NewmarkIntegrator newmark_;
   KinematicState trial_, upper_;
+  std::vector<ForceTangent> smooth_;  ///< The smooth laws' forces at Newton's iterates, by element.
 };
 
 /// The closed-form solution of each phase (exact_phase.hpp) from segment to segment; events are

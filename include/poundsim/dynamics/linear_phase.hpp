@@ -23,6 +23,12 @@
 ///
 /// The Newmark effective matrix M_r + (h/2) C_r + (h²/4) K_r is factorised once for the step h
 /// given at construction (step_solver) and on demand for other sub-step lengths (substep_solver).
+///
+/// A link whose law is smooth in its mode (a Hertz-type contact, Link::smooth_in) adds no linear
+/// terms: its force F(d, ḋ) is an extra load, −F on floor a and +F on floor b, which Newmark's
+/// Newton iterations solve with the tangent matrix M_r + (τ/2)(C_r + C_t) + (τ²/4)(K_r + K_t), where
+/// K_t and C_t hold each smooth link's ∂F/∂d and ∂F/∂ḋ in its two groups (tangent_solver). The
+/// pattern of the effective matrix includes those entries, so both share one analysis.
 
 #include <span>
 #include <vector>
@@ -33,6 +39,7 @@
 
 #include "poundsim/dynamics/state.hpp"
 #include "poundsim/model/contact_state.hpp"
+#include "poundsim/model/laws/smooth_contact.hpp"
 #include "poundsim/model/model.hpp"
 
 namespace poundsim {
@@ -79,6 +86,23 @@ class LinearPhase {
   [[nodiscard]] const SparseMatrix& stiffness() const { return stiffness_; }
   [[nodiscard]] const Eigen::VectorXd& constant_load() const { return constant_load_; }
 
+  /// A link whose law is smooth in this configuration: gap element `element` between the floor
+  /// DOFs a and b, in the groups group_a and group_b.
+  struct SmoothLink {
+    int element = 0;
+    int a = 0, b = 0;
+    int group_a = 0, group_b = 0;
+  };
+  [[nodiscard]] std::span<const SmoothLink> smooth_links() const { return smooth_links_; }
+  [[nodiscard]] bool has_smooth_links() const { return !smooth_links_.empty(); }
+  /// Adds the smooth links' loads, −F on group a and +F on group b, to a reduced vector
+  /// (`by_element`: each gap element's force and tangent, indexed by element).
+  void add_smooth_loads(std::span<const ForceTangent> by_element, Eigen::Ref<Eigen::VectorXd> reduced) const;
+  /// Factorisation of M_r + (τ/2)(C_r + C_t) + (τ²/4)(K_r + K_t) with the tangents of the smooth
+  /// links (`by_element`, as above), valid until the next call. Throws SimulationError on failure.
+  /// Allocation-free.
+  const Solver& tangent_solver(double tau, std::span<const ForceTangent> by_element) const;
+
   // Full system (for forces on individual floors).
   [[nodiscard]] const Eigen::VectorXd& full_mass() const { return mass_full_; }
   [[nodiscard]] const SparseMatrix& full_damping() const { return damping_full_; }
@@ -86,9 +110,10 @@ class LinearPhase {
   [[nodiscard]] const Eigen::VectorXd& full_constant_load() const { return load_full_; }
 
   /// Sets the accelerations from the phase's equation of motion at the state's time, with
-  /// `ground` = a_g there: ü = M⁻¹(−m a_g + b − C u̇ − K u). Used after every event, when the
+  /// `ground` = a_g there: ü = M⁻¹(−m a_g + b − C u̇ − K u − f_smooth), f_smooth the smooth links'
+  /// forces there (by element; empty when the phase has none). Used after every event, when the
   /// phase or the velocities change.
-  void equilibrate(double ground, KinematicState& state) const;
+  void equilibrate(double ground, KinematicState& state, std::span<const ForceTangent> smooth = {}) const;
 
   /// Factorisation of M_r + (h/2) C_r + (h²/4) K_r for the step given at construction, made on
   /// first use.
@@ -124,6 +149,15 @@ class LinearPhase {
   // Upper-triangular pattern of the effective matrix and the aligned M, C, K values.
   mutable SparseMatrix effective_;
   Eigen::VectorXd effective_m_, effective_c_, effective_k_;
+
+  /// Positions in effective_'s values of each smooth link's entries (a,a), (b,b), (a,b) — −1
+  /// when both floors are in one group — in smooth_links_ order.
+  struct TangentSlots {
+    Eigen::Index aa = -1, bb = -1, ab = -1;
+  };
+  std::vector<SmoothLink> smooth_links_;
+  std::vector<TangentSlots> tangent_slots_;
+  mutable Solver tangent_solver_;
 
   double step_ = 0.0;
   mutable bool step_factorised_ = false;

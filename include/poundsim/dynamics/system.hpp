@@ -70,6 +70,7 @@ struct ContactState {
   // Scratch, sized once.
   std::vector<double> link_in;  ///< The chain sweep of stop reactions, per DOF.
   std::vector<int> impacts;     ///< Elements whose stops fired at an instant.
+  std::vector<ForceTangent> smooth;  ///< The smooth laws' forces and tangents, by element.
 };
 
 /// What applying events needs from the loop that runs the system: the phases, and an ear.
@@ -149,8 +150,11 @@ class PoundingSystem {
                             LinearPhase& phase, std::span<double> g, std::span<double> dg,
                             EventHandler& handler) const;
   /// Sets ü from the equation of motion of `phase` at x.t (after the velocities or the phase
-  /// changed).
-  void equilibrate(LinearPhase& phase, KinematicState& x) const;
+  /// changed), with the forces of the smooth laws at x (c.smooth is its scratch).
+  void equilibrate(LinearPhase& phase, KinematicState& x, ContactState& c) const;
+  /// The force and tangent of every element whose law is smooth (SmoothLaw), at x, into
+  /// `by_element` (others untouched). No dispatch per link; allocation-free.
+  void smooth_forces(const KinematicState& x, const ContactState& c, std::span<ForceTangent> by_element) const;
 
  private:
   void refresh_flags(ContactState& c, std::size_t p) const;

@@ -4,10 +4,11 @@
 /// interface with two implementations (src/integrate/steppers.hpp): Newmark's average
 /// acceleration and the exact piecewise-analytic integrator, which between events solves each
 /// phase in closed form. Both step the linear system of the current modes (LinearPhase, built
-/// from each law's linear form), so both need every law to be linear in each of its modes
-/// (LawTraits::piecewise_linear). Newmark will take smooth laws (Hertz, Bouc–Wen) once it
-/// iterates on their tangents (Newton); until then it refuses them rather than drop their force.
-/// The simulator asks `supports` before it starts and rejects the model with the reason.
+/// from each law's linear form). The exact integrator needs every law to be linear in each of its
+/// modes (LawTraits::piecewise_linear); Newmark also takes the smooth laws that give their
+/// consistent tangent (LawTraits::newton: Hertz, Hertzdamp, Jankowski), whose forces it solves by
+/// Newton iterations (newmark.hpp). The simulator asks `supports` before it starts and rejects the
+/// model with the reason.
 
 #include <span>
 #include <string>

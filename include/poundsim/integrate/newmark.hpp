@@ -13,6 +13,18 @@
 /// The method enforces the equation of motion at t+τ, so ü⁺ is an equilibrium acceleration.
 ///
 /// A step allocates nothing once the integrator is sized.
+///
+/// Smooth laws (Hertz-type contacts; LinearPhase::smooth_links) add forces F(d, ḋ) that the step
+/// cannot solve linearly: step_newton solves the same equation at t+τ,
+///
+///     R(ü⁺) = −m a_g + b − M ü⁺ − C u̇⁺ − K u⁺ − Tᵀ f(u⁺, u̇⁺) = 0,
+///
+/// by Newton–Raphson on ü⁺ with the consistent tangent M + τ/2 (C + C_t) + τ²/4 (K + K_t): C_t holds
+/// ∂F/∂ḋ, which OpenSees's Hertz-type materials leave out (they then converge linearly). It starts
+/// from ü⁺ = ü and stops when the correction is below `tolerance` of the accelerations' size.
+
+#include <span>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -20,6 +32,30 @@
 #include "poundsim/dynamics/state.hpp"
 
 namespace poundsim {
+
+/// The smooth links' forces and tangents at a trial state, by gap element (what the Newton
+/// iterations ask of the system).
+class SmoothForces {
+ public:
+  virtual void evaluate(const KinematicState& x, std::span<ForceTangent> by_element) = 0;
+
+ protected:
+  ~SmoothForces() = default;
+};
+
+/// Newton's iterations in a step with smooth laws.
+struct NewtonOptions {
+  int max_iterations = 50;   ///< Beyond this the step fails (a SimulationError naming the element).
+  double tolerance = 1e-10;  ///< Converged when |Δü⁺| ≤ tolerance × the accelerations' size.
+};
+
+/// How a Newton step went.
+struct NewtonOutcome {
+  int iterations = 0;
+  bool converged = true;
+  /// The element whose force changed most in the last iteration (the one to blame), −1 if none.
+  int worst_element = -1;
+};
 
 class NewmarkIntegrator {
  public:
@@ -31,8 +67,23 @@ class NewmarkIntegrator {
   void step(const LinearPhase& phase, const LinearPhase::Solver& solver,
             const KinematicState& from, double tau, double ground_end, KinematicState& to);
 
+  /// The same step for a phase with smooth links, by Newton iterations; `forces` gives their
+  /// forces and tangents at each iterate, in `by_element` (one per gap element). `to` holds the
+  /// last iterate, also when it did not converge. Allocation-free once sized.
+  NewtonOutcome step_newton(const LinearPhase& phase, const KinematicState& from, double tau, double ground_end,
+                            SmoothForces& forces, std::span<ForceTangent> by_element, const NewtonOptions& options,
+                            KinematicState& to);
+
  private:
-  Eigen::VectorXd q_, qd_, qdd_, w1_, w2_, rhs_, qdd_new_;
+  /// Gathers `from` into q, q̇, q̈ and sets w1 = q̇ + τ/2 q̈, w2 = q + τ q̇ + τ²/4 q̈ and the
+  /// right-hand side −m a_g + b − C w1 − K w2.
+  void prepare(const LinearPhase& phase, const KinematicState& from, double tau, double ground_end);
+  /// `to` from q̈⁺ (the reduced accelerations in qdd_new_) and w1, w2.
+  void finish(const LinearPhase& phase, const KinematicState& from, double tau, double ground_end,
+              KinematicState& to);
+
+  Eigen::VectorXd q_, qd_, qdd_, w1_, w2_, rhs_, qdd_new_, residual_, correction_;
+  std::vector<double> previous_force_;
 };
 
 }  // namespace poundsim

@@ -79,6 +79,8 @@ struct ResponseStatistics {
   std::int64_t guard_evaluations = 0; ///< Trial sub-steps spent locating events.
   std::int64_t events = 0;
   std::int64_t phases_factorised = 0; ///< Configurations assembled and factorised.
+  std::int64_t newton_steps = 0;      ///< Newmark steps and sub-steps solved by Newton (smooth laws).
+  std::int64_t newton_iterations = 0; ///< Their iterations (each one tangent factorisation).
 };
 
 /// The trajectory of an integrator between two accepted states: the state at s, the time from

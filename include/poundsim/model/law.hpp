@@ -26,14 +26,25 @@
 #include <variant>
 #include <vector>
 
-#include "poundsim/model/laws/linear_storey.hpp"
+#include "poundsim/model/laws/hertz.hpp"
+#include "poundsim/model/laws/hertzdamp.hpp"
+#include "poundsim/model/laws/jankowski.hpp"
 #include "poundsim/model/laws/kelvin_voigt.hpp"
+#include "poundsim/model/laws/linear_storey.hpp"
 #include "poundsim/model/laws/paper_gap.hpp"
 
 namespace poundsim {
 
 /// The closed set of laws.
-using Law = std::variant<LinearStorey, PaperGap, KelvinVoigt>;
+using Law = std::variant<LinearStorey, PaperGap, KelvinVoigt, Hertz, Hertzdamp, Jankowski>;
+
+/// A law whose force in some modes is a smooth function of the link's motion (not linear): it
+/// gives the force with its consistent tangent, which Newmark's Newton iterations solve.
+template <class L>
+concept SmoothLaw = requires(const L& law, const LinkKinematics& k, LinkMode mode, const typename L::State& state) {
+  { law.force_tangent(k, mode, state) } -> std::same_as<ForceTangent>;
+  { L::carries_force(mode) } -> std::same_as<bool>;
+};
 
 namespace detail {
 /// std::variant<Wrap<L>...> of the laws L of the variant V for which Keep<L>::value, in V's order.
@@ -157,10 +168,23 @@ struct Link {
   [[nodiscard]] const LawTraits& traits() const {
     return std::visit([](const auto& l) -> const LawTraits& { return l.traits; }, law);
   }
-  /// F = k d + c ḋ + f₀ in `mode`; nothing when the link transmits no force in that mode.
+  /// F = k d + c ḋ + f₀ in `mode`; nothing when the link transmits no force in that mode, or
+  /// a force that is not linear (smooth_in).
   [[nodiscard]] std::optional<LinearForm> linear_form(LinkMode mode) const {
     return std::visit(
         [mode](const auto& l) -> std::optional<LinearForm> { return l.linear_form(mode); }, law);
+  }
+  /// Whether the link's force in `mode` is a smooth law's (SmoothLaw): solved by Newton.
+  [[nodiscard]] bool smooth_in(LinkMode mode) const {
+    return std::visit(
+        [mode](const auto& l) {
+          if constexpr (SmoothLaw<std::decay_t<decltype(l)>>) {
+            return l.carries_force(mode);
+          } else {
+            return false;
+          }
+        },
+        law);
   }
 };
 

@@ -40,6 +40,8 @@ struct NoState {
 
 struct LawTraits {
   bool piecewise_linear = true;  ///< Linear in each mode: Newmark and the exact integrator apply.
+  /// Not piecewise linear but gives its force's consistent tangent: Newmark solves it by Newton.
+  bool newton = false;
   bool has_stop = false;         ///< Has a rigid stop: impacts with restitution, locking.
   EnergyGroup energy = EnergyGroup::storey;
   const char* name = "";  ///< For messages, e.g. "the paper's gap element".
