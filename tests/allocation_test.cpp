@@ -113,5 +113,18 @@ TEST(Allocation, StepsInALockedPhaseAllocateNothing) {
   EXPECT_EQ(n, 0);
 }
 
+TEST(Allocation, NewtonStepsWithSmoothContactsAllocateNothing) {
+  // Ten Hertzdamp contacts pressed at once: forces, tangents and the tangent factorisation.
+  Simulator sim(testing::pressed_hertzdamp_frames(), testing::constant_push(), TimeHistoryOptions{.dt = 1e-3});
+  sim.advance_to(20.0);
+  for (int p = 0; p < 10; ++p) ASSERT_GT(sim.gap_force(p), 0.0) << "floor " << p + 1;
+  const auto events = sim.statistics().events;
+  const auto newton_steps = sim.statistics().newton_steps;
+  const long n = allocations_during([&] { sim.advance_to(21.0); });
+  EXPECT_EQ(sim.statistics().events, events);
+  EXPECT_EQ(sim.statistics().newton_steps, newton_steps + 1000);
+  EXPECT_EQ(n, 0);
+}
+
 }  // namespace
 }  // namespace poundsim

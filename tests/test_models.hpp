@@ -23,6 +23,15 @@ inline Model two_oscillators(double m1, double k1, double c1, double m2, double 
                     gap);
 }
 
+/// Two 10-storey frames pressed together at every floor by Hertzdamp contacts: a soft frame
+/// (10 t, 2e7 N/m per storey) left of a stiff one (4e8 N/m) with no gap, under a constant ground
+/// acceleration of −2 m/s² (run it to 20 s to settle). Its steps are Newton steps of 10 contacts.
+inline Model pressed_hertzdamp_frames() {
+  return make_model({make_uniform_frame(10, 1e4, 2e7, 2e5, "soft"), make_uniform_frame(10, 1e4, 4e8, 4e6, "stiff")},
+                    GapLaw(Hertzdamp{.parameters = {.stiffness = 1e10, .gap = 0.0, .restitution = 0.6}}));
+}
+inline RecordExcitation constant_push() { return RecordExcitation{{0.0, 1e4}, {-2.0, -2.0}, "constant"}; }
+
 /// The paper's dimensionless systems (captions of Figs. 2–4).
 inline DimensionlessParameters fig2(char panel) {
   DimensionlessParameters p{.lambda2 = 200, .alpha = 0.25, .beta = 1, .gamma = 0.5, .xi = 0.05,

@@ -197,7 +197,7 @@ void LinearPhase::set_link_lengths(std::span<const double> length) {
 void LinearPhase::factorize(Solver& solver, double tau) const {
   Eigen::Map<Eigen::VectorXd> values(effective_.valuePtr(), effective_.nonZeros());
   values = effective_m_ + (0.5 * tau) * effective_c_ + (0.25 * tau * tau) * effective_k_;
-  solver.factorize(effective_);
+  solver.factorize_in_place(effective_);
   if (solver.info() != Eigen::Success) {
     throw SimulationError(
         fmt::format("the Newmark effective matrix could not be factorised (step {} s)", tau),
@@ -225,7 +225,7 @@ const LinearPhase::Solver& LinearPhase::tangent_solver(double tau, std::span<con
     values(slots.bb) += entry;
     values(slots.ab) -= entry;
   }
-  tangent_solver_.factorize(effective_);
+  tangent_solver_.factorize_in_place(effective_);
   if (tangent_solver_.info() != Eigen::Success) {
     throw SimulationError(fmt::format("the Newmark tangent matrix could not be factorised (step {} s)", tau),
                           StopReason::singular_phase);

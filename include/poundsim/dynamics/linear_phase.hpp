@@ -47,8 +47,15 @@ namespace poundsim {
 class LinearPhase {
  public:
   using SparseMatrix = Eigen::SparseMatrix<double>;
-  /// Sparse LDLᵀ in the natural (banded) order, reading the upper triangle.
-  using Solver = Eigen::SimplicialLDLT<SparseMatrix, Eigen::Upper, Eigen::NaturalOrdering<int>>;
+  /// Sparse LDLᵀ in the natural (banded) order, reading the upper triangle: Eigen's, whose
+  /// numeric factorisation is called directly. In this order factorize() only points at the
+  /// matrix, but it builds an empty temporary matrix first — one allocation per factorisation,
+  /// which Newton's iterations would make at every step.
+  class Solver : public Eigen::SimplicialLDLT<SparseMatrix, Eigen::Upper, Eigen::NaturalOrdering<int>> {
+   public:
+    /// The numeric factorisation of `a`, whose pattern analyzePattern() saw. Allocation-free.
+    void factorize_in_place(const SparseMatrix& a) { this->template factorize_preordered<true>(a); }
+  };
 
   /// Assembles the system of `configuration` for the Newmark step `step` [s]. The factorisations
   /// throw SimulationError when the effective matrix cannot be factorised.

@@ -21,7 +21,8 @@
 ///
 /// by Newton–Raphson on ü⁺ with the consistent tangent M + τ/2 (C + C_t) + τ²/4 (K + K_t): C_t holds
 /// ∂F/∂ḋ, which OpenSees's Hertz-type materials leave out (they then converge linearly). It starts
-/// from ü⁺ = ü and stops when the correction is below `tolerance` of the accelerations' size.
+/// from ü⁺ = ü and stops when the residual per unit mass — a bound on the correction still to
+/// make, since J ⪰ M — is below `tolerance` of the accelerations' size.
 
 #include <span>
 #include <vector>
@@ -46,12 +47,12 @@ class SmoothForces {
 /// Newton's iterations in a step with smooth laws.
 struct NewtonOptions {
   int max_iterations = 50;   ///< Beyond this the step fails (a SimulationError naming the element).
-  double tolerance = 1e-10;  ///< Converged when |Δü⁺| ≤ tolerance × the accelerations' size.
+  double tolerance = 1e-10;  ///< Converged when max|R/m| ≤ tolerance × the accelerations' size.
 };
 
 /// How a Newton step went.
 struct NewtonOutcome {
-  int iterations = 0;
+  int iterations = 0;  ///< Corrections made (each one tangent factorisation and solve).
   bool converged = true;
   /// The element whose force changed most in the last iteration (the one to blame), −1 if none.
   int worst_element = -1;

@@ -79,8 +79,8 @@ struct TimeHistoryOptions {
   double rest_velocity_ratio = 1e-4;
   SeparationCriterion separation = SeparationCriterion::displacement;
   Integrator integrator = Integrator::newmark;
-  /// Newmark with smooth laws: Newton stops when its correction to ü is below this fraction of
-  /// the accelerations' size; in (0, 1e-3].
+  /// Newmark with smooth laws: Newton stops when the residual per unit mass is below this
+  /// fraction of the accelerations' size; in (0, 1e-3].
   double newton_tolerance = 1e-10;
   int newton_max_iterations = 50;  ///< Beyond this a step fails, naming the element; ≥ 1.
   int max_events_per_step = 100000;        ///< Beyond this the run stops with an error.
@@ -104,7 +104,7 @@ struct TimeHistoryOptions {
         ChoiceField{"separation", &O::separation, separation_criterion_names,
                     "contact ends when s returns to 0, or when the element force would become tensile"},
         NumberField{"newton_tolerance", &O::newton_tolerance, "", Interval{.lo = 0.0, .hi = 1e-3, .lo_open = true},
-                    "Newmark with smooth laws: Newton's correction to ü, relative to the accelerations"},
+                    "Newmark with smooth laws: Newton's residual per unit mass, relative to the accelerations"},
         IntegerField{"newton_max_iterations", &O::newton_max_iterations, 1, 1000,
                      "Newmark with smooth laws: Newton's iterations per step before it fails"},
     };
