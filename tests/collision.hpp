@@ -19,6 +19,10 @@ struct Collision {
   double max_shortening = 0, max_force = 0;
   double relative_residual = 0;
   double mean_newton_iterations = 0;
+  // What the monitor and the energy meter report of the element.
+  double contact_time = 0, longest_contact = 0, mean_restitution = 0;
+  int completed_contacts = 0;
+  double gap_damping = 0, element_dissipation = -1;
 };
 
 /// Frames of 2 and 3 kg on storeys of 1e-6 N/m (free masses to far below the contacts' 1e5 and
@@ -45,6 +49,13 @@ Collision collide(const L& law, double dt, Integrator integrator = Integrator::n
   c.max_shortening = stats.gaps[0].shortening.value;
   c.max_force = stats.gaps[0].force.value;
   c.relative_residual = sim.energy_meter().max_relative_residual();
+  const GapResponse& gap = stats.gaps[0];
+  c.contact_time = gap.contact_time;
+  c.longest_contact = gap.longest_contact.value;
+  c.mean_restitution = gap.mean_restitution();
+  c.completed_contacts = gap.completed_contacts;
+  c.gap_damping = sim.energy().gap_damping;
+  if (const auto per_element = sim.energy_meter().element_dissipation()) c.element_dissipation = (*per_element)[0];
   if (stats.newton_steps > 0) {
     c.mean_newton_iterations = static_cast<double>(stats.newton_iterations) / static_cast<double>(stats.newton_steps);
   }

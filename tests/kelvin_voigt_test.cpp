@@ -53,6 +53,18 @@ TEST(KelvinVoigt, TwoFreeMassesPartAfterPiOverOmegaDWithRestitutionE) {
     EXPECT_NEAR((c.separation - c.contact) * omega_d / std::numbers::pi, 1.0, tolerance) << name;
     EXPECT_NEAR(-c.parting / c.closing, e, tolerance) << name;
     EXPECT_LT(c.relative_residual, 1e-8) << name;
+    // What the run reports of the contact: its duration and restitution, and the energy the
+    // dashpot took, ½ m̄ v₀² (1 − e²).
+    EXPECT_EQ(c.completed_contacts, 1) << name;
+    EXPECT_NEAR(c.contact_time * omega_d / std::numbers::pi, 1.0, tolerance) << name;
+    EXPECT_NEAR(c.longest_contact, c.separation - c.contact, 1e-12) << name;
+    EXPECT_NEAR(c.mean_restitution, e, tolerance) << name;
+    EXPECT_NEAR(c.gap_damping / (0.5 * reduced * 1.5 * 1.5 * (1 - e * e)), 1.0, tolerance) << name;
+    if (integrator == Integrator::newmark) {
+      EXPECT_NEAR(c.element_dissipation, c.gap_damping, 1e-12 * c.gap_damping) << name;
+    } else {
+      EXPECT_EQ(c.element_dissipation, -1) << "the exact integrator has no per-element integrals";
+    }
   }
 }
 

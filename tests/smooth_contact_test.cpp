@@ -58,6 +58,10 @@ TEST(HertzContact, TwoFreeMassesMatchGoldsmithsOverlapAndDuration) {
   EXPECT_NEAR((c.separation - c.contact) / (3.2145 * std::pow(kReduced * kReduced / (k * k * kClosing), 0.2)), 1.0,
               2e-3);
   EXPECT_NEAR(-c.parting / c.closing, 1.0, 1e-6);  // elastic: e = 1
+  EXPECT_EQ(c.completed_contacts, 1);
+  EXPECT_NEAR(c.contact_time / hertz_duration(k), 1.0, 1e-5);
+  EXPECT_NEAR(c.mean_restitution, 1.0, 1e-6);
+  EXPECT_EQ(c.element_dissipation, 0.0);
   EXPECT_LT(c.relative_residual, 1e-8);
   EXPECT_LT(c.mean_newton_iterations, 4.0);
 }
@@ -80,7 +84,9 @@ namespace {
 
 using testing::Collision;
 using testing::collide;
+using testing::kClosing;
 using testing::kGap;
+using testing::kReduced;
 
 /// The restitution each damped law achieves for two free masses against the e it is set for.
 struct AchievedRestitution {
@@ -157,6 +163,10 @@ TEST(SmoothContactEnergy, DampedLawsCloseTheBalance) {
         std::pair{"jankowski", collide(Jankowski{.parameters = {.stiffness = 1e9, .gap = kGap, .restitution = 0.5}}, 5e-8)}}) {
     ASSERT_GT(c.separation, c.contact) << name;
     EXPECT_LT(c.relative_residual, 1e-8) << name;
+    // The kinetic energy the contact took, ½ m̄ v₀² (1 − e_achieved²), is what the law dissipated.
+    const double e = c.mean_restitution;
+    EXPECT_NEAR(c.element_dissipation / (0.5 * kReduced * kClosing * kClosing * (1 - e * e)), 1.0, 1e-6) << name;
+    EXPECT_NEAR(c.element_dissipation, c.gap_damping, 1e-12 * c.gap_damping) << name;
     EXPECT_LT(c.mean_newton_iterations, 4.0) << name;
   }
 }

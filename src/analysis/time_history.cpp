@@ -9,6 +9,13 @@
 
 namespace poundsim {
 
+namespace {
+std::vector<double> element_dissipation_of(const EnergyMeter& meter) {
+  const auto per_element = meter.element_dissipation();
+  return per_element ? std::vector<double>(per_element->begin(), per_element->end()) : std::vector<double>{};
+}
+}  // namespace
+
 double output_instants(double duration, double output_dt) { return std::floor(duration / output_dt + 1e-9); }
 
 TimeHistoryAnalysis analyse_time_history(const TimeHistoryProblem& problem, const TimeHistoryObserver& observer) {
@@ -39,6 +46,7 @@ TimeHistoryAnalysis analyse_time_history(const TimeHistoryProblem& problem, cons
                              .statistics = sim.statistics(),
                              .free = std::nullopt,
                              .energy = sim.energy(),
+                             .element_dissipation = element_dissipation_of(sim.energy_meter()),
                              .relative_residual = sim.energy_meter().relative_residual(),
                              .max_relative_residual = sim.energy_meter().max_relative_residual(),
                              .end_time = sim.time()};

@@ -28,7 +28,7 @@ double& term(EnergyGroup group, double& storey, double& gap_element) {
 }  // namespace
 
 EnergyMeter::EnergyMeter(const Model& model, const DofLayout& layout)
-    : links_(make_links(model, layout)) {
+    : links_(make_links(model, layout)), element_dissipation_(static_cast<std::size_t>(model.gap_count()), 0.0) {
   const int n = layout.size();
   mass_.resize(n);
   for (int i = 0; i < n; ++i) mass_(i) = model.frames[layout.frame_of(i)].mass[layout.floor_of(i)];
@@ -58,6 +58,8 @@ void EnergyMeter::update_stored(const KinematicState& x, const ContactConfigurat
 void EnergyMeter::start(const KinematicState& x, const ContactConfiguration& config,
                         const LinkStates& states) {
   balance_ = EnergyBalance{};
+  std::fill(element_dissipation_.begin(), element_dissipation_.end(), 0.0);
+  per_element_ = true;
   update_stored(x, config, states);
   balance_.initial = balance_.kinetic + balance_.storey_strain + balance_.gap_strain;
   scale_ = std::abs(balance_.initial);
@@ -74,8 +76,10 @@ void EnergyMeter::step(const KinematicState& x0, const KinematicState& x1,
     if (links.empty()) return;
     double sum = 0.0;
     for (const auto& link : links) {
-      sum += link.law.trapezoidal_power(kinematics_of(link, x0), kinematics_of(link, x1),
-                                        mode_in(link, config), states.at(link));
+      const double power = link.law.trapezoidal_power(kinematics_of(link, x0), kinematics_of(link, x1),
+                                                       mode_in(link, config), states.at(link));
+      sum += power;
+      if (link.element >= 0) element_dissipation_[static_cast<std::size_t>(link.element)] += h * power;
     }
     term(links.front().law.traits.energy, storey, gap) += sum;
   });
@@ -135,6 +139,7 @@ void EnergyMeter::step_with(const KinematicState& x0, const KinematicState& x1,
   balance_.input += integrals.input;
   balance_.storey_damping += integrals.storey_damping;
   balance_.gap_damping += integrals.gap_damping;
+  per_element_ = false;
   add_relaxation(x0, x1, config, states);
   finish_step(x1, config, states);
 }
@@ -149,6 +154,7 @@ void EnergyMeter::add_relaxation(const KinematicState& x0, const KinematicState&
           mode_in(link, config), states.at(link), x0.t, x1.t);
       if (released == 0.0) continue;
       term(link.law.traits.energy, balance_.storey_damping, balance_.gap_damping) += released;
+      if (link.element >= 0) element_dissipation_[static_cast<std::size_t>(link.element)] += released;
     }
   });
 }

@@ -1,3 +1,5 @@
+#include <limits>
+#include <cmath>
 #include "poundsim/integrate/response_monitor.hpp"
 
 #include <algorithm>
@@ -22,11 +24,14 @@ ResponseMonitor::ResponseMonitor(const Model& model, const DofLayout& layout, st
   stats_.base_shear.resize(static_cast<std::size_t>(model.frame_count()));
   stats_.storey_shear.resize(static_cast<std::size_t>(model.frame_count()));
   stats_.gaps.resize(static_cast<std::size_t>(model.gap_count()));
+  contact_start_.assign(static_cast<std::size_t>(model.gap_count()), std::numeric_limits<double>::quiet_NaN());
+  contact_closing_.assign(static_cast<std::size_t>(model.gap_count()), 0.0);
   node_.resize(layout_.size());
 }
 
 void ResponseMonitor::reset() {
   stats_.steps = stats_.substeps = stats_.guard_evaluations = stats_.events = stats_.phases_factorised = 0;
+  stats_.newton_steps = stats_.newton_iterations = 0;
   for (FloorResponse& f : stats_.floors) f = FloorResponse{};
   for (Peak& p : stats_.base_shear) p = Peak{};
   for (Peak& p : stats_.storey_shear) p = Peak{};
@@ -59,8 +64,28 @@ void ResponseMonitor::observe_event(std::size_t p, EventKind kind, double closin
   ++stats_.events;
   GapResponse& gr = stats_.gaps[p];
   switch (kind) {
-    case EventKind::contact: ++gr.contacts; break;
-    case EventKind::separation: ++gr.separations; break;
+    case EventKind::contact:
+      ++gr.contacts;
+      contact_start_[p] = t;
+      contact_closing_[p] = closing_velocity;
+      break;
+    case EventKind::separation: {
+      ++gr.separations;
+      // A contact that began while this monitor watched (or before a reset) ends here.
+      if (!std::isnan(contact_start_[p])) {
+        ++gr.completed_contacts;
+        gr.longest_contact.update(t - contact_start_[p], t);
+        if (contact_closing_[p] > 0) {
+          const double e = -closing_velocity / contact_closing_[p];
+          ++gr.restitution_samples;
+          gr.restitution_sum += e;
+          gr.min_restitution = std::min(gr.min_restitution, e);
+          gr.max_restitution = std::max(gr.max_restitution, e);
+        }
+      }
+      contact_start_[p] = std::numeric_limits<double>::quiet_NaN();
+      break;
+    }
     case EventKind::impact:
       ++gr.impacts;
       gr.impact_velocity.update(closing_velocity, t);

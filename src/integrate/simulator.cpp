@@ -291,6 +291,7 @@ void Loop::accept(KinematicState& next) {
 void Loop::after_accept(KinematicState& next) {
   const double h = next.t - state_.t;
   for (std::size_t p = 0; p < contact_.config.size(); ++p) {
+    if (contact_.transmits[p] != 0) monitor_.observe_in_contact(p, h);
     if (contact_.rigid[p] != 0) monitor_.observe_locked(p, h);
   }
   std::swap(state_, next);

@@ -238,7 +238,19 @@ json to_json(const TimeHistoryResult& result) {
                     {"max_impact_velocity_m_s", peak(g.impact_velocity)},
                     {"max_impulse_Ns", peak(g.impulse)},
                     {"max_shortening_m", peak(g.shortening)},
-                    {"locked_time_s", g.locked_time}});
+                    {"locked_time_s", g.locked_time},
+                    {"contact_time_s", g.contact_time},
+                    {"completed_contacts", g.completed_contacts},
+                    {"longest_contact_s", peak(g.longest_contact)}});
+    // The restitution the law achieved, contact by contact (none without a completed contact),
+    // and what it dissipated (the exact integrator gives the total only, energy.gap_damping_J).
+    gaps.back()["effective_restitution"] =
+        g.restitution_samples > 0
+            ? json{{"mean", g.mean_restitution()}, {"min", g.min_restitution}, {"max", g.max_restitution}}
+            : json(nullptr);
+    gaps.back()["dissipated_J"] = result.element_dissipation.empty()
+                                      ? json(nullptr)
+                                      : json(result.element_dissipation[static_cast<std::size_t>(p)]);
     if (free != nullptr) {
       for (std::size_t k = 0; k < st.neighbours.size(); ++k) {
         if (st.neighbours[k].left_frame == e.left_frame && st.neighbours[k].floor == e.floor) {
@@ -288,7 +300,9 @@ json to_json(const TimeHistoryResult& result) {
                 {"substeps", st.substeps},
                 {"guard_evaluations", st.guard_evaluations},
                 {"events", st.events},
-                {"phases_factorised", st.phases_factorised}}},
+                {"phases_factorised", st.phases_factorised},
+                {"newton_steps", st.newton_steps},
+                {"newton_iterations", st.newton_iterations}}},
               {"run_time_s", result.run_time}};
 }
 

@@ -51,6 +51,9 @@ struct TimeHistoryAnalysis {
   /// The same frames without gap elements over the same time; none without gap elements.
   std::optional<ResponseStatistics> free;
   EnergyBalance energy;             ///< At the end [J].
+  /// What each gap element's law dissipated [J] (EnergyMeter::element_dissipation); empty with
+  /// the exact integrator, whose integrals are not per element.
+  std::vector<double> element_dissipation;
   double relative_residual = 0;     ///< Energy balance residual ÷ scale, at the end.
   double max_relative_residual = 0; ///< The largest over the run.
   double end_time = 0;              ///< [s]

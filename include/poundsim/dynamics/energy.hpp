@@ -14,7 +14,9 @@
 /// scheme satisfies this balance exactly for a linear phase, so the residual measures round-off
 /// and the energy jumps at events only — a check on the event handling, not on the step size.
 
+#include <optional>
 #include <span>
+#include <vector>
 
 #include "poundsim/dynamics/state.hpp"
 #include "poundsim/model/contact_state.hpp"
@@ -95,6 +97,15 @@ class EnergyMeter {
   void add_impact_loss(double loss) { balance_.impact_loss += loss; }
 
   [[nodiscard]] const EnergyBalance& balance() const { return balance_; }
+  /// The energy each gap element's law has dissipated since start() (its dashpot or damping part
+  /// and a relaxing free end's release; impact losses are the instant's, E_impact) [J], by
+  /// element; they sum to the balance's gap_damping. Nothing when a segment was integrated
+  /// elsewhere (step_with: the exact integrator's closed forms are per quadratic form, not per
+  /// element).
+  [[nodiscard]] std::optional<std::span<const double>> element_dissipation() const {
+    if (!per_element_) return std::nullopt;
+    return std::span<const double>(element_dissipation_);
+  }
   /// |residual| / scale, with the scale the largest energy (either side of the balance) so far.
   [[nodiscard]] double relative_residual() const;
   /// The largest |residual| over the run so far, relative to the same scale.
@@ -114,6 +125,8 @@ class EnergyMeter {
   LinkTable links_;
   Eigen::VectorXd mass_;
   EnergyBalance balance_;
+  std::vector<double> element_dissipation_;  ///< by gap element [J]
+  bool per_element_ = true;
   double scale_ = 0.0;
   double max_residual_ = 0.0;  ///< [J]
 };

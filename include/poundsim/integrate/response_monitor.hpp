@@ -50,6 +50,19 @@ struct GapResponse {
   Peak impulse;           ///< Impulse of one impact or lock [N·s].
   Peak shortening;        ///< Largest s > 0 [m].
   double locked_time = 0.0;  ///< Total time spent locked [s].
+  double contact_time = 0.0;  ///< Total time the element transmitted a force (contact or locked) [s].
+  /// Contacts that ended in a separation, and what they did: the longest (its duration [s] and
+  /// when it ended) and the effective restitution of each, −ṡ at separation / ṡ at contact.
+  int completed_contacts = 0;
+  Peak longest_contact;
+  int restitution_samples = 0;  ///< completed contacts that began closing (ṡ > 0)
+  double restitution_sum = 0.0;
+  double min_restitution = std::numeric_limits<double>::infinity();
+  double max_restitution = -std::numeric_limits<double>::infinity();
+  /// Mean effective restitution of the completed contacts (NaN when none).
+  [[nodiscard]] double mean_restitution() const {
+    return restitution_samples > 0 ? restitution_sum / restitution_samples : std::numeric_limits<double>::quiet_NaN();
+  }
 };
 
 /// Corresponding floors of neighbouring frames (whether or not a gap element joins them).
@@ -137,6 +150,8 @@ class ResponseMonitor {
   void observe_event(std::size_t p, EventKind kind, double closing_velocity, double impulse, double t);
   /// Gap element p was locked over a step of h [s].
   void observe_locked(std::size_t p, double h) { stats_.gaps[p].locked_time += h; }
+  /// Gap element p transmitted a force over an accepted step of length h.
+  void observe_in_contact(std::size_t p, double h) { stats_.gaps[p].contact_time += h; }
 
   /// Peaks strictly inside a Newmark step from a to b: each quantity q with rate q̇ is the cubic
   /// Hermite interpolant of (q, q̇) at both ends, which peaks where q̇ changes sign.
@@ -150,6 +165,8 @@ class ResponseMonitor {
   std::vector<LinearForm> first_storey_;
   std::vector<int> neighbour_left_, neighbour_right_;  ///< DOFs of every NeighbourResponse
   std::vector<int> first_storey_dofs_;                 ///< The floor above each frame's first storey.
+  std::vector<double> contact_start_;    ///< When each element's current contact began (NaN: none)
+  std::vector<double> contact_closing_;  ///< ṡ at that contact's onset [m/s]
   mutable ResponseStatistics stats_;  ///< Mutable: statistics() copies the first storeys' drifts.
   KinematicState node_;  ///< Scratch for states on a trajectory.
 };
