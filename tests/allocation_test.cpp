@@ -113,6 +113,25 @@ TEST(Allocation, StepsInALockedPhaseAllocateNothing) {
   EXPECT_EQ(n, 0);
 }
 
+TEST(Allocation, StepsWithModalAndGroundDampingAllocateNothing) {
+  // Dashpots that are not links: their power in the energy balance every step.
+  DimensionlessParameters p = testing::fig2('c');
+  p.delta = 1e6;
+  Model model = make_model(p, {6, 6});
+  for (Frame& frame : model.frames) {
+    frame.modal_damping_ratios.assign(6, 0.03);
+    frame.ground_damping.assign(6, 0.1);
+  }
+  Simulator sim(model, testing::harmonic(model, 0.2, 0.8), TimeHistoryOptions{.dt = 1e-3});
+  sim.advance_to(0.1);
+  const long n = allocations_during([&] {
+    for (int k = 0; k < 2000; ++k) sim.step();
+  });
+  EXPECT_EQ(sim.statistics().events, 0);
+  EXPECT_GT(sim.energy().storey_damping, 0.0);
+  EXPECT_EQ(n, 0);
+}
+
 TEST(Allocation, NewtonStepsWithSmoothContactsAllocateNothing) {
   // Ten Hertzdamp contacts pressed at once: forces, tangents and the tangent factorisation.
   Simulator sim(testing::pressed_hertzdamp_frames(), testing::constant_push(), TimeHistoryOptions{.dt = 1e-3});

@@ -32,6 +32,33 @@ EnergyMeter::EnergyMeter(const Model& model, const DofLayout& layout)
   const int n = layout.size();
   mass_.resize(n);
   for (int i = 0; i < n; ++i) mass_(i) = model.frames[layout.frame_of(i)].mass[layout.floor_of(i)];
+  Eigen::Index tallest = 0;
+  for (int f = 0; f < model.frame_count(); ++f) {
+    const Frame& frame = model.frames[static_cast<std::size_t>(f)];
+    if (!has_frame_damping(frame)) continue;
+    FrameDashpots d{.dofs = {}, .damping = frame_damping_matrix(frame)};
+    for (int i = 0; i < frame.storeys(); ++i) d.dofs.push_back(layout.dof(f, i));
+    tallest = std::max<Eigen::Index>(tallest, frame.storeys());
+    frame_dashpots_.push_back(std::move(d));
+  }
+  frame_velocity_.resize(tallest);
+  frame_force_.resize(tallest);
+}
+
+double EnergyMeter::frame_damping_power(const Eigen::VectorXd& v0, const Eigen::VectorXd& v1) const {
+  double power = 0.0;
+  for (const FrameDashpots& d : frame_dashpots_) {
+    const auto n = static_cast<Eigen::Index>(d.dofs.size());
+    auto w = frame_velocity_.head(n);
+    auto cw = frame_force_.head(n);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const auto dof = d.dofs[static_cast<std::size_t>(i)];
+      w(i) = 0.5 * (v0(dof) + v1(dof));
+    }
+    cw.noalias() = d.damping * w;
+    power += w.dot(cw);
+  }
+  return power;
 }
 
 double EnergyMeter::kinetic_energy(const Eigen::VectorXd& v) const {
@@ -83,6 +110,9 @@ void EnergyMeter::step(const KinematicState& x0, const KinematicState& x1,
     }
     term(links.front().law.traits.energy, storey, gap) += sum;
   });
+  // Dashpots that are not links: the trapezoidal rule on their power, as the links' dashpots
+  // (c ū̇² with the mean velocity).
+  if (!frame_dashpots_.empty()) storey += frame_damping_power(x0.v, x1.v);
   balance_.storey_damping += h * storey;
   balance_.gap_damping += h * gap;
   add_relaxation(x0, x1, config, states);
@@ -101,6 +131,7 @@ EnergyMeter::Powers EnergyMeter::powers(const KinematicState& x, const ContactCo
     }
     term(links.front().law.traits.energy, p.storey_damping, p.gap_damping) += sum;
   });
+  if (!frame_dashpots_.empty()) p.storey_damping += frame_damping_power(x.v, x.v);
   return p;
 }
 
@@ -130,6 +161,13 @@ PowerForms EnergyMeter::power_forms(const ContactConfiguration& config,
       add(target, g(link.a), link.b >= 0 ? g(link.b) : -1, form->damping);
     }
   });
+  for (const FrameDashpots& d : frame_dashpots_) {
+    for (std::size_t i = 0; i < d.dofs.size(); ++i) {
+      for (std::size_t j = 0; j < d.dofs.size(); ++j) {
+        forms.storey_damping(g(d.dofs[i]), g(d.dofs[j])) += d.damping(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
+      }
+    }
+  }
   return forms;
 }
 

@@ -60,6 +60,17 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
       unreduced_ = false;
     }
   }
+  // Damping that is not a link's (dashpots to the ground, modal damping): a matrix per frame.
+  for (int f = 0; f < model.frame_count(); ++f) {
+    const Frame& frame = model.frames[static_cast<std::size_t>(f)];
+    if (!has_frame_damping(frame)) continue;
+    const Eigen::MatrixXd c = frame_damping_matrix(frame);
+    for (int i = 0; i < frame.storeys(); ++i) {
+      for (int j = 0; j < frame.storeys(); ++j) {
+        if (c(i, j) != 0.0) c_triplets.emplace_back(layout.dof(f, i), layout.dof(f, j), c(i, j));
+      }
+    }
+  }
   stiffness_full_.resize(n, n);
   stiffness_full_.setFromTriplets(k_triplets.begin(), k_triplets.end());
   damping_full_.resize(n, n);

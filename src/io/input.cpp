@@ -655,6 +655,40 @@ StoreyLawParameters read_storey_law(TableReader& f, int storeys, const Broadcast
   return law;
 }
 
+/// Rayleigh damping C = a₀M + a₁K from rayleigh_ratios = [ζ_i, ζ_j] at rayleigh_modes = [i, j]:
+/// the storey dashpots a₁K_i and dashpots a₀M_i from each floor to the ground.
+void read_rayleigh(TableReader& f, Frame& frame) {
+  const std::vector<double> ratios = f.numbers("rayleigh_ratios");
+  const std::vector<double> modes = f.numbers("rayleigh_modes");
+  if (ratios.size() != 2) f.fail("rayleigh_ratios", fmt::format("expected two ratios [ζ_i, ζ_j], got {}", ratios.size()));
+  if (modes.size() != 2) f.fail("rayleigh_modes", fmt::format("expected two modes [i, j], got {}", modes.size()));
+  for (const double zeta : ratios) {
+    if (!(zeta >= 0 && zeta < 1)) f.fail("rayleigh_ratios", fmt::format("each must be in [0, 1) (got {})", zeta));
+  }
+  const int n = frame.storeys();
+  for (const double mode : modes) {
+    if (!(mode >= 1 && mode <= n && std::floor(mode) == mode)) {
+      f.fail("rayleigh_modes", fmt::format("each must be a mode number 1 … {} (got {})", n, mode));
+    }
+  }
+  if (modes[0] == modes[1]) f.fail("rayleigh_modes", "the two modes must differ");
+  frame.damping.assign(frame.mass.size(), 0.0);  // the undamped frame's modes
+  const RayleighCoefficients a = rayleigh_coefficients(frame, static_cast<int>(modes[0]), ratios[0],
+                                                       static_cast<int>(modes[1]), ratios[1]);
+  if (!(a.mass >= 0 && a.stiffness >= 0)) {
+    f.fail("rayleigh_ratios",
+           fmt::format("give a₀ = {:.6g} 1/s and a₁ = {:.6g} s: a negative coefficient would feed energy into "
+                       "some modes; raise the ratio of the higher mode",
+                       a.mass, a.stiffness));
+  }
+  frame.damping.resize(frame.mass.size());
+  frame.ground_damping.resize(frame.mass.size());
+  for (std::size_t i = 0; i < frame.mass.size(); ++i) {
+    frame.damping[i] = a.stiffness * frame.stiffness[i];
+    frame.ground_damping[i] = a.mass * frame.mass[i];
+  }
+}
+
 Model read_physical(TableReader& top, RunInput& run) {
   std::vector<Frame> frames;
   std::vector<TableReader> frame_tables = top.tables("frames");
@@ -671,10 +705,24 @@ Model read_physical(TableReader& top, RunInput& run) {
     for_each_field<Frame>([&](const auto& field) {
       if (field.required || f.has(field.key)) frame.*field.member = f.numbers(field.key);
     });
+    // The frame's damping: storey dashpots (damping, with dashpots to the ground and modal
+    // damping if wanted), or one rule that sets them (damping_ratio, Rayleigh).
     const bool has_damping = f.has("damping"), has_ratio = f.has("damping_ratio");
-    if (has_damping == has_ratio) {
-      f.fail_table(has_damping ? "give either damping or damping_ratio, not both"
-                               : "missing key: damping (N·s/m per storey) or damping_ratio");
+    const bool has_rayleigh = f.has("rayleigh_ratios") || f.has("rayleigh_modes");
+    const bool has_modal = f.has("modal_damping_ratios");
+    if (has_damping && has_ratio) f.fail_table("give either damping or damping_ratio, not both");
+    if (!has_damping && !has_ratio && !has_rayleigh && !has_modal) {
+      f.fail_table("missing key: damping (N·s/m per storey), damping_ratio, rayleigh_ratios with rayleigh_modes, "
+                   "or modal_damping_ratios");
+    }
+    for (const auto& [rule, given] : {std::pair{"damping_ratio", has_ratio}, std::pair{"rayleigh_ratios", has_rayleigh}}) {
+      if (!given) continue;
+      for (const char* other : {"damping", "damping_ratio", "rayleigh_ratios", "modal_damping_ratios", "ground_damping"}) {
+        const bool other_given = std::string_view(other) == "rayleigh_ratios" ? has_rayleigh : f.has(other);
+        if (std::string_view(other) != rule && other_given) {
+          f.fail(rule, fmt::format("sets the frame's dashpots by its rule: give it alone, not with {}", other));
+        }
+      }
     }
     int n = storeys.value_or(0);
     for_each_field<Frame>([&](const auto& field) {
@@ -704,7 +752,11 @@ Model read_physical(TableReader& top, RunInput& run) {
       broadcast(field.key, v);
       check_each_storey(f, field.key, v, field.range, field.item);
     });
-    if (!has_damping) {
+    if (has_rayleigh) {
+      read_rayleigh(f, frame);
+    } else if (has_modal && !has_damping) {
+      frame.damping.assign(frame.mass.size(), 0.0);  // modal damping alone
+    } else if (!has_damping) {
       const double ratio = f.number("damping_ratio");
       if (!(ratio >= 0 && ratio < 1)) f.fail("damping_ratio", fmt::format("must be in [0, 1) (got {})", ratio));
       frame.damping.assign(frame.mass.size(), 0.0);

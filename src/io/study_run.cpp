@@ -42,6 +42,9 @@ json describe_model(const Model& model) {
   json frames = json::array();
   for (const Frame& f : model.frames) {
     json frame{{"m", f.mass}, {"k", f.stiffness}, {"c", f.damping}};
+    // Damping besides the storey dashpots, when the frame has it.
+    if (!f.ground_damping.empty()) frame["c_ground"] = f.ground_damping;
+    if (!f.modal_damping_ratios.empty()) frame["modal_damping_ratios"] = f.modal_damping_ratios;
     // A storey law other than the first, and its parameters (the linear storey has none).
     if (!is_default(f.storey_law)) frame["law"] = key_of(f.storey_law);
     for_each_storey_parameter(f.storey_law, [&](const auto& field, const std::vector<double>& values) {

@@ -34,6 +34,13 @@ json describe_model(const RunInput& input) {
                {"damping_Ns_m", f.damping},
                {"weight_N", weight(f)},
                {"natural_frequencies_rad_s", std::vector<double>(w.begin(), w.end())}};
+    // Damping besides the storey dashpots, and the ratio it gives each mode, when there is some.
+    if (!f.ground_damping.empty()) frame["ground_damping_Ns_m"] = f.ground_damping;
+    if (!f.modal_damping_ratios.empty()) frame["modal_damping_ratios"] = f.modal_damping_ratios;
+    if (has_frame_damping(f)) {
+      const Eigen::VectorXd zeta = modal_damping_ratios(f);
+      frame["damping_ratio_of_each_mode"] = std::vector<double>(zeta.begin(), zeta.end());
+    }
     // A storey law other than the linear one, with its parameters per storey.
     if (!is_default(f.storey_law)) frame["storey_law"] = key_of(f.storey_law);
     for_each_storey_parameter(f.storey_law, [&](const auto& field, const std::vector<double>& values) {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <complex>
 #include <stdexcept>
+#include <utility>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
@@ -19,7 +20,7 @@ Frame make_uniform_frame(int storeys, double mass, double stiffness, double damp
   }
   const auto n = static_cast<std::size_t>(storeys);
   return Frame{std::move(name), std::vector<double>(n, mass), std::vector<double>(n, stiffness),
-               std::vector<double>(n, damping), {}, {}};
+               std::vector<double>(n, damping), {}, {}, {}, {}};
 }
 
 void validate(const Frame& frame) {
@@ -32,6 +33,12 @@ void validate(const Frame& frame) {
   }
   if (!frame.storey_height.empty() && frame.storey_height.size() != frame.mass.size()) {
     throw std::invalid_argument(fmt::format("{}: storey_height needs one value per storey", label));
+  }
+  if (!frame.ground_damping.empty() && frame.ground_damping.size() != frame.mass.size()) {
+    throw std::invalid_argument(fmt::format("{}: ground_damping needs one value per floor", label));
+  }
+  if (!frame.modal_damping_ratios.empty() && frame.modal_damping_ratios.size() != frame.mass.size()) {
+    throw std::invalid_argument(fmt::format("{}: modal_damping_ratios needs one value per mode", label));
   }
   if (const std::optional<std::string> violation = first_violation(frame)) {
     throw std::invalid_argument(fmt::format("{}: {}", label, *violation));
@@ -79,7 +86,62 @@ double weight(const Frame& frame) {
 }
 
 Eigen::MatrixXd stiffness_matrix(const Frame& frame) { return chain_matrix(frame.stiffness); }
-Eigen::MatrixXd damping_matrix(const Frame& frame) { return chain_matrix(frame.damping); }
+Eigen::MatrixXd damping_matrix(const Frame& frame) {
+  Eigen::MatrixXd c = chain_matrix(frame.damping);
+  if (has_frame_damping(frame)) c += frame_damping_matrix(frame);
+  return c;
+}
+
+bool has_frame_damping(const Frame& frame) {
+  return !frame.ground_damping.empty() || !frame.modal_damping_ratios.empty();
+}
+
+namespace {
+/// ω_k and the mass-normalised modes φ_k (φᵀMφ = 1) of the frame alone, lowest first.
+std::pair<Eigen::VectorXd, Eigen::MatrixXd> normal_modes(const Frame& frame) {
+  const Eigen::VectorXd m = Eigen::Map<const Eigen::VectorXd>(frame.mass.data(), frame.storeys());
+  const Eigen::VectorXd inv_sqrt_m = m.cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd a = inv_sqrt_m.asDiagonal() * stiffness_matrix(frame) * inv_sqrt_m.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(a);
+  return {eig.eigenvalues().cwiseMax(0.0).cwiseSqrt(), inv_sqrt_m.asDiagonal() * eig.eigenvectors()};
+}
+}  // namespace
+
+Eigen::MatrixXd frame_damping_matrix(const Frame& frame) {
+  const int n = frame.storeys();
+  Eigen::MatrixXd c = Eigen::MatrixXd::Zero(n, n);
+  for (std::size_t i = 0; i < frame.ground_damping.size(); ++i) {
+    c(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i)) += frame.ground_damping[i];
+  }
+  if (!frame.modal_damping_ratios.empty()) {
+    // C_m = M Φ diag(2ζ_k ω_k) Φᵀ M with φ_kᵀMφ_k = 1: φ_kᵀ C_m φ_l = 2ζ_k ω_k δ_kl.
+    const auto [omega, phi] = normal_modes(frame);
+    const Eigen::VectorXd m = Eigen::Map<const Eigen::VectorXd>(frame.mass.data(), n);
+    const Eigen::MatrixXd m_phi = m.asDiagonal() * phi;
+    Eigen::VectorXd weight(n);
+    for (int k = 0; k < n; ++k) weight(k) = 2.0 * frame.modal_damping_ratios[static_cast<std::size_t>(k)] * omega(k);
+    c += m_phi * weight.asDiagonal() * m_phi.transpose();
+  }
+  return c;
+}
+
+Eigen::VectorXd modal_damping_ratios(const Frame& frame) {
+  validate(frame);
+  const auto [omega, phi] = normal_modes(frame);
+  const Eigen::MatrixXd c = damping_matrix(frame);
+  Eigen::VectorXd zeta(omega.size());
+  for (Eigen::Index k = 0; k < omega.size(); ++k) zeta(k) = phi.col(k).dot(c * phi.col(k)) / (2.0 * omega(k));
+  return zeta;
+}
+
+RayleighCoefficients rayleigh_coefficients(const Frame& frame, int mode_i, double ratio_i, int mode_j,
+                                           double ratio_j) {
+  const Eigen::VectorXd omega = natural_frequencies(frame);
+  const double wi = omega(mode_i - 1), wj = omega(mode_j - 1);
+  const double denominator = wj * wj - wi * wi;
+  return {.mass = 2.0 * wi * wj * (ratio_i * wj - ratio_j * wi) / denominator,
+          .stiffness = 2.0 * (ratio_j * wj - ratio_i * wi) / denominator};
+}
 
 Eigen::VectorXcd harmonic_amplitudes(const Frame& frame, double amplitude, double omega) {
   using Complex = std::complex<double>;

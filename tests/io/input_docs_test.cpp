@@ -387,7 +387,8 @@ TEST(InputDocs, TheReaderReadsEveryDeclaredField) {
   // [[frames]]' per-storey values (Frame::fields()): a number for every storey or one each.
   std::string heights = physical;
   heights.replace(heights.find("storeys = 1\nmass = 1.0\nstiffness = 100.0"), 40,
-                  "mass = [1.0, 2.0]\nstiffness = 100.0\nstorey_height = [3.0, 3.5]");
+                  "mass = [1.0, 2.0]\nstiffness = 100.0\nstorey_height = [3.0, 3.5]\nground_damping = [0.1, 0.2]\n"
+                  "modal_damping_ratios = 0.02");
   heights.replace(heights.find("storeys = 1\nmass = 1.0\nstiffness = 50.0"), 39,
                   "storeys = 2\nmass = 1.0\nstiffness = 50.0\nstorey_height = [3.0, 3.5]");
   const io::RunInput two = io::read_input_string(heights, "h.toml", ".");

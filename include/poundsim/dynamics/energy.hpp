@@ -123,6 +123,16 @@ class EnergyMeter {
 
   /// The links by law: every sum below asks each link's law (in link order within each law).
   LinkTable links_;
+  /// Each frame's damping besides its storey dashpots (frame_damping_matrix), on its floors'
+  /// DOFs: its power u̇ᵀ C u̇ is storey damping.
+  struct FrameDashpots {
+    std::vector<int> dofs;
+    Eigen::MatrixXd damping;
+  };
+  std::vector<FrameDashpots> frame_dashpots_;
+  mutable Eigen::VectorXd frame_velocity_, frame_force_;  ///< scratch, sized to the tallest frame
+  /// Σ over frames of ū̇ᵀ C ū̇ with ū̇ = (v0 + v1)/2 [W]. Allocation-free.
+  [[nodiscard]] double frame_damping_power(const Eigen::VectorXd& v0, const Eigen::VectorXd& v1) const;
   Eigen::VectorXd mass_;
   EnergyBalance balance_;
   std::vector<double> element_dissipation_;  ///< by gap element [J]

@@ -143,6 +143,8 @@ struct Frame {
         C{"name", "a label for messages"},
         C{"storeys", "the number of floors"},
         C{"damping_ratio", "ζ of stiffness-proportional damping"},
+        C{"rayleigh_ratios", "[ζ_i, ζ_j] of Rayleigh damping C = a₀M + a₁K"},
+        C{"rayleigh_modes", "[i, j], the modes of rayleigh_ratios"},
         C{"storey_law", "the storeys' law (model/law.hpp's StoreyLawParameters), \"linear\" by default"},
     };
   }

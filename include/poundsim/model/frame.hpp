@@ -30,6 +30,13 @@ struct Frame {
   std::vector<double> damping;    ///< C_i [N·s/m] of the storey below floor i; C_i ≥ 0.
   /// h_i [m] of each storey, for interstorey drift ratios; empty when not given.
   std::vector<double> storey_height;
+  /// Dashpots from each floor to the ground [N·s/m] (the mass-proportional part a₀M_i of
+  /// Rayleigh damping); empty when none.
+  std::vector<double> ground_damping;
+  /// ζ_k of modal damping, one per mode (lowest first); empty when none. It adds the damping
+  /// matrix C_m = M Φ diag(2ζ_k ω_k / μ_k) Φᵀ M (μ_k = φ_kᵀMφ_k), which couples every floor of the
+  /// frame, to the storey and ground dashpots (frame_damping_matrix).
+  std::vector<double> modal_damping_ratios;
   /// The storeys' law and each storey's parameters besides K_i and C_i (law.hpp); the linear
   /// storey by default.
   StoreyLawParameters storey_law;
@@ -45,6 +52,10 @@ struct Frame {
         F{"stiffness", &Frame::stiffness, "N/m", positive, "storey stiffnesses K_i", true},
         F{"damping", &Frame::damping, "N·s/m", non_negative, "storey dashpots C_i"},
         F{"storey_height", &Frame::storey_height, "m", positive, "storey heights h_i"},
+        F{"ground_damping", &Frame::ground_damping, "N·s/m", non_negative,
+          "dashpots from each floor to the ground (Rayleigh's a₀M_i)", false, "floor"},
+        F{"modal_damping_ratios", &Frame::modal_damping_ratios, "", below_one,
+          "ζ_k of modal damping, per mode (one number: every mode)", false, "mode"},
     };
   }
 };
@@ -63,8 +74,25 @@ void validate(const Frame& frame);
 
 /// Tridiagonal stiffness matrix of the frame alone on a fixed base [N/m].
 Eigen::MatrixXd stiffness_matrix(const Frame& frame);
-/// Tridiagonal damping matrix of the frame alone on a fixed base [N·s/m].
+/// The frame's damping matrix [N·s/m]: its storey dashpots (tridiagonal) plus
+/// frame_damping_matrix.
 Eigen::MatrixXd damping_matrix(const Frame& frame);
+/// The damping that is not a storey's: diag(ground_damping) plus the modal damping matrix (dense)
+/// [N·s/m]; zero when the frame has neither.
+Eigen::MatrixXd frame_damping_matrix(const Frame& frame);
+/// Whether the frame has damping besides its storey dashpots (ground or modal).
+[[nodiscard]] bool has_frame_damping(const Frame& frame);
+
+/// The damping ratio of each undamped mode, ζ_k = φ_kᵀCφ_k / (2 ω_k φ_kᵀMφ_k), lowest first.
+Eigen::VectorXd modal_damping_ratios(const Frame& frame);
+
+/// Rayleigh damping C = a₀M + a₁K with ratios ζ_i, ζ_j at modes i ≠ j (1-based):
+/// a₀ = 2ω_iω_j(ζ_iω_j − ζ_jω_i)/(ω_j² − ω_i²), a₁ = 2(ζ_jω_j − ζ_iω_i)/(ω_j² − ω_i²).
+struct RayleighCoefficients {
+  double mass = 0.0;       ///< a₀ [1/s]
+  double stiffness = 0.0;  ///< a₁ [s]
+};
+RayleighCoefficients rayleigh_coefficients(const Frame& frame, int mode_i, double ratio_i, int mode_j, double ratio_j);
 
 /// Complex amplitudes U of the floors of the frame alone in steady state under the base
 /// acceleration a_g = A sin(ω̄t): u(t) = Im(U e^{iω̄t}) with (K − ω̄²M + iω̄C) U = −M 1 A.
