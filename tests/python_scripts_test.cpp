@@ -96,4 +96,29 @@ TEST_F(PlotScripts, WithoutMatplotlibAnywhereTheyExitWithCodeTwoAndSayWhatToInst
   EXPECT_FALSE(fs::exists(dir_ / "th" / "response.png"));
 }
 
+// The contact-law comparison (python/compare_contact_laws.py) on two of examples/contact_laws/,
+// shortened: its table and its bars; a folder that is not a result is refused with exit code 2.
+TEST(CompareContactLaws, TabulatesAndDrawsTheLaws) {
+  if (shell("/usr/bin/python3 -c 'import matplotlib'").code != 0) GTEST_SKIP() << "no Matplotlib";
+  const fs::path dir = fs::temp_directory_path() / "poundsim_compare_contact_laws";
+  fs::remove_all(dir);
+  for (const char* law : {"paper", "hertzdamp"}) {
+    const Result run = shell(fmt::format("{} run {}/examples/contact_laws/{}.toml --quiet --out {} --set analysis.duration=1",
+                                         POUNDSIM_CLI, POUNDSIM_SOURCE_DIR, law, (dir / law).string()));
+    ASSERT_EQ(run.code, 0) << run.output;
+  }
+  const Result r = shell(fmt::format("/usr/bin/python3 {}/python/compare_contact_laws.py {} {} --out {}", POUNDSIM_SOURCE_DIR,
+                                     (dir / "paper").string(), (dir / "hertzdamp").string(), (dir / "laws.png").string()));
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("| paper | "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("| hertzdamp | "), std::string::npos) << r.output;
+  EXPECT_TRUE(is_png(dir / "laws.png")) << r.output;
+  const Result bad = shell(fmt::format("/usr/bin/python3 {}/python/compare_contact_laws.py {} --out {}", POUNDSIM_SOURCE_DIR,
+                                       dir.string(), (dir / "no.png").string()));
+  EXPECT_EQ(bad.code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("summary.json: no such file"), std::string::npos) << bad.output;
+  EXPECT_FALSE(fs::exists(dir / "no.png"));
+  fs::remove_all(dir);
+}
+
 }  // namespace

@@ -36,6 +36,8 @@ CASES = [
     ("three_buildings_el_centro_force", "examples/three_buildings_el_centro.toml",
      ["--set", "analysis.separation=force"]),
     ("ensemble_fig2_frames", "examples/ensemble_fig2_frames.toml", []),
+] + [(f"contact_laws_{law}", f"examples/contact_laws/{law}.toml", [])
+     for law in ("paper", "kelvin_voigt", "hertz", "hertzdamp", "jankowski")] + [
     ("study_eta_mu", "examples/study_eta_mu.toml", []),
     ("optimize_gap_elements", "examples/optimize_gap_elements.toml", []),
     ("optimize_ensemble", "examples/optimize_ensemble.toml", []),
