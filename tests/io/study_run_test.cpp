@@ -9,6 +9,7 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <sstream>
 #include <thread>
 
@@ -229,6 +230,43 @@ TEST(StudyRun, ABadParameterStopsTheStudyBeforeAnyPointRuns) {
     EXPECT_NE(what.find("model.dimensionless.muu: unknown key"), std::string::npos) << what;
   }
   EXPECT_FALSE(fs::exists(dir / "study.sqlite"));  // nothing written: the study can be fixed and rerun
+  fs::remove_all(dir);
+}
+
+// The contact laws' and the frames' damping parameters are study axes like any key: a grid over
+// Hertzdamp's restitution and damping model and a frame's modal damping runs every point, and
+// each point's figures differ.
+TEST(StudyRun, AxesOverContactLawAndDampingParameters) {
+  std::string text = slurp(fs::path(POUNDSIM_SOURCE_DIR) / "examples" / "contact_laws" / "hertzdamp.toml");
+  const std::string analysis = "kind = \"time_history\"", duration = "duration = 20.0";
+  text.replace(text.find(analysis), analysis.size(), "kind = \"study\"");
+  text.replace(text.find(duration), duration.size(), "duration = 2.0");
+  text += R"([study]
+each = "time_history"
+baseline = false
+[[study.parameter]]
+key = "gap_elements.restitution"
+values = [0.5, 0.9]
+[[study.parameter]]
+key = "gap_elements.damping_model"
+values = ["lankarani_nikravesh", "ye_li_zhu"]
+[[study.parameter]]
+key = "frames[1].modal_damping_ratios"
+values = [0.0, 0.05]
+)";
+  const fs::path dir = fresh("laws");
+  const nlohmann::json summary = to_json(run_study(read(text), dir));
+  EXPECT_TRUE(summary["complete"].get<bool>());
+  EXPECT_EQ(summary["finished"], 8);
+  std::istringstream lines(slurp(dir / "study.csv"));
+  std::string header;
+  std::getline(lines, header);
+  EXPECT_NE(header.find("gap_elements.restitution,gap_elements.damping_model,frames[1].modal_damping_ratios"),
+            std::string::npos)
+      << header;
+  std::set<std::string> rows;
+  for (std::string line; std::getline(lines, line);) rows.insert(line.substr(line.find(',') + 1));
+  EXPECT_EQ(rows.size(), 8U);
   fs::remove_all(dir);
 }
 
