@@ -303,6 +303,21 @@ TEST(SmoothContactLaws, AreChosenByNameWithTheirParametersChecked) {
   EXPECT_NE(zero.find("gap_elements.restitution: must be in (0, 1] (got 0)"), std::string::npos) << zero;
 }
 
+TEST(SmoothContactLaws, AHertzdampContactPresentFromTheStartUsesTheLeastClosingSpeed) {
+  // No contact event gave it v₀: the force must still be finite, F = k_h sⁿ (1 + ξ̄ ṡ/v_min).
+  const Model model = make_model({make_uniform_frame(1, kLeftMass, 1e2, 0.0), make_uniform_frame(1, kRightMass, 1e2, 0.0)},
+                                 GapLaw(Hertzdamp{.parameters = {.stiffness = 1e9, .gap = kGap, .restitution = 0.5}}));
+  InitialConditions ic;
+  ic.displacement = {{kGap + 1e-4}, {0.0}};
+  ic.velocity = {{0.01}, {0.0}};
+  Simulator sim(model, NoExcitation{}, TimeHistoryOptions{.dt = 2e-6}, ic);
+  const double xi = 0.75 * (1 - 0.25);
+  EXPECT_NEAR(sim.gap_force(0), 1e9 * 1e-6 * (1 + xi * 0.01 / 1e-3), 1e-6);
+  sim.advance_to(0.01);
+  EXPECT_TRUE(std::isfinite(sim.gap_force(0)));
+  EXPECT_LT(sim.energy_meter().max_relative_residual(), 1e-7);
+}
+
 TEST(SmoothContactLaws, JankowskisDashpotIsBoundToTheFloorsReducedMass) {
   const Model model = make_model({make_uniform_frame(1, kLeftMass, 1e2, 0.0), make_uniform_frame(1, kRightMass, 1e2, 0.0)},
                                  GapLaw(Jankowski{.parameters = {.stiffness = 1e9, .gap = kGap, .restitution = 0.5}}));

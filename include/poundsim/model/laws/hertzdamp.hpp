@@ -17,7 +17,7 @@
 /// Where the formula would pull (ṡ < −v₀/ξ̄, which ye_li_zhu reaches for small e) the force is held
 /// at 0: the floors cannot pull on each other. docs/model.md tabulates the restitution each
 /// achieves against its target. A grazing contact (v₀ → 0) would make the damping infinite: v₀ is
-/// taken at least minimum_closing_speed.
+/// taken at least minimum_closing_speed, which is also the v₀ of a contact present from the start.
 
 #include <algorithm>
 #include <array>
@@ -92,7 +92,8 @@ struct HertzdampForce {
   [[nodiscard]] static ForceTangent force(const Parameters& p, double /*reduced_mass*/, double s, double rate,
                                           const State& state) {
     const double spring = p.stiffness * power(s, p.exponent);
-    const double per_speed = damping_factor(p) / state.closing_speed;
+    // A contact present from the start has no onset: v₀ is then the least, as for a grazing one.
+    const double per_speed = damping_factor(p) / std::max(state.closing_speed, p.minimum_closing_speed);
     const double factor = 1.0 + per_speed * rate;
     if (!(factor > 0)) return {};  // it would pull: held at 0
     return {.force = spring * factor,
