@@ -17,6 +17,7 @@
 #include <toml++/toml.h>
 
 #include "poundsim/error.hpp"
+#include "poundsim/integrate/integrator.hpp"
 #include "poundsim/io/ground_motion.hpp"
 #include "poundsim/units.hpp"
 
@@ -1366,6 +1367,13 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
     validate(run.model);
   } catch (const std::invalid_argument& e) {
     throw InputError(fmt::format("{}: {}", origin.file, e.what()));
+  }
+  // Whether the integrator takes every law (the exact one refuses smooth laws): refused here,
+  // before the run makes its output folder, rather than by the simulator.
+  if (run.model.frame_count() > 0) {
+    const DofLayout layout(run.model);
+    const IntegratorSupport support = supports(run.analysis.options.integrator, make_links(run.model, layout), layout);
+    if (!support) throw InputError(fmt::format("{}: analysis.integrator: {}", origin.file, support.reason));
   }
   if (run.model.frame_count() > 0 && !run.initial.displacement.empty()) {
     for (const GapElement& g : run.model.gaps) {

@@ -22,7 +22,7 @@ namespace fs = std::filesystem;
 
 std::vector<fs::path> example_files() {
   std::vector<fs::path> files;
-  for (const char* folder : {"examples", "examples/paper"}) {
+  for (const char* folder : {"examples", "examples/paper", "examples/contact_laws"}) {
     for (const auto& entry : fs::directory_iterator(fs::path(POUNDSIM_SOURCE_DIR) / folder)) {
       if (entry.path().extension() == ".toml") files.push_back(entry.path());
     }
@@ -38,6 +38,8 @@ void expect_same_model(const Model& a, const Model& b, const std::string& name) 
     EXPECT_EQ(a.frames[f].stiffness, b.frames[f].stiffness) << name;
     EXPECT_EQ(a.frames[f].damping, b.frames[f].damping) << name;
     EXPECT_EQ(a.frames[f].storey_height, b.frames[f].storey_height) << name;
+    EXPECT_EQ(a.frames[f].ground_damping, b.frames[f].ground_damping) << name;
+    EXPECT_EQ(a.frames[f].modal_damping_ratios, b.frames[f].modal_damping_ratios) << name;
     EXPECT_EQ(a.frames[f].storey_law, b.frames[f].storey_law) << name;
   }
   ASSERT_EQ(a.gaps.size(), b.gaps.size()) << name;
@@ -53,7 +55,7 @@ void expect_same_model(const Model& a, const Model& b, const std::string& name) 
 // exact form), with the same model, joints, excitation and settings.
 TEST(InputEcho, EveryExampleReadsBackToTheInputThatRan) {
   const std::vector<fs::path> files = example_files();
-  ASSERT_EQ(files.size(), 15u);  // 8 examples and the 7 figures
+  ASSERT_EQ(files.size(), 21u);  // 9 examples, the 7 figures and the 5 contact laws
   for (const fs::path& file : files) {
     const RunInput in = read_input(file);
     const std::string text = to_toml(in);
