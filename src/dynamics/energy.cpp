@@ -106,7 +106,9 @@ void EnergyMeter::step(const KinematicState& x0, const KinematicState& x1,
       const double power = link.law.trapezoidal_power(kinematics_of(link, x0), kinematics_of(link, x1),
                                                        mode_in(link, config), states.at(link));
       sum += power;
-      if (link.element >= 0) element_dissipation_[static_cast<std::size_t>(link.element)] += h * power;
+      if constexpr (ContactLaw<std::decay_t<decltype(link.law)>>) {
+        element_dissipation_[static_cast<std::size_t>(link.element)] += h * power;
+      }
     }
     term(links.front().law.traits.energy, storey, gap) += sum;
   });
@@ -192,7 +194,9 @@ void EnergyMeter::add_relaxation(const KinematicState& x0, const KinematicState&
           mode_in(link, config), states.at(link), x0.t, x1.t);
       if (released == 0.0) continue;
       term(link.law.traits.energy, balance_.storey_damping, balance_.gap_damping) += released;
-      if (link.element >= 0) element_dissipation_[static_cast<std::size_t>(link.element)] += released;
+      if constexpr (ContactLaw<std::decay_t<decltype(link.law)>>) {
+        element_dissipation_[static_cast<std::size_t>(link.element)] += released;
+      }
     }
   });
 }

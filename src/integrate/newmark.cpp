@@ -9,15 +9,6 @@ NewmarkIntegrator::NewmarkIntegrator(Eigen::Index dofs)
     : q_(dofs), qd_(dofs), qdd_(dofs), w1_(dofs), w2_(dofs), rhs_(dofs), qdd_new_(dofs), residual_(dofs),
       correction_(dofs) {}
 
-void NewmarkIntegrator::step(const LinearPhase& phase, const LinearPhase::Solver& solver,
-                             const KinematicState& from, double tau, double ground_end,
-                             KinematicState& to) {
-  prepare(phase, from, tau, ground_end);
-  const Eigen::Index nr = phase.reduced_size();
-  qdd_new_.head(nr) = solver.solve(rhs_.head(nr));
-  finish(phase, from, tau, ground_end, to);
-}
-
 void NewmarkIntegrator::prepare(const LinearPhase& phase, const KinematicState& from, double tau, double ground_end) {
   const Eigen::Index nr = phase.reduced_size();
   // Work in the reduced coordinates; buffers are sized for the full system and used in part.
@@ -56,6 +47,15 @@ void NewmarkIntegrator::finish(const LinearPhase& phase, const KinematicState& f
       to.a(i) = qdd_new(r);
     }
   }
+}
+
+void NewmarkIntegrator::step(const LinearPhase& phase, const LinearPhase::Solver& solver,
+                             const KinematicState& from, double tau, double ground_end,
+                             KinematicState& to) {
+  prepare(phase, from, tau, ground_end);
+  const Eigen::Index nr = phase.reduced_size();
+  qdd_new_.head(nr) = solver.solve(rhs_.head(nr));
+  finish(phase, from, tau, ground_end, to);
 }
 
 NewtonOutcome NewmarkIntegrator::step_newton(const LinearPhase& phase, const KinematicState& from, double tau,

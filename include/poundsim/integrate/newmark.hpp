@@ -78,10 +78,11 @@ class NewmarkIntegrator {
  private:
   /// Gathers `from` into q, q̇, q̈ and sets w1 = q̇ + τ/2 q̈, w2 = q + τ q̇ + τ²/4 q̈ and the
   /// right-hand side −m a_g + b − C w1 − K w2.
-  void prepare(const LinearPhase& phase, const KinematicState& from, double tau, double ground_end);
+  [[gnu::always_inline]] inline void prepare(const LinearPhase& phase, const KinematicState& from, double tau,
+                                             double ground_end);
   /// `to` from q̈⁺ (the reduced accelerations in qdd_new_) and w1, w2.
-  void finish(const LinearPhase& phase, const KinematicState& from, double tau, double ground_end,
-              KinematicState& to);
+  [[gnu::always_inline]] inline void finish(const LinearPhase& phase, const KinematicState& from, double tau,
+                                            double ground_end, KinematicState& to);
 
   Eigen::VectorXd q_, qd_, qdd_, w1_, w2_, rhs_, qdd_new_, residual_, correction_;
   std::vector<double> previous_force_;
