@@ -76,17 +76,6 @@ TEST(HertzContact, NewmarkConvergesAtSecondOrder) {
       << coarse.relative_residual << " " << fine.relative_residual;
 }
 
-}  // namespace
-}  // namespace poundsim
-
-namespace poundsim {
-namespace {
-
-using testing::Collision;
-using testing::collide;
-using testing::kClosing;
-using testing::kGap;
-using testing::kReduced;
 
 /// The restitution each damped law achieves for two free masses against the e it is set for.
 struct AchievedRestitution {
@@ -171,16 +160,6 @@ TEST(SmoothContactEnergy, DampedLawsCloseTheBalance) {
   }
 }
 
-}  // namespace
-}  // namespace poundsim
-
-namespace poundsim {
-namespace {
-
-using testing::kGap;
-using testing::kLeftMass;
-using testing::kReduced;
-using testing::kRightMass;
 
 /// Records the force of element 0 at each Newton iterate.
 class RecordingForces final : public SmoothForces {

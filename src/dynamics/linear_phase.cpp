@@ -205,14 +205,24 @@ void LinearPhase::set_link_lengths(std::span<const double> length) {
   constant_load_.noalias() = transfer_t_ * load_work_;
 }
 
-void LinearPhase::factorize(Solver& solver, double tau) const {
+void LinearPhase::factorize(Solver& solver, double tau, std::span<const ForceTangent> smooth) const {
   Eigen::Map<Eigen::VectorXd> values(effective_.valuePtr(), effective_.nonZeros());
   values = effective_m_ + (0.5 * tau) * effective_c_ + (0.25 * tau * tau) * effective_k_;
+  // The smooth links' tangents, at the entries of their groups (tangent_solver).
+  for (std::size_t i = 0; !smooth.empty() && i < smooth_links_.size(); ++i) {
+    const TangentSlots& slots = tangent_slots_[i];
+    if (slots.ab < 0) continue;  // both floors in one group: the force is internal to it
+    const ForceTangent& t = smooth[static_cast<std::size_t>(smooth_links_[i].element)];
+    const double entry = 0.5 * tau * t.damping + 0.25 * tau * tau * t.stiffness;
+    values(slots.aa) += entry;
+    values(slots.bb) += entry;
+    values(slots.ab) -= entry;
+  }
   solver.factorize_in_place(effective_);
   if (solver.info() != Eigen::Success) {
-    throw SimulationError(
-        fmt::format("the Newmark effective matrix could not be factorised (step {} s)", tau),
-        StopReason::singular_phase);
+    throw SimulationError(fmt::format("the Newmark {} matrix could not be factorised (step {} s)",
+                                      smooth.empty() ? "effective" : "tangent", tau),
+                          StopReason::singular_phase);
   }
 }
 
@@ -225,22 +235,7 @@ void LinearPhase::add_smooth_loads(std::span<const ForceTangent> by_element, Eig
 }
 
 const LinearPhase::Solver& LinearPhase::tangent_solver(double tau, std::span<const ForceTangent> by_element) const {
-  Eigen::Map<Eigen::VectorXd> values(effective_.valuePtr(), effective_.nonZeros());
-  values = effective_m_ + (0.5 * tau) * effective_c_ + (0.25 * tau * tau) * effective_k_;
-  for (std::size_t i = 0; i < smooth_links_.size(); ++i) {
-    const TangentSlots& slots = tangent_slots_[i];
-    if (slots.ab < 0) continue;  // both floors in one group: the force is internal to it
-    const ForceTangent& t = by_element[static_cast<std::size_t>(smooth_links_[i].element)];
-    const double entry = 0.5 * tau * t.damping + 0.25 * tau * tau * t.stiffness;
-    values(slots.aa) += entry;
-    values(slots.bb) += entry;
-    values(slots.ab) -= entry;
-  }
-  tangent_solver_.factorize_in_place(effective_);
-  if (tangent_solver_.info() != Eigen::Success) {
-    throw SimulationError(fmt::format("the Newmark tangent matrix could not be factorised (step {} s)", tau),
-                          StopReason::singular_phase);
-  }
+  factorize(tangent_solver_, tau, by_element);
   return tangent_solver_;
 }
 

@@ -94,11 +94,7 @@ LinearPhase& PoundingSystem::activate(ContactState& c, EventHandler& handler) co
 }
 
 void PoundingSystem::equilibrate(LinearPhase& phase, KinematicState& x, ContactState& c) const {
-  if (!phase.has_smooth_links()) {
-    phase.equilibrate(ground_acceleration(x.t), x);
-    return;
-  }
-  smooth_forces(x, c, c.smooth);
+  if (phase.has_smooth_links()) smooth_forces(x, c, c.smooth);
   phase.equilibrate(ground_acceleration(x.t), x, c.smooth);
 }
 

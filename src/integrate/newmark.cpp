@@ -107,8 +107,7 @@ NewtonOutcome NewmarkIntegrator::step_newton(const LinearPhase& phase, const Kin
       outcome.worst_element = link.element;
     }
   }
-  finish(phase, from, tau, ground_end, to);
-  return outcome;
+  return outcome;  // `to` holds the last iterate (finish() at the loop's top)
 }
 
 }  // namespace poundsim

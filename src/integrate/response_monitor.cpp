@@ -1,8 +1,8 @@
-#include <limits>
-#include <cmath>
 #include "poundsim/integrate/response_monitor.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <utility>
 
 #include "hermite_cubic.hpp"

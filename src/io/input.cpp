@@ -682,7 +682,6 @@ void read_rayleigh(TableReader& f, Frame& frame) {
                        "some modes; raise the ratio of the higher mode",
                        a.mass, a.stiffness));
   }
-  frame.damping.resize(frame.mass.size());
   frame.ground_damping.resize(frame.mass.size());
   for (std::size_t i = 0; i < frame.mass.size(); ++i) {
     frame.damping[i] = a.stiffness * frame.stiffness[i];

@@ -167,12 +167,10 @@ double fundamental_frequency(const Frame& frame) { return natural_frequencies(fr
 FundamentalMode fundamental_mode(const Frame& frame) {
   validate(frame);
   const Eigen::VectorXd m = Eigen::Map<const Eigen::VectorXd>(frame.mass.data(), frame.storeys());
-  const Eigen::VectorXd inv_sqrt_m = m.cwiseSqrt().cwiseInverse();
-  const Eigen::MatrixXd a = inv_sqrt_m.asDiagonal() * stiffness_matrix(frame) * inv_sqrt_m.asDiagonal();
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(a);
+  const auto [omega, phi] = normal_modes(frame);
   FundamentalMode mode;
-  mode.omega = std::sqrt(std::max(0.0, eig.eigenvalues()(0)));
-  mode.shape = inv_sqrt_m.asDiagonal() * eig.eigenvectors().col(0);
+  mode.omega = omega(0);
+  mode.shape = phi.col(0);
   mode.shape /= mode.shape(frame.storeys() - 1);
   const double generalised_mass = mode.shape.dot(m.asDiagonal() * mode.shape);
   mode.damping_ratio =

@@ -130,7 +130,9 @@ class LinearPhase {
   const Solver& substep_solver(double tau) const;
 
  private:
-  void factorize(Solver& solver, double tau) const;
+  /// Factorises M_r + (τ/2) C_r + (τ²/4) K_r, plus the smooth links' tangents when `smooth`
+  /// (by element) is given.
+  void factorize(Solver& solver, double tau, std::span<const ForceTangent> smooth = {}) const;
 
   ContactConfiguration configuration_;
   bool unreduced_ = true;

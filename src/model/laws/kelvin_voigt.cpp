@@ -12,8 +12,7 @@ double KelvinVoigt::damping_ratio(double e) {
 }
 
 void KelvinVoigt::bind_masses(double mass_a, double mass_b) {
-  const double reduced = mass_a * mass_b / (mass_a + mass_b);
-  damping = 2.0 * damping_ratio(parameters.restitution) * std::sqrt(parameters.stiffness * reduced);
+  damping = 2.0 * damping_ratio(parameters.restitution) * std::sqrt(parameters.stiffness * reduced_mass(mass_a, mass_b));
 }
 
 GuardForm KelvinVoigt::guard_form(int guard, LinkMode mode, SeparationCriterion separation) const {

@@ -37,6 +37,10 @@ struct LinkKinematics {
   double t = 0.0;
 };
 
+/// m̄ = m_a m_b / (m_a + m_b) [kg]: the reduced mass of two floors, to which the contact laws with
+/// a tuned dashpot bind it (make_links calls their bind_masses).
+[[nodiscard]] inline double reduced_mass(double mass_a, double mass_b) { return mass_a * mass_b / (mass_a + mass_b); }
+
 /// What the system supplies to the guards.
 struct GuardContext {
   SeparationCriterion separation = SeparationCriterion::displacement;

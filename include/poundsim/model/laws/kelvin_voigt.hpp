@@ -139,7 +139,7 @@ struct KelvinVoigt {
   [[nodiscard]] static bool stop_guard_is_active(LinkMode /*mode*/) { return false; }
   /// Round-off level of s [m].
   [[nodiscard]] double position_noise(const LinkKinematics& k) const {
-    return SpringDashpot::kNoise * (std::abs(k.ua) + std::abs(k.ub) + parameters.gap);
+    return SpringDashpot::position_noise(k, parameters.gap);
   }
   [[nodiscard]] double restitution() const { return parameters.restitution; }
   /// Never reached (no stop): contact.

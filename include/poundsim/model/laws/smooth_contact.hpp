@@ -81,10 +81,6 @@ struct SmoothContact {
     mode = static_cast<LinkMode>(guard == 1 ? Mode::open : Mode::contact);
     return guard == 1 ? Transition::separation : Transition::contact;
   }
-  /// Round-off level of s = u_a − u_b − δ [m].
-  [[nodiscard]] static double position_noise(const LinkKinematics& k, double gap) {
-    return SpringDashpot::kNoise * (std::abs(k.ua) + std::abs(k.ub) + gap);
-  }
   /// The work of a force F = F_e(s) + F_d over a Newmark step from k0 to k1, split: the elastic
   /// part is stored (its energy function), the rest F_d is dissipated, by the trapezoidal rule
   /// Newmark's average acceleration obeys — ½(F_d0 + F_d1)(d₁ − d₀) — returned as a mean power
@@ -115,7 +111,7 @@ struct SmoothContactLaw {
   double reduced_mass = 0.0;  ///< m̄ = m_a m_b / (m_a + m_b) [kg]; 0 until bound.
 
   [[nodiscard]] bool operator==(const SmoothContactLaw&) const = default;
-  void bind_masses(double mass_a, double mass_b) { reduced_mass = mass_a * mass_b / (mass_a + mass_b); }
+  void bind_masses(double mass_a, double mass_b) { reduced_mass = poundsim::reduced_mass(mass_a, mass_b); }
 
   [[nodiscard]] double gap() const { return parameters.gap; }
   [[nodiscard]] double locked_length() const { return parameters.gap; }
@@ -175,7 +171,7 @@ struct SmoothContactLaw {
   }
   [[nodiscard]] static bool stop_guard_is_active(LinkMode /*mode*/) { return false; }
   [[nodiscard]] double position_noise(const LinkKinematics& k) const {
-    return SmoothContact::position_noise(k, parameters.gap);
+    return SpringDashpot::position_noise(k, parameters.gap);
   }
   /// Never used (no stop): the restitution of impacts, which these laws do not have.
   [[nodiscard]] static double restitution() { return 1.0; }

@@ -25,6 +25,12 @@ struct SpringDashpot {
   /// in the last bit and stall event location.
   static constexpr double kNoise = 8 * std::numeric_limits<double>::epsilon();
 
+  /// The round-off level of s = u_a − u_b − δ [m] for a contact with gap δ (the contact laws
+  /// without a stop share it; the paper's element adds its stroke ε to the lengths).
+  [[nodiscard]] static double position_noise(const LinkKinematics& k, double gap) {
+    return kNoise * (std::abs(k.ua) + std::abs(k.ub) + gap);
+  }
+
   /// What the element keeps between events (its law's State): after a separation with its spring
   /// compressed (the force criterion), its free end relaxes, s_e(t) = released_shortening ·
   /// exp(−k (t − release_time) / c), until the floors touch it again.
