@@ -25,8 +25,24 @@ R with_contact_law(const Link& link, F&& f) {
       link.law);
 }
 
-/// The link's two floors at `x`.
+/// Calls `f` with the law of `link` when it has modes and events (EventLaw: contact laws and
+/// yielding storeys); `otherwise()` for the others (a smooth storey law without events).
+template <class R, class F, class G>
+R with_event_law(const Link& link, F&& f, G&& otherwise) {
+  return std::visit<R>(
+      [&](const auto& law) -> R {
+        if constexpr (EventLaw<std::decay_t<decltype(law)>>) {
+          return f(law);
+        } else {
+          return otherwise();
+        }
+      },
+      link.law);
+}
+
+/// The link's two floors at `x` (b = −1: the ground, at rest in the relative frame).
 inline LinkKinematics kinematics(const KinematicState& x, const Link& link) {
+  if (link.b < 0) return {.ua = x.u(link.a), .va = x.v(link.a), .aa = x.a(link.a), .t = x.t};
   return {.ua = x.u(link.a), .ub = x.u(link.b), .va = x.v(link.a), .vb = x.v(link.b),
           .aa = x.a(link.a), .ab = x.a(link.b), .t = x.t};
 }
@@ -38,6 +54,21 @@ void for_each_contact_link(const LinkTable& table, F&& f) {
   table.for_each_law([&](auto links) {
     using L = std::decay_t<decltype(links.front().law)>;
     if constexpr (ContactLaw<L>) {
+      for (const auto& link : links) f(link);
+    }
+  });
+}
+
+}  // namespace poundsim::detail
+
+namespace poundsim::detail {
+
+/// Calls f(link) for every link of `table` whose law has modes and events (EventLaw), law by law.
+template <class F>
+void for_each_event_link(const LinkTable& table, F&& f) {
+  table.for_each_law([&](auto links) {
+    using L = std::decay_t<decltype(links.front().law)>;
+    if constexpr (EventLaw<L>) {
       for (const auto& link : links) f(link);
     }
   });

@@ -30,6 +30,11 @@ double& term(EnergyGroup group, double& storey, double& gap_element) {
 EnergyMeter::EnergyMeter(const Model& model, const DofLayout& layout)
     : links_(make_links(model, layout)), element_dissipation_(static_cast<std::size_t>(model.gap_count()), 0.0) {
   const int n = layout.size();
+  storey_hysteretic_.assign(static_cast<std::size_t>(n), 0.0);
+  links_.for_each_law([&](auto links) {
+    using L = std::decay_t<decltype(links.front().law)>;
+    if constexpr (YieldingLaw<L>) has_plastic_work_ = has_plastic_work_ || !links.empty();
+  });
   mass_.resize(n);
   for (int i = 0; i < n; ++i) mass_(i) = model.frames[layout.frame_of(i)].mass[layout.floor_of(i)];
   Eigen::Index tallest = 0;
@@ -86,6 +91,7 @@ void EnergyMeter::start(const KinematicState& x, const ContactConfiguration& con
                         const LinkStates& states) {
   balance_ = EnergyBalance{};
   std::fill(element_dissipation_.begin(), element_dissipation_.end(), 0.0);
+  std::fill(storey_hysteretic_.begin(), storey_hysteretic_.end(), 0.0);
   per_element_ = true;
   update_stored(x, config, states);
   balance_.initial = balance_.kinetic + balance_.storey_strain + balance_.gap_strain;
@@ -118,6 +124,7 @@ void EnergyMeter::step(const KinematicState& x0, const KinematicState& x1,
   balance_.storey_damping += h * storey;
   balance_.gap_damping += h * gap;
   add_relaxation(x0, x1, config, states);
+  add_plastic_work(x0, x1, config, states);
   finish_step(x1, config, states);
 }
 
@@ -181,7 +188,26 @@ void EnergyMeter::step_with(const KinematicState& x0, const KinematicState& x1,
   balance_.gap_damping += integrals.gap_damping;
   per_element_ = false;
   add_relaxation(x0, x1, config, states);
+  add_plastic_work(x0, x1, config, states);
   finish_step(x1, config, states);
+}
+
+void EnergyMeter::add_plastic_work(const KinematicState& x0, const KinematicState& x1,
+                                   const ContactConfiguration& config, const LinkStates& states) {
+  if (!has_plastic_work_) return;
+  links_.for_each_law([&](auto links) {
+    using L = std::decay_t<decltype(links.front().law)>;
+    if constexpr (YieldingLaw<L>) {
+      double sum = 0.0;
+      for (const auto& link : links) {
+        const double work = link.law.plastic_work(kinematics_of(link, x0), kinematics_of(link, x1),
+                                                  mode_in(link, config), states.at(link));
+        storey_hysteretic_[static_cast<std::size_t>(link.a)] += work;
+        sum += work;
+      }
+      balance_.storey_hysteretic += sum;
+    }
+  });
 }
 
 void EnergyMeter::add_relaxation(const KinematicState& x0, const KinematicState& x1,

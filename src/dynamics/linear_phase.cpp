@@ -54,6 +54,9 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
       load_full_(link.a) -= form->force_at_zero;
       if (link.b >= 0) load_full_(link.b) += form->force_at_zero;
     }
+    if (std::visit([](const auto& law) { return StateLoadedLaw<std::decay_t<decltype(law)>>; }, link.law)) {
+      state_loaded_.push_back({.link = link, .mode = mode_of(link, configuration_)});
+    }
     if (form->rigid) {
       leader[static_cast<std::size_t>(link.b)] = leader[static_cast<std::size_t>(link.a)];
       rigid_links_.push_back({link.a, link.b, link.element});
@@ -71,6 +74,7 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
       }
     }
   }
+  load_of_forms_ = load_full_;
   stiffness_full_.resize(n, n);
   stiffness_full_.setFromTriplets(k_triplets.begin(), k_triplets.end());
   damping_full_.resize(n, n);
@@ -192,6 +196,23 @@ const LinearPhase::Solver& LinearPhase::step_solver() const {
     step_factorised_ = true;
   }
   return step_solver_;
+}
+
+void LinearPhase::set_law_states(const LinkStates& states) {
+  if (state_loaded_.empty()) return;
+  load_full_ = load_of_forms_;
+  for (const StateLoadedLink& s : state_loaded_) {
+    const double f0 = s.link.state_force(s.mode, states);
+    load_full_(s.link.a) -= f0;
+    if (s.link.b >= 0) load_full_(s.link.b) += f0;
+  }
+  if (unreduced_) {
+    constant_load_ = load_full_;
+    return;
+  }
+  load_work_ = load_full_;
+  load_work_.noalias() -= stiffness_full_ * offset_;
+  constant_load_.noalias() = transfer_t_ * load_work_;
 }
 
 void LinearPhase::set_link_lengths(std::span<const double> length) {

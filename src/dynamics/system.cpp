@@ -13,8 +13,10 @@
 namespace poundsim {
 
 using detail::for_each_contact_link;
+using detail::for_each_event_link;
 using detail::kinematics;
 using detail::with_contact_law;
+using detail::with_event_law;
 
 namespace {
 
@@ -36,11 +38,16 @@ PoundingSystem::PoundingSystem(Model model, Excitation excitation, EventRules ru
       layout_(model_),
       excitation_(std::move(excitation)),
       rules_(rules),
-      links_(make_links(model_, layout_)) {
+      links_(make_links(model_, layout_)),
+      gaps_(model_.gap_count()) {
   for (const Link& link : links_) {
-    if (link.element >= 0) contact_links_.push_back(link);
+    if (link.element < 0) continue;
+    const auto p = static_cast<std::size_t>(link.element);
+    if (tracked_links_.size() <= p) tracked_links_.resize(p + 1);
+    tracked_links_[p] = link;
   }
-  contact_table_ = LinkTable(contact_links_);
+  contact_table_ = LinkTable(contact_links());
+  tracked_table_ = LinkTable(tracked_links_);
   mass_.resize(layout_.size());
   for (int i = 0; i < layout_.size(); ++i) {
     mass_(i) = model_.frames[static_cast<std::size_t>(layout_.frame_of(i))].mass[static_cast<std::size_t>(layout_.floor_of(i))];
@@ -50,14 +57,15 @@ PoundingSystem::PoundingSystem(Model model, Excitation excitation, EventRules ru
 double PoundingSystem::kinetic_energy(const Eigen::VectorXd& v) const { return 0.5 * v.cwiseAbs2().dot(mass_); }
 
 ContactState PoundingSystem::initial_contact(const KinematicState& x) const {
-  const std::size_t ng = contact_links_.size();
+  const std::size_t ng = tracked_links_.size();
   ContactState c;
   c.config.assign(ng, LinkMode{0});
   for (std::size_t p = 0; p < ng; ++p) {
-    const Link& link = contact_links_[p];
-    const double d = x.u(link.a) - x.u(link.b);
+    const Link& link = tracked_links_[p];
+    const double d = x.u(link.a) - (link.b >= 0 ? x.u(link.b) : 0.0);
     try {
-      c.config[p] = with_contact_law<LinkMode>(link, [&](const auto& law) { return law.initial_mode(d); });
+      c.config[p] = with_event_law<LinkMode>(
+          link, [&](const auto& law) { return law.initial_mode(d); }, [] { return LinkMode{0}; });
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(
           fmt::format("initial displacements compress {} {}", describe(link, layout_), e.what()));
@@ -78,8 +86,8 @@ ContactState PoundingSystem::initial_contact(const KinematicState& x) const {
 
 void PoundingSystem::refresh_flags(ContactState& c, std::size_t p) const {
   // What the element's law does in its mode, asked when the mode changes rather than per step.
-  const std::optional<LinearForm> form = contact_links_[p].linear_form(c.config[p]);
-  c.transmits[p] = form.has_value() || contact_links_[p].smooth_in(c.config[p]);
+  const std::optional<LinearForm> form = tracked_links_[p].linear_form(c.config[p]);
+  c.transmits[p] = form.has_value() || tracked_links_[p].smooth_in(c.config[p]);
   c.rigid[p] = form && form->rigid;
 }
 
@@ -98,9 +106,16 @@ void PoundingSystem::equilibrate(LinearPhase& phase, KinematicState& x, ContactS
   phase.equilibrate(ground_acceleration(x.t), x, c.smooth);
 }
 
+std::optional<LinearForm> PoundingSystem::linear_form(const Link& link, const ContactState& c) const {
+  const LinkMode mode = mode_of(link, c.config);
+  std::optional<LinearForm> form = link.linear_form(mode);
+  if (form) form->force_at_zero += link.state_force(mode, c.states);
+  return form;
+}
+
 void PoundingSystem::smooth_forces(const KinematicState& x, const ContactState& c,
                                    std::span<ForceTangent> by_element) const {
-  contact_table_.for_each_law([&](auto links) {
+  tracked_table_.for_each_law([&](auto links) {
     using L = typename std::decay_t<decltype(links)>::value_type;
     if constexpr (SmoothLaw<decltype(L::law)>) {
       for (const auto& link : links) {
@@ -112,13 +127,13 @@ void PoundingSystem::smooth_forces(const KinematicState& x, const ContactState& 
 }
 
 double PoundingSystem::shortening(const KinematicState& x, int p) const {
-  const Link& link = contact_links_[static_cast<std::size_t>(p)];
+  const Link& link = tracked_links_[static_cast<std::size_t>(p)];
   const LinkKinematics k = kinematics(x, link);
   return with_contact_law<double>(link, [&](const auto& law) { return law.shortening(k); });
 }
 
 double PoundingSystem::gap_force(const KinematicState& x, const ContactState& c, int p) const {
-  const Link& link = contact_links_[static_cast<std::size_t>(p)];
+  const Link& link = tracked_links_[static_cast<std::size_t>(p)];
   return with_contact_law<double>(link, [&](const auto& law) {
     using L = std::decay_t<decltype(law)>;
     return gap_force(x, c, TypedLink<L>{.a = link.a, .b = link.b, .element = link.element, .slot = link.slot, .law = law});
@@ -131,7 +146,7 @@ void PoundingSystem::evaluate_guards(const KinematicState& x, const LinearPhase&
   // zero is zero, and zero does not fire.
   compute_stop_reactions(x, phase, c);
   std::array<GuardValue, 2> values;
-  for_each_contact_link(contact_table_, [&](const auto& link) {
+  for_each_event_link(tracked_table_, [&](const auto& link) {
     const auto p = static_cast<std::size_t>(link.element);
     const GuardContext context{.separation = rules_.separation,
                                .reaction = c.stop_reaction[p],
@@ -174,7 +189,7 @@ void PoundingSystem::compute_stop_reactions(const KinematicState& x, const Linea
   };
   for (std::size_t p = 0; p < c.config.size(); ++p) {
     if (c.rigid[p] == 0) continue;
-    const int l = contact_links_[p].a;
+    const int l = tracked_links_[p].a;
     const double load = phase.full_constant_load()(l) + smooth_load(l);
     double f = load - m(l) * (ground + x.a(l));
     double magnitude = std::abs(load) + m(l) * (std::abs(ground) + std::abs(x.a(l)));
@@ -188,10 +203,10 @@ void PoundingSystem::compute_stop_reactions(const KinematicState& x, const Linea
     }
     c.stop_reaction[p] = f + c.link_in[l];
     c.stop_noise[p] = kNoise * (magnitude + std::abs(c.link_in[l]));
-    c.link_in[contact_links_[p].b] = c.stop_reaction[p];
+    c.link_in[tracked_links_[p].b] = c.stop_reaction[p];
   }
   for (std::size_t p = 0; p < c.config.size(); ++p) {
-    if (c.rigid[p] != 0) c.link_in[contact_links_[p].b] = 0.0;
+    if (c.rigid[p] != 0) c.link_in[tracked_links_[p].b] = 0.0;
   }
 }
 
@@ -204,13 +219,16 @@ LinearPhase& PoundingSystem::apply_events(std::span<const double> fired, Kinemat
     if (!(fired[j] > 0)) continue;
     const std::size_t p = j / 2;
     const int pi = static_cast<int>(p);
-    const Link& link = contact_links_[p];
-    const double vl = x.v(link.a), vr = x.v(link.b);
+    const Link& link = tracked_links_[p];
+    const double vl = x.v(link.a), vr = link.b >= 0 ? x.v(link.b) : 0.0;
     const LinkKinematics k = kinematics(x, link);
     LinkMode m = c.config[p];
-    const Transition transition = with_contact_law<Transition>(link, [&](const auto& law) {
-      return law.on_guard(static_cast<int>(j % 2), k, m, c.states.at(law, link.slot), rules_.separation);
-    });
+    const Transition transition = with_event_law<Transition>(
+        link,
+        [&](const auto& law) {
+          return law.on_guard(static_cast<int>(j % 2), k, m, c.states.at(law, link.slot), rules_.separation);
+        },
+        []() -> Transition { throw std::logic_error("a guard fired on a link without events"); });
     c.config[p] = m;
     refresh_flags(c, p);  // the event handler below may ask for the element's force
     switch (transition) {
@@ -227,6 +245,8 @@ LinearPhase& PoundingSystem::apply_events(std::span<const double> fired, Kinemat
         c.bias[p] = 0.0;
         handler.on_event(x, pi, EventKind::unlock, vl, vr, 0.0);
         break;
+      case Transition::yield: handler.on_event(x, pi, EventKind::yield, vl, vr, 0.0); break;
+      case Transition::unload: handler.on_event(x, pi, EventKind::unload, vl, vr, 0.0); break;
     }
   }
   LinearPhase* phase = &activate(c, handler);
@@ -238,7 +258,7 @@ LinearPhase& PoundingSystem::apply_events(std::span<const double> fired, Kinemat
 }
 
 double PoundingSystem::stop_guard(const KinematicState& x, const ContactState& c, std::size_t p) const {
-  const Link& link = contact_links_[p];
+  const Link& link = tracked_links_[p];
   const LinkKinematics k = kinematics(x, link);
   const double distance = with_contact_law<double>(
       link, [&](const auto& law) { return law.stop_distance(k, c.config[p], c.states.at(law, link.slot)); });
@@ -246,7 +266,7 @@ double PoundingSystem::stop_guard(const KinematicState& x, const ContactState& c
 }
 
 bool PoundingSystem::stop_guard_is_active(const ContactState& c, std::size_t p) const {
-  return with_contact_law<bool>(contact_links_[p], [&](const auto& law) {
+  return with_contact_law<bool>(tracked_links_[p], [&](const auto& law) {
     return law.traits.has_stop && law.stop_guard_is_active(c.config[p]);
   });
 }
@@ -256,17 +276,19 @@ LinearPhase& PoundingSystem::resolve_impacts(KinematicState& x, ContactState& c,
   LinearPhase* phase = &current;
   Eigen::VectorXd& v = x.v;
   const double kinetic_before = kinetic_energy(v);
-  const std::size_t elements = c.config.size();
+  // Impacts are between gap elements only: the tracked storeys follow them in c.
+  const auto elements = static_cast<std::size_t>(gaps_);
+  const std::span<const Link> gap_links = contact_links();
 
   std::vector<double> left_before(elements), right_before(elements), impulse(elements, 0.0);
   std::vector<char> involved(elements, 0);
   for (std::size_t p = 0; p < elements; ++p) {
-    left_before[p] = v(contact_links_[p].a);
-    right_before[p] = v(contact_links_[p].b);
+    left_before[p] = v(gap_links[p].a);
+    right_before[p] = v(gap_links[p].b);
   }
   for (const int p : c.impacts) involved[static_cast<std::size_t>(p)] = 1;
   const auto closing_speed = [&](std::size_t p) {
-    const double vl = v(contact_links_[p].a), vr = v(contact_links_[p].b);
+    const double vl = v(gap_links[p].a), vr = v(gap_links[p].b);
     return closes(vl, vr) ? vl - vr : 0.0;
   };
   struct Lock {
@@ -292,12 +314,12 @@ LinearPhase& PoundingSystem::resolve_impacts(KinematicState& x, ContactState& c,
     const auto group = phase->group_of();
     const Eigen::VectorXd& group_mass = phase->mass();
     const auto shares_a_body = [&](std::size_t p) {
-      const int gl = group[static_cast<std::size_t>(contact_links_[p].a)];
-      const int gr = group[static_cast<std::size_t>(contact_links_[p].b)];
+      const int gl = group[static_cast<std::size_t>(gap_links[p].a)];
+      const int gr = group[static_cast<std::size_t>(gap_links[p].b)];
       for (std::size_t q = 0; q < elements; ++q) {
         if (!involved[q]) continue;
-        const int ql = group[static_cast<std::size_t>(contact_links_[q].a)];
-        const int qr = group[static_cast<std::size_t>(contact_links_[q].b)];
+        const int ql = group[static_cast<std::size_t>(gap_links[q].a)];
+        const int qr = group[static_cast<std::size_t>(gap_links[q].b)];
         if (gl == ql || gl == qr || gr == ql || gr == qr) return true;
       }
       return false;
@@ -315,13 +337,13 @@ LinearPhase& PoundingSystem::resolve_impacts(KinematicState& x, ContactState& c,
           }
         }
         if (worst == elements) break;
-        const int l = contact_links_[worst].a, r = contact_links_[worst].b;
+        const int l = gap_links[worst].a, r = gap_links[worst].b;
         const int gl = group[static_cast<std::size_t>(l)];
         const int gr = group[static_cast<std::size_t>(r)];
         const double rest = rules_.rest_velocity_ratio * (std::abs(v(l)) + std::abs(v(r)));
         const double restitution =
             closing <= rest ? 0.0
-                            : with_contact_law<double>(contact_links_[worst], [](const auto& law) {
+                            : with_contact_law<double>(gap_links[worst], [](const auto& law) {
                                 return law.restitution();
                               });
         const ImpactOutcome o = restitution_impact(group_mass(gl), group_mass(gr), v(l), v(r), restitution);
@@ -338,9 +360,9 @@ LinearPhase& PoundingSystem::resolve_impacts(KinematicState& x, ContactState& c,
         if (!stop_guard_is_active(c, p)) continue;
         const double w = closing_speed(p);
         if (!(w > 0) || !shares_a_body(p)) continue;
-        const LinkKinematics k = kinematics(x, contact_links_[p]);
+        const LinkKinematics k = kinematics(x, gap_links[p]);
         const double s_noise =
-            with_contact_law<double>(contact_links_[p], [&](const auto& law) { return law.position_noise(k); });
+            with_contact_law<double>(gap_links[p], [&](const auto& law) { return law.position_noise(k); });
         if (stop_guard(x, c, p) < -(w * rules_.event_tolerance + s_noise)) continue;
         involved[p] = 1;
         joined = true;
@@ -352,7 +374,7 @@ LinearPhase& PoundingSystem::resolve_impacts(KinematicState& x, ContactState& c,
     std::vector<int> locking;
     for (std::size_t p = 0; p < elements; ++p) {
       if (!involved[p] || c.rigid[p] != 0) continue;
-      const int l = contact_links_[p].a, r = contact_links_[p].b;
+      const int l = gap_links[p].a, r = gap_links[p].b;
       const int gl = group[static_cast<std::size_t>(l)], gr = group[static_cast<std::size_t>(r)];
       if (gl == gr) continue;  // already held together through other locked links
       const double pressing = x.a(l) - x.a(r);
@@ -366,9 +388,9 @@ LinearPhase& PoundingSystem::resolve_impacts(KinematicState& x, ContactState& c,
     if (locking.empty()) break;
     for (const int p : locking) {
       const auto e = static_cast<std::size_t>(p);
-      c.config[e] = with_contact_law<LinkMode>(contact_links_[e], [](const auto& law) { return law.locked_mode(); });
+      c.config[e] = with_contact_law<LinkMode>(gap_links[e], [](const auto& law) { return law.locked_mode(); });
       // The link keeps the floors where they are (on the stop, to the event tolerance).
-      c.link_length[e] = x.u(contact_links_[e].a) - x.u(contact_links_[e].b);
+      c.link_length[e] = x.u(gap_links[e].a) - x.u(gap_links[e].b);
     }
     phase = &activate(c, handler);
     // Plastic merge: each new group moves with the velocity of its centre of mass.
@@ -399,11 +421,11 @@ void PoundingSystem::set_impact_biases(const KinematicState& x, ContactState& c,
   // At an impact the state is taken at the upper end of the event bracket, a hair past the stop
   // (by at most |ṡ| × tolerance). The element now moves away from the stop; offset its guard by
   // that hair so that the next impact is detected when the stop is reached again.
-  for (std::size_t p = 0; p < c.config.size(); ++p) {
+  for (std::size_t p = 0; p < static_cast<std::size_t>(gaps_); ++p) {
     const std::size_t j = 2 * p;
     if (!stop_guard_is_active(c, p) || !(g[j] > 0)) continue;
     // Still closing: a genuine impact, applied by the caller.
-    if (closes(x.v(contact_links_[p].a), x.v(contact_links_[p].b))) continue;
+    if (closes(x.v(tracked_links_[p].a), x.v(tracked_links_[p].b))) continue;
     c.bias[p] += g[j];
     g[j] = 0.0;
   }

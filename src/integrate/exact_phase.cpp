@@ -14,7 +14,38 @@ namespace {
 /// Round-off in the modal path grows like ε / rcond(V): below this (a nearly defective A, such as
 /// a critically damped mode) it would exceed 1e-11, so e^{As} is used instead.
 constexpr double kMinModeConditioning = 1e-5;
+/// Below this rcond(A) the phase is taken as singular (a rigid-body mode): its A⁻¹ would carry
+/// round-off amplified beyond 1e-4.
+constexpr double kMinInverseConditioning = 1e-12;
 }  // namespace
+
+void ExactPhase::polynomial_particular(const Eigen::VectorXd& c0, const Eigen::VectorXd& c1,
+                                       std::array<Eigen::VectorXd, 4>& p) const {
+  const Eigen::Index m = 2 * n_;
+  if (!polynomial_) {
+    Eigen::MatrixXd blocks = Eigen::MatrixXd::Zero(4 * m, 4 * m);
+    for (Eigen::Index k = 0; k < 4; ++k) {
+      blocks.block(k * m, k * m, m, m) = a_;
+      if (k < 3) blocks.block(k * m, (k + 1) * m, m, m) = -static_cast<double>(k + 1) * Eigen::MatrixXd::Identity(m, m);
+    }
+    polynomial_ = std::make_unique<Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>>(blocks);
+  }
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(4 * m);
+  rhs.head(m) = -c0;
+  rhs.segment(m, m) = -c1;
+  const Eigen::VectorXd z = polynomial_->solve(rhs);
+  const double residual = (a_ * z.head(m) - z.segment(m, m) + c0).norm() +
+                          (a_ * z.segment(m, m) - 2 * z.segment(2 * m, m) + c1).norm() +
+                          (a_ * z.segment(2 * m, m) - 3 * z.segment(3 * m, m)).norm() + (a_ * z.tail(m)).norm();
+  const double size = c0.norm() + c1.norm() + a_.norm() * z.norm();
+  if (!(residual <= 1e-9 * size)) {
+    throw SimulationError(fmt::format("exact integrator: a phase with a rigid-body mode has no polynomial "
+                                      "particular solution (residual {:.3g} of {:.3g}); use integrator = \"newmark\"",
+                                      residual, size),
+                          StopReason::resonance);
+  }
+  for (Eigen::Index k = 0; k < 4; ++k) p[static_cast<std::size_t>(k)] = z.segment(k * m, m);
+}
 
 ExactPhase::ExactPhase(const LinearPhase& phase) : n_(phase.reduced_size()) {
   const Eigen::VectorXd inv_m = phase.mass().cwiseInverse();
@@ -23,9 +54,6 @@ ExactPhase::ExactPhase(const LinearPhase& phase) : n_(phase.reduced_size()) {
   a_.bottomLeftCorner(n_, n_) = -(inv_m.asDiagonal() * Eigen::MatrixXd(phase.stiffness()));
   a_.bottomRightCorner(n_, n_) = -(inv_m.asDiagonal() * Eigen::MatrixXd(phase.damping()));
   a_lu_.compute(a_);
-  Eigen::VectorXd e = Eigen::VectorXd::Zero(2 * n_);
-  e.tail(n_).setConstant(-1.0);
-  a_inv_e_ = a_lu_.solve(e);
 
   // Decompose the balanced Â = D⁻¹ A D, D = diag(1, ω_i) with ω_i = √(K_ii/M_ii): each velocity
   // measured in units of its own floor's frequency. Unbalanced, an oscillator of frequency ω has
@@ -41,12 +69,18 @@ ExactPhase::ExactPhase(const LinearPhase& phase) : n_(phase.reduced_size()) {
   }
   const Eigen::MatrixXd balanced =
       scale_.cwiseInverse().asDiagonal() * a_ * scale_.asDiagonal();
+  // A rigid-body mode (K singular) makes A singular. Judged balanced: unbalanced, a stiff wall
+  // beside a frame (‖A‖ ~ 1e14) has rcond(A) ~ 1e-14 with no rigid mode at all.
+  singular_ = !(Eigen::PartialPivLU<Eigen::MatrixXd>(balanced).rcond() > kMinInverseConditioning);
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(2 * n_);
+  e.tail(n_).setConstant(-1.0);
+  if (!singular_) a_inv_e_ = a_lu_.solve(e);
   const Eigen::EigenSolver<Eigen::MatrixXd> eig(balanced, true);
   if (eig.info() == Eigen::Success) {
     lambda_ = eig.eigenvalues();
     v_lu_.compute(eig.eigenvectors());
     v_ = scale_.cast<std::complex<double>>().asDiagonal() * eig.eigenvectors();
-    modal_ = v_lu_.rcond() > kMinModeConditioning;
+    modal_ = v_lu_.rcond() > kMinModeConditioning && !singular_;
     spectral_radius_ = lambda_.cwiseAbs().maxCoeff();
   }
   if (!modal_) {
@@ -100,11 +134,33 @@ void ExactTrajectory::start(const ExactPhase& phase, const Eigen::VectorXd& mass
   const Eigen::Index n = phase.groups();
   Eigen::VectorXd f = Eigen::VectorXd::Zero(2 * n);
   f.tail(n) = constant_load.cwiseQuotient(mass);
-  xc_ = -phase.solve(f);
   beta_.setZero(2 * n);
+  quadratic_.setZero(2 * n);
+  cubic_.setZero(2 * n);
   harmonic_.setZero(2 * n);
+  if (phase.singular()) {
+    // The polynomial part for c₀ + c₁s: f + e a₀ + e a₁ s on a linear piece, f on a harmonic one
+    // (whose harmonic part is as below). e = [0; −1].
+    Eigen::VectorXd c0 = f, c1 = Eigen::VectorXd::Zero(2 * n);
+    if (piece.kind == ForcingPiece::Kind::linear) {
+      c0.tail(n).array() -= piece.at(t0);
+      c1.tail(n).setConstant(-piece.slope);
+    }
+    phase.polynomial_particular(c0, c1, polynomial_work_);
+    xc_ = polynomial_work_[0];
+    beta_ = polynomial_work_[1];
+    quadratic_ = polynomial_work_[2];
+    cubic_ = polynomial_work_[3];
+  } else {
+    xc_ = -phase.solve(f);
+  }
   Eigen::VectorXd x_p0 = xc_;
-  if (piece.kind == ForcingPiece::Kind::linear) {
+  if (phase.singular()) {
+    if (piece.kind == ForcingPiece::Kind::harmonic) {
+      harmonic_ = piece.amplitude * phase.harmonic_response(piece.omega);
+      x_p0 += (harmonic_ * std::exp(std::complex<double>(0.0, piece.omega * t0))).imag();
+    }
+  } else if (piece.kind == ForcingPiece::Kind::linear) {
     // a_g = a₀ + a₁ s with s = t − t₀ (the piece may have started earlier).
     const double a0 = piece.at(t0), a1 = piece.slope;
     beta_ = -a1 * phase.ground_response();
@@ -125,6 +181,10 @@ void ExactTrajectory::evaluate(double s, Eigen::VectorXd& x, Eigen::VectorXd& x_
   const ExactPhase& ph = *phase_;
   x = xc_ + s * beta_;
   x_rate = beta_;
+  if (ph.singular()) {
+    x += (s * s) * quadratic_ + (s * s * s) * cubic_;
+    x_rate += (2 * s) * quadratic_ + (3 * s * s) * cubic_;
+  }
   if (piece_.kind == ForcingPiece::Kind::harmonic) {
     const Complex phase_factor = std::exp(Complex(0.0, piece_.omega * (t0_ + s)));
     const double sine = phase_factor.imag(), cosine = phase_factor.real(), w = piece_.omega;

@@ -62,27 +62,29 @@ Eigen::MatrixXd ExactStepper::guard_rows(const Loop& loop, const ExactPhase& exa
   const Eigen::Index n = exact.groups();
   const auto group = loop.phase().group_of();
   const auto g = [&](int dof) { return static_cast<Eigen::Index>(group[static_cast<std::size_t>(dof)]); };
-  Eigen::MatrixXd rows = Eigen::MatrixXd::Zero(2 * loop.system().gap_count(), 2 * n);
+  Eigen::MatrixXd rows = Eigen::MatrixXd::Zero(2 * loop.system().tracked_count(), 2 * n);
   // Stop reactions: λ_out = f_L + λ_in along each chain, f_L = f_S − m(a_g + ü) − C u̇ − K u;
   // the ground acceleration cancels between m a_g and m ü.
   std::vector<Eigen::RowVectorXd> link_in(static_cast<std::size_t>(loop.system().layout().size()));
   const LinearPhase::SparseMatrix& c = loop.phase().full_damping();
   const LinearPhase::SparseMatrix& k = loop.phase().full_stiffness();
   for (std::size_t p = 0; p < loop.contact().config.size(); ++p) {
-    const Link& link = loop.system().contact_links()[p];
-    const int l = link.a, r = link.b;
+    const Link& link = loop.system().tracked_links()[p];
+    const int l = link.a, r = link.b;  // r = −1: a first storey's ground
     for (int i = 0; i < 2; ++i) {
       const Eigen::Index j = 2 * static_cast<Eigen::Index>(p) + i;
-      const GuardForm form = with_contact_law<GuardForm>(
-          link, [&](const auto& law) { return law.guard_form(i, loop.contact().config[p], loop.system().rules().separation); });
+      const GuardForm form = with_event_law<GuardForm>(
+          link,
+          [&](const auto& law) { return law.guard_form(i, loop.contact().config[p], loop.system().rules().separation); },
+          [] { return GuardForm{}; });
       switch (form.kind) {
         case GuardForm::Kind::inactive: break;
         case GuardForm::Kind::affine:
           rows(j, g(l)) += form.d_coefficient;
-          rows(j, g(r)) -= form.d_coefficient;
+          if (r >= 0) rows(j, g(r)) -= form.d_coefficient;
           if (form.rate_coefficient != 0.0) {
             rows(j, n + g(l)) += form.rate_coefficient;
-            rows(j, n + g(r)) -= form.rate_coefficient;
+            if (r >= 0) rows(j, n + g(r)) -= form.rate_coefficient;
           }
           break;
         case GuardForm::Kind::reaction: {
@@ -127,10 +129,13 @@ void ExactStepper::start_segment(Loop& loop) {
   segment_powers_ = it->second.powers.get();
   if (segment_powers_ != nullptr) segment_powers_->start(trajectory_);
   for (std::size_t p = 0; p < loop.contact().config.size(); ++p) {
-    const Link& link = loop.system().contact_links()[p];
-    const Relaxation relaxation = with_contact_law<Relaxation>(link, [&](const auto& law) {
-      return law.relaxation(loop.contact().config[p], loop.contact().states.at(law, link.slot), loop.state().t);
-    });
+    const Link& link = loop.system().tracked_links()[p];
+    const Relaxation relaxation = with_event_law<Relaxation>(
+        link,
+        [&](const auto& law) {
+          return law.relaxation(loop.contact().config[p], loop.contact().states.at(law, link.slot), loop.state().t);
+        },
+        [] { return Relaxation{}; });
     memory_amplitude_[2 * p] = relaxation.amplitude;
     memory_rate_[2 * p] = relaxation.rate;
   }
@@ -183,9 +188,9 @@ EnergyMeter::Powers ExactStepper::quadrature_powers(const Loop& loop, double a, 
   return integral;
 }
 
-ExactStepper::ExactStepper(int dofs, int gap_elements) {
-  memory_amplitude_.assign(2 * static_cast<std::size_t>(gap_elements), 0.0);
-  memory_rate_.assign(2 * static_cast<std::size_t>(gap_elements), 0.0);
+ExactStepper::ExactStepper(int dofs, int tracked_links) {
+  memory_amplitude_.assign(2 * static_cast<std::size_t>(tracked_links), 0.0);
+  memory_rate_.assign(2 * static_cast<std::size_t>(tracked_links), 0.0);
   node_.resize(dofs);
   upper_.resize(dofs);
 }

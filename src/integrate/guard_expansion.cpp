@@ -43,6 +43,13 @@ void GuardExpansion::build(const ExactTrajectory& trajectory, const Eigen::Matri
     constant_(j) += std::isfinite(start) ? start - rows.row(j).dot(x0) : 0.0;
   }
   slope_ = rows * trajectory.linear_part();
+  if (phase.singular()) {
+    quadratic_ = rows * trajectory.quadratic_part();
+    cubic_ = rows * trajectory.cubic_part();
+  } else {
+    quadratic_.resize(0);
+    cubic_.resize(0);
+  }
   harmonic_ = rows.cast<Complex>() * trajectory.harmonic_part();
   if (phase.modal()) {
     modal_ = (rows.cast<Complex>() * phase.modes()) * trajectory.modal_coefficients().asDiagonal();
@@ -93,6 +100,10 @@ std::pair<double, double> GuardExpansion::compute(int j, double s) const {
   const double decay = std::exp(-memory_rate_(j) * s);
   double g = constant_(j) + slope_(j) * s - memory_(j) * decay;
   double d = slope_(j) + memory_(j) * memory_rate_(j) * decay;
+  if (quadratic_.size() > 0) {
+    g += s * s * (quadratic_(j) + s * cubic_(j));
+    d += s * (2 * quadratic_(j) + 3 * s * cubic_(j));
+  }
   if (tr.omega() != 0.0) {
     const Complex rotation = std::exp(Complex(0.0, tr.omega() * (tr.start_time() + s)));
     g += (harmonic_(j) * rotation).imag();
@@ -121,6 +132,13 @@ std::pair<double, double> GuardExpansion::compute(int j, double s) const {
 double GuardExpansion::derivative_bound(int j, int order, double a, double b) const {
   const ExactTrajectory& tr = *trajectory_;
   double bound = order == 1 ? std::abs(slope_(j)) : 0.0;
+  if (quadratic_.size() > 0) {
+    // |d^p/ds^p (Q s² + P s³)| on [a, b] (s ≥ 0).
+    const double q = std::abs(quadratic_(j)), p = std::abs(cubic_(j));
+    if (order == 1) bound += 2 * q * b + 3 * p * b * b;
+    if (order == 2) bound += 2 * q + 6 * p * b;
+    if (order == 3) bound += 6 * p;
+  }
   bound += std::abs(harmonic_(j)) * power(tr.omega(), order);
   bound += std::abs(memory_(j)) * power(memory_rate_(j), order) * std::exp(-memory_rate_(j) * a);
   if (tr.phase().modal()) {

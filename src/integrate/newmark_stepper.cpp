@@ -29,8 +29,8 @@ class NewmarkStepper::TrialEvaluator final : public GuardEvaluator {
   Loop& loop_;
 };
 
-NewmarkStepper::NewmarkStepper(int dofs, int gap_elements)
-    : newmark_(dofs), smooth_(static_cast<std::size_t>(gap_elements)) {
+NewmarkStepper::NewmarkStepper(int dofs, int tracked_links)
+    : newmark_(dofs), smooth_(static_cast<std::size_t>(tracked_links)) {
   trial_.resize(dofs);
   upper_.resize(dofs);
 }
@@ -64,7 +64,7 @@ void NewmarkStepper::trial_step(Loop& loop, double tau, bool nominal, KinematicS
   ++counts.newton_steps;
   counts.newton_iterations += outcome.iterations;
   if (!outcome.converged) {
-    const Link& link = loop.system().contact_links()[static_cast<std::size_t>(outcome.worst_element)];
+    const Link& link = loop.system().tracked_links()[static_cast<std::size_t>(outcome.worst_element)];
     throw SimulationError(
         fmt::format("Newton's iterations did not converge within {} iterations in the step from t = {} s to {} s; "
                     "the force of {} changed most in the last one. A smaller dt, or a larger "

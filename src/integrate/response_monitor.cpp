@@ -96,6 +96,8 @@ void ResponseMonitor::observe_event(std::size_t p, EventKind kind, double closin
       gr.impulse.update(impulse, t);
       break;
     case EventKind::unlock: ++gr.unlocks; break;
+    case EventKind::yield:
+    case EventKind::unload: break;  // a storey's (observe_storey_event)
   }
 }
 
@@ -129,10 +131,10 @@ void ResponseMonitor::observe_step(const KinematicState& a, const KinematicState
   }
   for (std::size_t f = 0; f < first_storey_.size(); ++f) {
     const int d = layout_.dof(static_cast<int>(f), 0);
-    const double k = first_storey_[f].stiffness, c = first_storey_[f].damping;
-    refine(stats_.base_shear[f], k * a.u(d), k * a.v(d), k * b.u(d), k * b.v(d));
-    refine(stats_.storey_shear[f], k * a.u(d) + c * a.v(d), k * a.v(d) + c * a.a(d), k * b.u(d) + c * b.v(d),
-           k * b.v(d) + c * b.a(d));
+    const double k = first_storey_[f].stiffness, c = first_storey_[f].damping, f0 = first_storey_[f].force_at_zero;
+    refine(stats_.base_shear[f], k * a.u(d) + f0, k * a.v(d), k * b.u(d) + f0, k * b.v(d));
+    refine(stats_.storey_shear[f], k * a.u(d) + c * a.v(d) + f0, k * a.v(d) + c * a.a(d),
+           k * b.u(d) + c * b.v(d) + f0, k * b.v(d) + c * b.a(d));
   }
 }
 
@@ -169,14 +171,14 @@ void ResponseMonitor::observe_step(const KinematicState& from, const KinematicSt
     if (va * vb < 0) {
       extremum([i](const KinematicState& x) { return x.v(i); }, a, b, va);
       fr.displacement.update(node_.u(i), node_.t);
-      if (first) stats_.base_shear[f].update(first_storey_[f].stiffness * node_.u(i), node_.t);
+      if (first) stats_.base_shear[f].update(base_shear(node_, static_cast<int>(f)), node_.t);
     }
     if (first) {
       const double k = first_storey_[f].stiffness, c = first_storey_[f].damping;
       const double sa = k * va + c * from.a(i), sb = k * vb + c * to.a(i);
       if (sa * sb < 0) {
         extremum([i, k, c](const KinematicState& x) { return k * x.v(i) + c * x.a(i); }, a, b, sa);
-        stats_.storey_shear[f].update(k * node_.u(i) + c * node_.v(i), node_.t);
+        stats_.storey_shear[f].update(storey_shear(node_, static_cast<int>(f)), node_.t);
       }
     }
     const int below = layout_.below(i);

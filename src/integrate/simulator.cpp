@@ -26,7 +26,7 @@ namespace {
 std::vector<LinearForm> first_storey_forms(const Model& model, const DofLayout& layout) {
   std::vector<LinearForm> forms(static_cast<std::size_t>(model.frame_count()));
   for (const Link& link : make_links(model, layout)) {
-    if (link.element < 0 && link.b < 0) {
+    if (link.b < 0) {  // a first storey (a yielding one's is set with each phase, Loop::activate_phase)
       forms[static_cast<std::size_t>(layout.frame_of(link.a))] = link.linear_form(0).value_or(LinearForm{});
     }
   }
@@ -50,6 +50,8 @@ std::string_view to_string(EventKind kind) {
     case EventKind::impact: return "impact";
     case EventKind::lock: return "lock";
     case EventKind::unlock: return "unlock";
+    case EventKind::yield: return "yield";
+    case EventKind::unload: return "unload";
   }
   return "?";
 }
@@ -102,7 +104,7 @@ Loop::Loop(PoundingSystem system, const TimeHistoryOptions& options)
       events_(std::make_unique<Events>(*this)) {
   state_.resize(system_.layout().size());
   for (auto* g : {&guards_.lo, &guards_.hi, &guards_.work, &guards_.rate_lo, &guards_.rate_hi, &guards_.rate_work}) {
-    g->assign(2 * static_cast<std::size_t>(system_.gap_count()), 0.0);
+    g->assign(2 * static_cast<std::size_t>(system_.tracked_count()), 0.0);
   }
 }
 
@@ -116,7 +118,7 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
   const Model& model_ = system_.model();
   const DofLayout& layout_ = system_.layout();
   const int n = layout_.size();
-  const int gaps = model_.gap_count();
+  const int tracked = system_.tracked_count();
 
   const auto load = [&](const std::vector<std::vector<double>>& values, Eigen::VectorXd& out,
                         const char* what) {
@@ -147,9 +149,9 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
     throw std::invalid_argument(support.reason);
   }
   if (options_.integrator == Integrator::exact) {
-    stepper_ = std::make_unique<detail::ExactStepper>(n, gaps);
+    stepper_ = std::make_unique<detail::ExactStepper>(n, tracked);
   } else {
-    stepper_ = std::make_unique<detail::NewmarkStepper>(n, gaps);
+    stepper_ = std::make_unique<detail::NewmarkStepper>(n, tracked);
   }
   contact_ = system_.initial_contact(state_);
   settle_state();
@@ -226,7 +228,15 @@ LinearPhase& Loop::activate_phase() {
     it = phases_.emplace(contact_.config, std::move(phase)).first;
   }
   phase_ = it->second.get();
+  if (phase_->has_state_loads()) phase_->set_law_states(contact_.states);
   if (!phase_->is_unreduced()) phase_->set_link_lengths(contact_.link_length);
+  // A yielding first storey's form changes with its mode and plastic drift: the base shear's.
+  for (const Link& link : system_.tracked_links().subspan(static_cast<std::size_t>(system_.gap_count()))) {
+    if (link.b < 0) {
+      monitor_.set_first_storey(system_.layout().frame_of(link.a),
+                                system_.linear_form(link, contact_).value_or(LinearForm{}));
+    }
+  }
   return *phase_;
 }
 
@@ -290,7 +300,7 @@ void Loop::accept(KinematicState& next) {
 
 void Loop::after_accept(KinematicState& next) {
   const double h = next.t - state_.t;
-  for (std::size_t p = 0; p < contact_.config.size(); ++p) {
+  for (std::size_t p = 0; p < static_cast<std::size_t>(system_.gap_count()); ++p) {
     if (contact_.transmits[p] != 0) monitor_.observe_in_contact(p, h);
     if (contact_.rigid[p] != 0) monitor_.observe_locked(p, h);
   }
@@ -335,7 +345,8 @@ void Loop::check_finite() const {
         std::pair{"the gap-element strain energy", b.gap_strain},
         std::pair{"the energy dissipated by the storey dashpots", b.storey_damping},
         std::pair{"the energy dissipated by the gap elements", b.gap_damping},
-        std::pair{"the energy lost in impacts", b.impact_loss}}) {
+        std::pair{"the energy lost in impacts", b.impact_loss},
+        std::pair{"the hysteretic energy of the storeys", b.storey_hysteretic}}) {
     if (!std::isfinite(value)) fail(fmt::format("{} ({} J)", name, value));
   }
 }
@@ -355,7 +366,16 @@ void Loop::record_statistics() {
 void Loop::emit(int gap, EventKind kind, double left_before, double right_before,
                      double impulse) {
   const auto p = static_cast<std::size_t>(gap);
-  const Link& link = system_.contact_links()[p];
+  const Link& link = system_.tracked_links()[p];
+  if (gap >= system_.gap_count()) {  // a storey yields or unloads
+    if (++events_this_step_ > options_.max_events_per_step) {
+      throw SimulationError(fmt::format("more than {} events within one step at t = {} s ({})",
+                                        options_.max_events_per_step, state_.t, describe(link, system_.layout())),
+                            StopReason::event_limit);
+    }
+    monitor_.observe_storey_event(link.a, kind);
+    return;
+  }
   const double left_after = state_.v(link.a);
   const double right_after = state_.v(link.b);
   const double before = left_before - right_before, after = left_after - right_after;

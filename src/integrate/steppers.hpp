@@ -36,7 +36,7 @@ class Stepper {
 /// the step), the first event is located on Newmark sub-steps to event_tolerance.
 class NewmarkStepper final : public Stepper {
  public:
-  NewmarkStepper(int dofs, int gap_elements);
+  NewmarkStepper(int dofs, int tracked_links);
   void integrate_to(Loop& loop, double t_end, bool nominal) override;
 
  private:
@@ -55,7 +55,7 @@ class NewmarkStepper final : public Stepper {
 /// proven first roots of the guards' exact expansions (guard_expansion.hpp).
 class ExactStepper final : public Stepper {
  public:
-  ExactStepper(int dofs, int gap_elements);
+  ExactStepper(int dofs, int tracked_links);
   void integrate_to(Loop& loop, double t_end, bool nominal) override;
   void phase_changed() override { segment_valid_ = false; }
   void phases_cleared() override {

@@ -87,6 +87,7 @@ std::string describe(const Link& link, const DofLayout& layout) {
 std::vector<Link> make_links(const Model& model, const DofLayout& layout) {
   std::vector<Link> links;
   links.reserve(static_cast<std::size_t>(layout.size() + model.gap_count()));
+  int tracked_storeys = 0;
   for (int i = 0; i < layout.size(); ++i) {
     const Frame& frame = model.frames[layout.frame_of(i)];
     const int floor = layout.floor_of(i);
@@ -100,6 +101,10 @@ std::vector<Link> make_links(const Model& model, const DofLayout& layout) {
                                           law.values.empty() ? typename L::Parameters{} : law.values[f]);
                          },
                          frame.storey_law)});
+    // A storey whose law has modes (or a smooth force) is tracked after the gap elements.
+    if (std::visit([](const auto& law) { return TrackedLaw<std::decay_t<decltype(law)>>; }, links.back().law)) {
+      links.back().element = model.gap_count() + tracked_storeys++;
+    }
   }
   const auto mass = [&](int dof) {
     return model.frames[static_cast<std::size_t>(layout.frame_of(dof))].mass[static_cast<std::size_t>(layout.floor_of(dof))];

@@ -2,13 +2,14 @@
 /// @file
 /// Energy bookkeeping in the relative (floor-to-ground) formulation.
 ///
-///     E₀ + E_input = T + U_storey + U_gap + D_storey + D_gap + E_impact
+///     E₀ + E_input = T + U_storey + U_gap + D_storey + D_gap + E_impact + H_storey
 ///
 /// E₀ is the mechanical energy of the initial conditions, E_input = −∫ a_g 1ᵀM u̇ dt the work of
 /// the ground motion, T = ½ u̇ᵀM u̇, U the strain energy of the storeys (½ K Δu²) and of the
 /// gap-element springs (½ k s², or ½ k s_e² for an element relaxing after a force separation),
-/// D the energy dissipated by the storey and gap-element dashpots, and E_impact the kinetic
-/// energy lost in impacts and in locking.
+/// D the energy dissipated by the storey and gap-element dashpots, E_impact the kinetic
+/// energy lost in impacts and in locking, and H_storey the hysteretic energy of yielding storeys
+/// (their plastic work, law by law: bilinear_storey.hpp).
 ///
 /// The integrals use the trapezoidal rule on each Newmark step: Newmark's average-acceleration
 /// scheme satisfies this balance exactly for a linear phase, so the residual measures round-off
@@ -34,10 +35,11 @@ struct EnergyBalance {
   double storey_damping = 0.0;  ///< D_storey
   double gap_damping = 0.0;     ///< D_gap
   double impact_loss = 0.0;     ///< E_impact
+  double storey_hysteretic = 0.0;  ///< H_storey
 
   [[nodiscard]] double supplied() const { return initial + input; }
   [[nodiscard]] double accounted() const {
-    return kinetic + storey_strain + gap_strain + storey_damping + gap_damping + impact_loss;
+    return kinetic + storey_strain + gap_strain + storey_damping + gap_damping + impact_loss + storey_hysteretic;
   }
   /// E₀ + E_input − (everything accounted for) [J].
   [[nodiscard]] double residual() const { return supplied() - accounted(); }
@@ -106,6 +108,9 @@ class EnergyMeter {
     if (!per_element_) return std::nullopt;
     return std::span<const double>(element_dissipation_);
   }
+  /// The hysteretic energy of each storey since start() [J], by the DOF of the floor above it
+  /// (0 for a storey whose law does not yield); they sum to the balance's storey_hysteretic.
+  [[nodiscard]] std::span<const double> storey_hysteretic() const { return storey_hysteretic_; }
   /// |residual| / scale, with the scale the largest energy (either side of the balance) so far.
   [[nodiscard]] double relative_residual() const;
   /// The largest |residual| over the run so far, relative to the same scale.
@@ -118,6 +123,9 @@ class EnergyMeter {
                      const LinkStates& states);
   void add_relaxation(const KinematicState& x0, const KinematicState& x1,
                       const ContactConfiguration& config, const LinkStates& states);
+  /// The plastic work of the yielding laws from x0 to x1 in one mode (exact from the ends).
+  void add_plastic_work(const KinematicState& x0, const KinematicState& x1,
+                        const ContactConfiguration& config, const LinkStates& states);
   void finish_step(const KinematicState& x1, const ContactConfiguration& config,
                    const LinkStates& states);
 
@@ -136,6 +144,8 @@ class EnergyMeter {
   Eigen::VectorXd mass_;
   EnergyBalance balance_;
   std::vector<double> element_dissipation_;  ///< by gap element [J]
+  std::vector<double> storey_hysteretic_;    ///< by storey (the DOF above it) [J]
+  bool has_plastic_work_ = false;            ///< some storey's law yields
   bool per_element_ = true;
   double scale_ = 0.0;
   double max_residual_ = 0.0;  ///< [J]

@@ -1,6 +1,7 @@
 #pragma once
 /// @file
-/// Events of a time history: changes of a gap element's phase and impacts.
+/// Events of a time history: changes of a gap element's phase and impacts, and a storey's
+/// yielding and unloading.
 
 #include <cstdint>
 #include <string_view>
@@ -13,6 +14,8 @@ enum class EventKind : std::uint8_t {
   impact,      ///< The stop was reached (s = ε, closing): velocities jump by the restitution law.
   lock,        ///< Chattering impacts were replaced by a persistent contact at s = ε.
   unlock,      ///< The stop reaction of a locked element turned tensile: it lets go.
+  yield,       ///< A storey began to yield (its drift past the yield drift from its plastic drift).
+  unload,      ///< A yielding storey turned back: elastic again about a new plastic drift.
 };
 
 [[nodiscard]] std::string_view to_string(EventKind kind);

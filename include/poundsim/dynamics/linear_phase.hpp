@@ -77,6 +77,13 @@ class LinearPhase {
   /// offsets o and the constant load b_r. Construction uses ℓ = δ + ε. Allocation-free.
   void set_link_lengths(std::span<const double> length);
 
+  /// Whether a link's force at zero in this configuration depends on its law's State (a yielding
+  /// storey's plastic drift, StateLoadedLaw): then set_law_states must follow every change of it.
+  [[nodiscard]] bool has_state_loads() const { return !state_loaded_.empty(); }
+  /// Sets the part of the constant load that the laws' States set (−f₀ on floor a, +f₀ on b).
+  /// Allocation-free.
+  void set_law_states(const LinkStates& states);
+
   // Both take views, so that parts of work buffers can be passed without copies; sizes must
   // match (reduced_size() and the layout's size). Allocation-free.
 
@@ -147,6 +154,13 @@ class LinearPhase {
   Eigen::VectorXd mass_full_;
   SparseMatrix damping_full_, stiffness_full_;
   Eigen::VectorXd load_full_;
+  Eigen::VectorXd load_of_forms_;  ///< load_full_ without the laws' State parts
+  /// The links whose f₀ depends on their State, with their modes here.
+  struct StateLoadedLink {
+    Link link;
+    LinkMode mode;
+  };
+  std::vector<StateLoadedLink> state_loaded_;
 
   Eigen::VectorXd mass_;
   SparseMatrix damping_, stiffness_;

@@ -21,6 +21,7 @@
 /// reports each event; the loop that owns the phases and the monitors provides both as an
 /// EventHandler.
 
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -38,6 +39,10 @@ namespace detail {
 /// The two floors of a typed link at `x` (both floors: contact links join two).
 template <class L>
 LinkKinematics kinematics(const KinematicState& x, const TypedLink<L>& link) {
+  if constexpr (!ContactLaw<L>) {
+    // A storey's floor b is the ground (−1) for a first storey.
+    if (link.b < 0) return {.ua = x.u(link.a), .va = x.v(link.a), .aa = x.a(link.a), .t = x.t};
+  }
   return {.ua = x.u(link.a), .ub = x.u(link.b), .va = x.v(link.a), .vb = x.v(link.b),
           .aa = x.a(link.a), .ab = x.a(link.b), .t = x.t};
 }
@@ -54,9 +59,11 @@ struct EventRules {
   double rest_velocity_ratio = 1e-4;
 };
 
-/// What changes at events, per gap element (Model::gaps order), and what is derived from it.
+/// What changes at events, per tracked link (the gap elements in Model::gaps order, then the
+/// storeys whose laws have modes: Link::element), and what is derived from it. The impact
+/// quantities (bias, link_length, stop reactions) are the gap elements'; a storey's stay 0.
 struct ContactState {
-  ContactConfiguration config;     ///< The mode of each element's law: the phase's key.
+  ContactConfiguration config;     ///< The mode of each tracked link's law: the phase's key.
   LinkStates states;               ///< What each link's law keeps between events (its State).
   std::vector<double> bias;        ///< Hysteresis of each element's approach guard [m].
   std::vector<double> link_length; ///< u_L − u_R of each locked element when it locked [m].
@@ -80,8 +87,9 @@ class EventHandler {
   /// The configuration of `contact` changed: makes its phase current — factorised, with the
   /// lengths of its locked links — and returns it. The system then refreshes the derived flags.
   virtual LinearPhase& activate(const ContactState& contact) = 0;
-  /// An event at x.t; the velocities after it are those of `x`. The floors' velocities before
-  /// and the impulse of an impact or lock [N·s].
+  /// An event of tracked link `gap` (Link::element: a gap element below gap_count(), a yielding
+  /// storey above) at x.t; the velocities after it are those of `x`. The floors' velocities
+  /// before and the impulse of an impact or lock [N·s].
   virtual void on_event(const KinematicState& x, int gap, EventKind kind, double left_before,
                         double right_before, double impulse) = 0;
   /// Impacts and locks at one instant dissipated `loss` [J] of kinetic energy.
@@ -100,10 +108,21 @@ class PoundingSystem {
   /// Every link, storeys first (make_links).
   [[nodiscard]] const std::vector<Link>& links() const { return links_; }
   /// The links of the gap elements, in Model::gaps order.
-  [[nodiscard]] std::span<const Link> contact_links() const { return contact_links_; }
-  [[nodiscard]] int gap_count() const { return static_cast<int>(contact_links_.size()); }
-  /// The same links by law, for loops that run at every step (no dispatch per link).
+  [[nodiscard]] std::span<const Link> contact_links() const {
+    return std::span<const Link>(tracked_links_).first(static_cast<std::size_t>(gaps_));
+  }
+  [[nodiscard]] int gap_count() const { return gaps_; }
+  /// The links the contact configuration tracks, by Link::element: the gap elements, then the
+  /// storeys whose laws have modes or smooth forces (yielding storeys).
+  [[nodiscard]] std::span<const Link> tracked_links() const { return tracked_links_; }
+  [[nodiscard]] int tracked_count() const { return static_cast<int>(tracked_links_.size()); }
+  /// The gap elements' links by law, for loops that run at every step (no dispatch per link).
   [[nodiscard]] const LinkTable& contact_table() const { return contact_table_; }
+  /// Every tracked link by law.
+  [[nodiscard]] const LinkTable& tracked_table() const { return tracked_table_; }
+  /// The linear form of a tracked storey or gap element's law in its current mode, with the
+  /// force its State sets (a plastic drift) in f₀; nothing when it transmits no linear force.
+  [[nodiscard]] std::optional<LinearForm> linear_form(const Link& link, const ContactState& c) const;
 
   /// Another ground motion (a frequency sweep's next point), in place: the one change a system
   /// takes, between runs; references to its model and links stay valid.
@@ -120,7 +139,8 @@ class PoundingSystem {
   /// Refreshes the derived flags of every element from its mode (after activate()).
   void refresh_flags(ContactState& c) const;
 
-  /// The two guards of each element at x (2p: approach or stop, 2p + 1: separation or unlock),
+  /// The two guards of each tracked link at x (2p: approach or stop, or yield up; 2p + 1:
+  /// separation or unlock, or yield down; a yielding storey's unload is 2p),
   /// minus their round-off levels (−∞ when inactive), and their rates; computes the stop
   /// reactions of the locked elements into c first.
   void evaluate_guards(const KinematicState& x, const LinearPhase& phase, ContactState& c,
@@ -173,8 +193,10 @@ class PoundingSystem {
   Excitation excitation_;
   EventRules rules_;
   std::vector<Link> links_;
-  std::vector<Link> contact_links_;
+  int gaps_ = 0;
+  std::vector<Link> tracked_links_;  ///< By Link::element: the gap elements first.
   LinkTable contact_table_;  ///< The contact links by law, for the loops of every step.
+  LinkTable tracked_table_;
   Eigen::VectorXd mass_;     ///< Floor masses in DOF order [kg].
 };
 

@@ -23,13 +23,27 @@
 /// homogeneous part uses the matrix exponential e^{As}(x(t₀) − x_p(0)) instead; it costs O(n³)
 /// per evaluation rather than O(n²). A forcing at an undamped natural frequency has no bounded
 /// particular solution and is rejected.
+///
+/// A is singular when the phase has a rigid-body mode: a floor or a frame held by no stiffness,
+/// as a storey that yields with no post-yield stiffness (an elastic–perfectly-plastic storey).
+/// A⁻¹ does not exist and the constant and linear forcing then drive a polynomial of degree up
+/// to 3 (a constant force on a free mass moves it as s²/2; a linear one as s³/6): the particular
+/// solution is x_p(s) = p₀ + p₁s + p₂s² + p₃s³ (+ the harmonic part), with
+///
+///     A p₀ − p₁ = −c₀,   A p₁ − 2p₂ = −c₁,   A p₂ − 3p₃ = 0,   A p₃ = 0
+///
+/// for the forcing c₀ + c₁s, solved once per phase by a complete orthogonal decomposition of that
+/// block system (singular() phases use the matrix exponential: their zero eigenvalue is
+/// defective or its energy integrals would need the polynomial).
 
+#include <array>
 #include <complex>
 #include <limits>
 #include <memory>
 
 #include <Eigen/Core>
 #include <Eigen/LU>
+#include <Eigen/QR>
 
 #include "poundsim/model/excitation.hpp"
 #include "poundsim/dynamics/linear_phase.hpp"
@@ -50,8 +64,14 @@ class ExactPhase {
   [[nodiscard]] const Eigen::MatrixXcd& modes() const { return v_; }
   /// V⁻¹ r (through the balanced modes V̂ = D⁻¹V, see the constructor).
   [[nodiscard]] Eigen::VectorXcd modal_coordinates(const Eigen::VectorXd& r) const;
-  /// A⁻¹ r.
+  /// A⁻¹ r (not singular()).
   [[nodiscard]] Eigen::VectorXd solve(const Eigen::VectorXd& r) const { return a_lu_.solve(r); }
+  /// A has no inverse (a rigid-body mode): the particular solution is a polynomial.
+  [[nodiscard]] bool singular() const { return singular_; }
+  /// p₀ … p₃ of the polynomial particular solution of ẋ = A x + c₀ + c₁ s (see the file
+  /// comment). Throws SimulationError when the block system has no solution.
+  void polynomial_particular(const Eigen::VectorXd& c0, const Eigen::VectorXd& c1,
+                             std::array<Eigen::VectorXd, 4>& p) const;
   /// A⁻¹ e.
   [[nodiscard]] const Eigen::VectorXd& ground_response() const { return a_inv_e_; }
   /// h with (iωI − A) h = e. Throws SimulationError at an undamped natural frequency.
@@ -74,6 +94,9 @@ class ExactPhase {
   Eigen::MatrixXd a_;
   Eigen::PartialPivLU<Eigen::MatrixXd> a_lu_;
   Eigen::VectorXd a_inv_e_;
+  bool singular_ = false;
+  /// Of the block system of polynomial_particular, made on first use.
+  mutable std::unique_ptr<Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>> polynomial_;
   bool modal_ = false;
   Eigen::VectorXcd lambda_;
   Eigen::VectorXd scale_;  ///< D of the balanced decomposition: 1 for q, ω_i for q̇_i.
@@ -100,9 +123,12 @@ class ExactTrajectory {
   /// x(t₀+s) and ẋ(t₀+s).
   void evaluate(double s, Eigen::VectorXd& x, Eigen::VectorXd& x_rate) const;
 
-  // The parts of x(s) = x_c + β s + Im(p e^{iω̄(t₀+s)}) + homogeneous(s), for guard expansions.
+  // The parts of x(s) = x_c + β s + p₂s² + p₃s³ + Im(p e^{iω̄(t₀+s)}) + homogeneous(s), for guard
+  // expansions (p₂ = p₃ = 0 unless the phase is singular()).
   [[nodiscard]] const Eigen::VectorXd& constant_part() const { return xc_; }
   [[nodiscard]] const Eigen::VectorXd& linear_part() const { return beta_; }
+  [[nodiscard]] const Eigen::VectorXd& quadratic_part() const { return quadratic_; }
+  [[nodiscard]] const Eigen::VectorXd& cubic_part() const { return cubic_; }
   [[nodiscard]] const Eigen::VectorXcd& harmonic_part() const { return harmonic_; }
   [[nodiscard]] double omega() const { return piece_.kind == ForcingPiece::Kind::harmonic ? piece_.omega : 0.0; }
   /// Modal coordinates c (modal path).
@@ -114,7 +140,8 @@ class ExactTrajectory {
   const ExactPhase* phase_ = nullptr;
   double t0_ = 0.0;
   ForcingPiece piece_;
-  Eigen::VectorXd xc_, beta_, r0_;
+  Eigen::VectorXd xc_, beta_, quadratic_, cubic_, r0_;
+  std::array<Eigen::VectorXd, 4> polynomial_work_;
   Eigen::VectorXcd harmonic_, c_;
   mutable Eigen::VectorXcd work_, product_;
 };

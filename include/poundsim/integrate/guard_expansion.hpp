@@ -9,6 +9,8 @@
 ///
 ///     g_j(s) = K_j + L_j s + Im(H_j e^{iω̄(t₀+s)}) + Re Σ_k γ_jk e^{λ_k s} − m_j e^{−ν_j s}
 ///
+/// (plus Q_j s² + P_j s³ on a phase with a rigid-body mode, exact_phase.hpp)
+///
 /// whose values, rates and derivative bounds are exact and cheap. first_crossing() searches an
 /// interval by subdivision: on [a, b] the cubic Hermite model p of a guard from its values and
 /// rates at both ends differs from the guard by at most max|g⁗|·(b−a)⁴/384, so
@@ -50,6 +52,8 @@ class GuardExpansion {
   const ExactTrajectory* trajectory_ = nullptr;
   std::vector<bool> active_;
   Eigen::VectorXd constant_, slope_, memory_, memory_rate_, start_;
+  /// R p₂ and R p₃ of a singular phase's polynomial (empty otherwise).
+  Eigen::VectorXd quadratic_, cubic_;
   Eigen::VectorXcd harmonic_;
   Eigen::MatrixXcd modal_;            // γ (modal path)
   Eigen::MatrixXd rows_;              // R (matrix-exponential path)

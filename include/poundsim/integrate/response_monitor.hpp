@@ -41,6 +41,7 @@ struct FloorResponse {
   Peak acceleration;           ///< |ü| relative [m/s²]
   Peak absolute_acceleration;  ///< |ü + a_g| [m/s²]
   Peak drift;                  ///< |u_i − u_{i−1}| [m]
+  std::int64_t yield_excursions = 0;  ///< Times the storey below began to yield (yielding laws).
 };
 
 struct GapResponse {
@@ -108,8 +109,8 @@ class DenseOutput {
 
 class ResponseMonitor {
  public:
-  /// `first_storey`: the linear form of each frame's first storey, whose spring force k u₁ is
-  /// the base shear and whose whole force k u₁ + c u̇₁ is the first-storey shear.
+  /// `first_storey`: the linear form of each frame's first storey, whose spring force k u₁ + f₀
+  /// is the base shear and whose whole force k u₁ + c u̇₁ + f₀ is the first-storey shear.
   ResponseMonitor(const Model& model, const DofLayout& layout, std::vector<LinearForm> first_storey);
 
   /// A first storey's drift is its floor's displacement: its peak is that peak (refined between
@@ -127,15 +128,23 @@ class ResponseMonitor {
   /// Forgets every peak and count.
   void reset();
 
-  /// V = k u₁ of frame f at x [N].
+  /// V = k u₁ + f₀ of frame f at x [N]: the first storey's spring force.
   [[nodiscard]] double base_shear(const KinematicState& x, int f) const {
-    return first_storey_[static_cast<std::size_t>(f)].stiffness * x.u(layout_.dof(f, 0));
+    const LinearForm& storey = first_storey_[static_cast<std::size_t>(f)];
+    return storey.stiffness * x.u(layout_.dof(f, 0)) + storey.force_at_zero;
   }
-  /// k u₁ + c u̇₁ of frame f at x [N].
+  /// k u₁ + c u̇₁ + f₀ of frame f at x [N].
   [[nodiscard]] double storey_shear(const KinematicState& x, int f) const {
     const int d = layout_.dof(f, 0);
     const LinearForm& storey = first_storey_[static_cast<std::size_t>(f)];
-    return storey.stiffness * x.u(d) + storey.damping * x.v(d);
+    return storey.stiffness * x.u(d) + storey.damping * x.v(d) + storey.force_at_zero;
+  }
+  /// The first storey of frame f now has the linear form `form` (a yielding storey changed its
+  /// mode or plastic drift).
+  void set_first_storey(int f, const LinearForm& form) { first_storey_[static_cast<std::size_t>(f)] = form; }
+  /// The storey below floor DOF `dof` yielded or unloaded.
+  void observe_storey_event(int dof, EventKind kind) {
+    if (kind == EventKind::yield) ++stats_.floors[static_cast<std::size_t>(dof)].yield_excursions;
   }
 
   /// The floors, shears and approaches at the accepted state x.

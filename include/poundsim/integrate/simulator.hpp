@@ -259,6 +259,8 @@ class Simulator : private detail::Loop {
   [[nodiscard]] double time() const { return state_.t; }
   using Loop::state;
   [[nodiscard]] const ContactConfiguration& configuration() const { return contact_.config; }
+  /// What each link's law keeps now (a storey's plastic drift, …), by law and slot.
+  [[nodiscard]] const LinkStates& law_states() const { return contact_.states; }
   /// The system integrated: frames, gap elements, excitation, event rules.
   using Loop::system;
   [[nodiscard]] const Model& model() const { return system_.model(); }

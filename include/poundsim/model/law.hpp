@@ -26,6 +26,7 @@
 #include <variant>
 #include <vector>
 
+#include "poundsim/model/laws/bilinear_storey.hpp"
 #include "poundsim/model/laws/hertz.hpp"
 #include "poundsim/model/laws/hertzdamp.hpp"
 #include "poundsim/model/laws/jankowski.hpp"
@@ -36,7 +37,7 @@
 namespace poundsim {
 
 /// The closed set of laws.
-using Law = std::variant<LinearStorey, PaperGap, KelvinVoigt, Hertz, Hertzdamp, Jankowski>;
+using Law = std::variant<LinearStorey, PaperGap, KelvinVoigt, Hertz, Hertzdamp, Jankowski, BilinearStorey>;
 
 /// A law whose force in some modes is a smooth function of the link's motion (not linear): it
 /// gives the force with its consistent tangent, which Newmark's Newton iterations solve.
@@ -45,6 +46,26 @@ concept SmoothLaw = requires(const L& law, const LinkKinematics& k, LinkMode mod
   { law.force_tangent(k, mode, state) } -> std::same_as<ForceTangent>;
   { L::carries_force(mode) } -> std::same_as<bool>;
 };
+
+/// A piecewise-linear law whose force at zero in a mode depends on its State (a plastic drift):
+/// the phase's constant load follows the State (LinearPhase::set_law_states).
+template <class L>
+concept StateLoadedLaw = requires(const L& law, LinkMode mode, const typename L::State& state) {
+  { law.state_force(mode, state) } -> std::same_as<double>;
+};
+
+/// A storey law that dissipates hysteretic energy: the plastic work between two states in one
+/// mode, exact from the ends (the energy meter's H_storey, dynamics/energy.hpp).
+template <class L>
+concept YieldingLaw = requires(const L& law, const LinkKinematics& k, LinkMode mode, const typename L::State& state) {
+  { law.plastic_work(k, k, mode, state) } -> std::same_as<double>;
+};
+
+/// A law whose links the system tracks (gives an index in the contact configuration): one with
+/// modes and events, or one whose force is smooth. Storeys with such a law are tracked after the
+/// gap elements.
+template <class L>
+concept TrackedLaw = EventLaw<L> || SmoothLaw<L>;
 
 namespace detail {
 /// std::variant<Wrap<L>...> of the laws L of the variant V for which Keep<L>::value, in V's order.
@@ -153,13 +174,16 @@ void for_each_storey_parameter(const StoreyLawParameters& law, F&& f) {
 [[nodiscard]] inline bool is_default(const GapLaw& law) { return law.index() == 0; }
 [[nodiscard]] inline bool is_default(const StoreyLawParameters& law) { return law.index() == 0; }
 
+class LinkStates;
+
 /// A link between two degrees of freedom (DofLayout numbering) carrying a law.
 struct Link {
   int a = 0;        ///< DOF of floor a.
   int b = -1;       ///< DOF of floor b, or −1 for the ground.
   Law law;
-  /// Which gap element of Model::gaps the link stands for, −1 for a storey: the system's
-  /// ContactState keeps each gap element's mode by this index.
+  /// The link's index in the contact configuration, where the system's ContactState keeps its
+  /// mode: gap element p of Model::gaps is p; a storey whose law is tracked (TrackedLaw: a
+  /// yielding storey) follows them, in DOF order; −1 for a storey with one mode and no events.
   int element = -1;
   /// Its index among the links of its law (make_links numbers them): LinkStates keeps its
   /// law's State by this index.
@@ -174,6 +198,8 @@ struct Link {
     return std::visit(
         [mode](const auto& l) -> std::optional<LinearForm> { return l.linear_form(mode); }, law);
   }
+  /// The part of f₀ the law's State sets in `mode` (StateLoadedLaw), 0 for other laws [N].
+  [[nodiscard]] double state_force(LinkMode mode, const LinkStates& states) const;
   /// Whether the link's force in `mode` is a smooth law's (SmoothLaw): solved by Newton.
   [[nodiscard]] bool smooth_in(LinkMode mode) const {
     return std::visit(
@@ -300,5 +326,17 @@ class LinkStates {
   };
   StatesOf<Law>::type states_;
 };
+
+inline double Link::state_force(LinkMode mode, const LinkStates& states) const {
+  return std::visit(
+      [&](const auto& l) {
+        if constexpr (StateLoadedLaw<std::decay_t<decltype(l)>>) {
+          return l.state_force(mode, states.at(l, slot));
+        } else {
+          return 0.0;
+        }
+      },
+      law);
+}
 
 }  // namespace poundsim

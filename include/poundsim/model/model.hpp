@@ -108,14 +108,16 @@ class DofLayout {
 /// Every storey and gap element of `model` as a link with its law: the storeys first, one per
 /// DOF in the layout's numbering (the storey below that floor, with its frame's storey law),
 /// then the gap elements in Model::gaps order (each with its GapLaw). Assembly and energy sums
-/// follow this order.
+/// follow this order. The links with modes (Link::element ≥ 0) are the gap elements, numbered
+/// as in Model::gaps, then the storeys whose law is tracked, numbered from gap_count() up in DOF
+/// order.
 std::vector<Link> make_links(const Model& model, const DofLayout& layout);
 
 /// The link as messages name it, from its floors and its law: "storey 2 of frame 1 (linear
 /// storey)", "the paper's gap element between frames 1 and 2 at floor 3". Frames and floors from 1.
 [[nodiscard]] std::string describe(const Link& link, const DofLayout& layout);
 
-/// The mode of `link` in the contact configuration `config` (storeys have one mode, 0).
+/// The mode of `link` in the contact configuration `config` (untracked storeys have one mode, 0).
 [[nodiscard]] inline LinkMode mode_of(const Link& link, const ContactConfiguration& config) {
   return link.element < 0 ? LinkMode{0} : config[static_cast<std::size_t>(link.element)];
 }

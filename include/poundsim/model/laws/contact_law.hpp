@@ -79,15 +79,21 @@ enum class Transition : std::uint8_t {
   separation,  ///< the mode changed to open (event "separation")
   unlock,      ///< a rigid link released (event "unlock")
   impact,      ///< the stop was reached: the system resolves the impact
+  yield,       ///< a storey began to yield (event "yield")
+  unload,      ///< a yielding storey turned back: elastic again, with a new plastic drift
 };
 
-/// The interface the simulator uses; PaperGap is the first model of it.
+/// A law with modes and events, storey or gap element: its initial mode, its two guards in each
+/// mode (witness functions that fire when they rise through zero), their affine forms for the
+/// exact integrator, and what each guard does to its mode and State. The system evaluates the
+/// guards of every such link and applies their events; a guard that has no meaning in a mode is
+/// inactive.
 template <class L>
-concept ContactLaw = LawState<typename L::State> &&
-                     requires(const L& law, const LinkKinematics& k, LinkMode mode,
-                              const typename L::State& state, const GuardContext& context,
-                              std::span<GuardValue, 2> out, LinkMode& mode_out,
-                              typename L::State& state_out) {
+concept EventLaw = LawState<typename L::State> &&
+                   requires(const L& law, const LinkKinematics& k, LinkMode mode,
+                            const typename L::State& state, const GuardContext& context,
+                            std::span<GuardValue, 2> out, LinkMode& mode_out,
+                            typename L::State& state_out) {
   { law.initial_mode(0.0) } -> std::same_as<LinkMode>;
   law.guards(k, mode, state, context, out);
   { law.guard_form(0, mode, SeparationCriterion::displacement) } -> std::same_as<GuardForm>;
@@ -95,6 +101,14 @@ concept ContactLaw = LawState<typename L::State> &&
   { law.on_guard(0, k, mode_out, state_out, SeparationCriterion::displacement) }
       -> std::same_as<Transition>;
   { law.force(k, mode, state) } -> std::same_as<double>;
+};
+
+/// The interface the simulator uses for gap elements: an EventLaw with a shortening, a stop and
+/// what a model file says of it. PaperGap is the first model of it.
+template <class L>
+concept ContactLaw = EventLaw<L> &&
+                     requires(const L& law, const LinkKinematics& k, LinkMode mode,
+                              const typename L::State& state) {
   { law.shortening(k) } -> std::same_as<double>;
   { law.stop_distance(k, mode, state) } -> std::same_as<double>;
   { law.stop_guard_is_active(mode) } -> std::same_as<bool>;

@@ -1,0 +1,224 @@
+// Inelastic storeys (docs/model.md#inelastic-storeys): the bilinear hysteretic storey with
+// kinematic hardening against the closed forms of a single storey released with a velocity
+// (peak drift, plastic drift, hysteretic energy, base shear), in both integrators; the two
+// integrators against each other with yielding and pounding together; the energy balance with
+// the hysteretic term; reading the law from a model file.
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "poundsim/integrate/simulator.hpp"
+#include "poundsim/io/input.hpp"
+#include "poundsim/model/frame.hpp"
+#include "poundsim/model/model.hpp"
+
+namespace poundsim {
+namespace {
+
+constexpr double kMass = 2.0e5;       // [kg]
+constexpr double kStiffness = 8.0e7;  // K [N/m]: ω = 20 rad/s
+constexpr double kYieldForce = 4.0e5; // F_y [N]: u_y = 5 mm
+
+Frame bilinear_frame(int storeys, double alpha, double damping = 0.0) {
+  Frame frame = make_uniform_frame(storeys, kMass, kStiffness, damping);
+  frame.storey_law = PerStorey<BilinearStorey>{std::vector<BilinearStorey::Parameters>(
+      static_cast<std::size_t>(storeys), {.yield_force = kYieldForce, .post_yield_ratio = alpha})};
+  return frame;
+}
+
+/// The peak drift u_max of a single bilinear storey released at d = 0 with velocity v0 beyond
+/// first yield: ½ m v0² = ½ F_y u_y + α K (u_max² − u_y²)/2 + (1 − α) F_y (u_max − u_y).
+/// α = 0 gives the u_y/2 + m v0²/(2 F_y).
+double peak_drift(double alpha, double v0) {
+  const double uy = kYieldForce / kStiffness;
+  const double energy = 0.5 * kMass * v0 * v0 - 0.5 * kYieldForce * uy;
+  if (alpha == 0.0) return uy + energy / kYieldForce;
+  // a x² + b x − c = 0 for x = u_max − u_y: a = αK/2, b = αK u_y + (1 − α) F_y.
+  const double a = 0.5 * alpha * kStiffness, b = alpha * kStiffness * uy + (1 - alpha) * kYieldForce;
+  return uy + (-b + std::sqrt(b * b + 4 * a * energy)) / (2 * a);
+}
+
+struct Released {
+  double peak = 0.0;           ///< largest drift [m]
+  double lowest_after = 0.0;   ///< smallest drift sampled after the first unloading [m]
+  double plastic_drift = 0.0;  ///< d_p after the first unloading, before any other yield [m]
+  double hysteretic = 0.0;     ///< H then [J]
+  double base_shear = 0.0;     ///< peak |V| [N]
+  double residual = 0.0;       ///< max relative energy residual
+  std::int64_t yields = 0;
+};
+
+Released release(Integrator integrator, double alpha, double v0, double dt) {
+  Model model = make_model({bilinear_frame(1, alpha)}, PaperGap{});
+  TimeHistoryOptions options{.dt = dt, .integrator = integrator};
+  Simulator sim(model, NoExcitation{}, options, InitialConditions{.displacement = {}, .velocity = {{v0}}});
+  const Link& storey = sim.system().links()[0];
+  const auto& law = std::get<BilinearStorey>(storey.law);
+  Released r;
+  r.lowest_after = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < 2500; ++i) {  // 2.5 s: the first excursion, then elastic cycles (ω = 20 rad/s)
+    sim.step();
+    const double dp = sim.law_states().at(law, storey.slot).plastic_drift;
+    if (dp == 0.0) continue;  // not yet unloaded
+    if (sim.statistics().floors[0].yield_excursions == 1) {
+      r.plastic_drift = dp;
+      r.hysteretic = sim.energy().storey_hysteretic;
+    }
+    r.lowest_after = std::min(r.lowest_after, sim.state().u(0));
+  }
+  r.peak = sim.statistics().floors[0].displacement.value;
+  r.base_shear = sim.statistics().base_shear[0].value;
+  r.residual = sim.energy_meter().max_relative_residual();
+  r.yields = sim.statistics().floors[0].yield_excursions;
+  return r;
+}
+
+class ReleasedStorey : public ::testing::TestWithParam<Integrator> {};
+
+// The closed form: an elastic–perfectly-plastic storey released with v0 reaches
+// u_max = u_y/2 + m v0²/(2F_y) and keeps the residual drift u_max − u_y, about which it then
+// oscillates elastically with amplitude u_y; it dissipates F_y (u_max − u_y) and its base shear
+// never exceeds F_y.
+TEST_P(ReleasedStorey, ElasticPerfectlyPlasticReachesItsClosedForm) {
+  const double uy = kYieldForce / kStiffness, v0 = 0.4;  // ½ m v0² = 16 kJ ≫ ½ F_y u_y = 1 kJ
+  const double u_max = uy / 2 + kMass * v0 * v0 / (2 * kYieldForce);
+  ASSERT_NEAR(peak_drift(0.0, v0), u_max, 1e-15);
+  const Released r = release(GetParam(), 0.0, v0, 1e-3);
+  EXPECT_NEAR(r.peak, u_max, 1e-9 * u_max);
+  EXPECT_NEAR(r.plastic_drift, u_max - uy, 1e-9 * u_max);
+  // Elastic about d_p with amplitude u_y: sampled every dt, its low point is found to ½ (F_y/m) dt².
+  const double dt = 1e-3;
+  EXPECT_NEAR(r.lowest_after, u_max - 2 * uy, 0.5 * kYieldForce / kMass * dt * dt);
+  EXPECT_GE(r.lowest_after, u_max - 2 * uy - 1e-12);
+  EXPECT_NEAR(r.hysteretic, kYieldForce * (u_max - uy), 1e-8 * kYieldForce * u_max);
+  EXPECT_NEAR(r.base_shear, kYieldForce, 1e-8 * kYieldForce);
+  EXPECT_GE(r.yields, 1);  // the low point grazes the yield drift of the other side
+  EXPECT_LT(r.residual, 1e-8);
+}
+
+// With kinematic hardening (α = 0.1) the loading branch is α K: u_max from the energy balance.
+TEST_P(ReleasedStorey, KinematicHardeningReachesItsClosedForm) {
+  const double uy = kYieldForce / kStiffness, v0 = 0.4, alpha = 0.1;
+  const double u_max = peak_drift(alpha, v0);
+  const Released r = release(GetParam(), alpha, v0, 1e-3);
+  EXPECT_NEAR(r.peak, u_max, 1e-9 * u_max);
+  EXPECT_NEAR(r.plastic_drift, u_max - uy, 1e-9 * u_max);
+  EXPECT_NEAR(r.hysteretic, (1 - alpha) * kYieldForce * (u_max - uy), 1e-8 * kYieldForce * u_max);
+  // The peak force is on the hardening branch: α K u_max + (1 − α) F_y.
+  EXPECT_NEAR(r.base_shear, alpha * kStiffness * u_max + (1 - alpha) * kYieldForce, 1e-8 * kYieldForce);
+  // It swings back by 2(α u_max + (1 − α) u_y) > 2 u_y: it yields the other way too.
+  EXPECT_GE(r.yields, 2);
+  EXPECT_LT(r.residual, 1e-8);
+}
+
+INSTANTIATE_TEST_SUITE_P(BothIntegrators, ReleasedStorey, ::testing::Values(Integrator::newmark, Integrator::exact),
+                         [](const auto& param_info) { return param_info.param == Integrator::newmark ? "newmark" : "exact"; });
+
+/// Two frames of 3 bilinear storeys (the left stiffer) with the paper's gap element at every
+/// floor, under a harmonic ground motion that makes them yield and pound.
+struct YieldingAndPounding {
+  Model model;
+  Excitation excitation = HarmonicExcitation{6.0, 9.0};
+};
+YieldingAndPounding yielding_and_pounding() {
+  Frame left = bilinear_frame(3, 0.05, 2e5), right = bilinear_frame(3, 0.05, 1e5);
+  for (double& k : right.stiffness) k *= 0.5;
+  return {make_model({left, right}, PaperGap{{.stiffness = 4e8, .damping = 1e5, .gap = 0.01, .shortening = 0.005,
+                                              .restitution = 0.6}})};
+}
+
+struct Outcome {
+  std::vector<double> peaks;  // floor displacement peaks, then base shears
+  double hysteretic = 0.0;
+  std::int64_t yields = 0, impacts = 0;
+  double residual = 0.0;
+};
+Outcome run(Integrator integrator, double dt) {
+  const YieldingAndPounding setup = yielding_and_pounding();
+  Simulator sim(setup.model, setup.excitation, TimeHistoryOptions{.dt = dt, .integrator = integrator});
+  sim.advance_to(3.0);
+  Outcome o;
+  for (const FloorResponse& f : sim.statistics().floors) {
+    o.peaks.push_back(f.displacement.value);
+    o.yields += f.yield_excursions;
+  }
+  for (const Peak& v : sim.statistics().base_shear) o.peaks.push_back(v.value);
+  for (const GapResponse& g : sim.statistics().gaps) o.impacts += g.impacts + g.contacts;
+  o.hysteretic = sim.energy().storey_hysteretic;
+  o.residual = sim.energy_meter().max_relative_residual();
+  return o;
+}
+
+// Yielding storeys and pounding together: Newmark converges to the exact integrator at second
+// order, each integrator closes its energy balance with the hysteretic term, and the storeys
+// both yield and pound.
+TEST(BilinearStorey, NewmarkConvergesToTheExactIntegratorWithYieldingAndPounding) {
+  const Outcome exact = run(Integrator::exact, 1e-3);
+  EXPECT_GT(exact.yields, 4);
+  EXPECT_GT(exact.impacts, 2);
+  EXPECT_GT(exact.hysteretic, 0.0);
+  EXPECT_LT(exact.residual, 1e-8);
+  std::vector<double> errors;
+  for (const double dt : {2e-4, 1e-4}) {
+    const Outcome newmark = run(Integrator::newmark, dt);
+    EXPECT_LT(newmark.residual, 1e-8);
+    double worst = 0.0;
+    for (std::size_t i = 0; i < exact.peaks.size(); ++i) {
+      worst = std::max(worst, std::abs(newmark.peaks[i] - exact.peaks[i]) / exact.peaks[i]);
+    }
+    worst = std::max(worst, std::abs(newmark.hysteretic - exact.hysteretic) / exact.hysteretic);
+    errors.push_back(worst);
+  }
+  EXPECT_LT(errors[1], 1e-3);
+  // Second order: halving dt divides the error by about 4 (events make it less regular).
+  EXPECT_GT(errors[0] / errors[1], 2.5) << errors[0] << " " << errors[1];
+  std::printf("[ measured ] Newmark vs exact, worst relative peak error: dt = 2e-4: %.3g, dt = 1e-4: %.3g\n", errors[0], errors[1]);
+}
+
+// The law read from a model file, with the yield force or drift per storey; one of the two
+// exactly, and the message names the key.
+TEST(BilinearStorey, IsReadFromAModelFileWithItsYieldForceOrDrift) {
+  const auto read = [](const std::string& keys) {
+    return io::read_input_string("[[frames]]\nstoreys = 2\nmass = 1e5\nstiffness = [2e8, 1e8]\ndamping = 0\n"
+                                 "storey_law = \"bilinear\"\n" + keys +
+                                 "\n[analysis]\nkind = \"time_history\"\nduration = 1.0\ndt = 0.001\n"
+                                 "[excitation]\nkind = \"none\"\n",
+                                 "bilinear.toml", ".");
+  };
+  const auto error_of = [&](const std::string& keys) -> std::string {
+    try {
+      (void)read(keys);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "no error";
+  };
+  const io::RunInput in = read("yield_drift = 0.004\npost_yield_ratio = [0.1, 0.05]");
+  const std::vector<Link> links = make_links(in.model, DofLayout(in.model));
+  const auto& first = std::get<BilinearStorey>(links[0].law);
+  const auto& second = std::get<BilinearStorey>(links[1].law);
+  EXPECT_DOUBLE_EQ(first.yield_force, 2e8 * 0.004);
+  EXPECT_DOUBLE_EQ(second.yield_force, 1e8 * 0.004);
+  EXPECT_DOUBLE_EQ(first.post_yield_ratio, 0.1);
+  EXPECT_DOUBLE_EQ(second.post_yield_ratio, 0.05);
+  EXPECT_EQ(links[0].element, 0);  // tracked: one frame, no gap elements, so from 0 in DOF order
+  EXPECT_EQ(links[1].element, 1);
+  EXPECT_DOUBLE_EQ(std::get<BilinearStorey>(make_links(read("yield_force = 5e5").model,
+                                                       DofLayout(read("yield_force = 5e5").model))[1].law)
+                       .yield_force,
+                   5e5);
+  const std::string both = error_of("yield_force = 5e5\nyield_drift = 0.004");
+  EXPECT_NE(both.find("frames[1].yield_force"), std::string::npos) << both;
+  EXPECT_NE(both.find("storey 1: give either yield_force"), std::string::npos) << both;
+  const std::string neither = error_of("post_yield_ratio = 0.1");
+  EXPECT_NE(neither.find("give either yield_force"), std::string::npos) << neither;
+  const std::string ratio = error_of("yield_force = 5e5\npost_yield_ratio = 1");
+  EXPECT_NE(ratio.find("frames[1].post_yield_ratio"), std::string::npos) << ratio;
+}
+
+}  // namespace
+}  // namespace poundsim
