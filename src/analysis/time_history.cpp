@@ -47,9 +47,13 @@ TimeHistoryAnalysis analyse_time_history(const TimeHistoryProblem& problem, cons
                              .free = std::nullopt,
                              .energy = sim.energy(),
                              .element_dissipation = element_dissipation_of(sim.energy_meter()),
+                             .final_drift = {},
+                             .storey_hysteretic = std::vector<double>(sim.energy_meter().storey_hysteretic().begin(),
+                                                                      sim.energy_meter().storey_hysteretic().end()),
                              .relative_residual = sim.energy_meter().relative_residual(),
                              .max_relative_residual = sim.energy_meter().max_relative_residual(),
                              .end_time = sim.time()};
+  for (int dof = 0; dof < sim.layout().size(); ++dof) result.final_drift.push_back(sim.storey_drift(dof));
   // The same frames without gap elements, for amplifications and separation distances.
   if (problem.model.gap_count() > 0) {
     Simulator alone(free_frames(problem.model), problem.excitation, problem.options, problem.initial);

@@ -205,6 +205,27 @@ double Simulator::shortening(int p) const { return system_.shortening(state_, p)
 
 double Simulator::gap_force(int p) const { return system_.gap_force(state_, contact_, p); }
 
+double Simulator::storey_drift(int dof) const {
+  const int below = layout().below(dof);
+  return state_.u(dof) - (below >= 0 ? state_.u(below) : 0.0);
+}
+
+double Simulator::storey_force(int dof) const {
+  // make_links puts the storeys first, one per DOF.
+  const Link& link = system_.links()[static_cast<std::size_t>(dof)];
+  const LinkMode mode = mode_of(link, contact_.config);
+  return std::visit(
+      [&](const auto& law) -> double {
+        using L = std::decay_t<decltype(law)>;
+        if constexpr (ContactLaw<L>) {
+          throw std::logic_error("storey_force: a gap element's link");
+        } else {
+          return law.restoring_force(storey_drift(dof), mode, contact_.states.at(law, link.slot));
+        }
+      },
+      link.law);
+}
+
 double Simulator::base_shear(int f) const {
   return monitor_.base_shear(state_, f);
 }

@@ -99,6 +99,18 @@ double modal_correlation(double omega_a, double zeta_a, double omega_b, double z
   return denominator > 0 ? numerator / denominator : 1.0;
 }
 
+namespace {
+/// Whether some frame's storeys follow a law other than the linear storey: their columns and
+/// keys (storey forces, hysteretic energy) appear only then, so the outputs of linear frames
+/// stay as they were.
+bool has_inelastic_storeys(const Model& model) {
+  for (const Frame& frame : model.frames) {
+    if (!is_default(frame.storey_law)) return true;
+  }
+  return false;
+}
+}  // namespace
+
 std::string dof_label(const DofLayout& layout, int dof) {
   return fmt::format("{}_{}", layout.frame_of(dof) + 1, layout.floor_of(dof) + 1);
 }
@@ -139,6 +151,31 @@ std::string report(const TimeHistoryResult& r, const std::filesystem::path& out_
   return text;
 }
 
+namespace {
+/// What the storey below floor DOF `dof` of a frame with an inelastic storey law did: its yield
+/// drift, ductility demand (peak drift ÷ yield drift), drift at the end, hysteretic energy and
+/// yield excursions.
+json storey_response(const TimeHistoryResult& result, const std::vector<Link>& links, int dof) {
+  const Link& link = links[static_cast<std::size_t>(dof)];
+  const double yield_drift = std::visit(
+      [](const auto& law) {
+        if constexpr (requires { law.yield_drift(); }) {
+          return law.yield_drift();
+        } else {
+          return 0.0;
+        }
+      },
+      link.law);
+  const FloorResponse& r = result.statistics.floors[static_cast<std::size_t>(dof)];
+  return json{{"law", link.traits().name},
+              {"yield_drift_m", yield_drift > 0 ? json(yield_drift) : json()},
+              {"ductility", yield_drift > 0 ? json(r.drift.value / yield_drift) : json()},
+              {"residual_drift_m", result.final_drift[static_cast<std::size_t>(dof)]},
+              {"hysteretic_energy_J", result.storey_hysteretic[static_cast<std::size_t>(dof)]},
+              {"yield_excursions", r.yield_excursions}};
+}
+}  // namespace
+
 json to_json(const TimeHistoryResult& result) {
   const RunInput& input = result.input;
   const DofLayout& layout = result.layout;
@@ -148,6 +185,7 @@ json to_json(const TimeHistoryResult& result) {
   const double weight1 = reference_weight(model);
 
   json floors = json::array();
+  const std::vector<Link> links = make_links(model, layout);
   for (int f = 0; f < model.frame_count(); ++f) {
     for (int i = 0; i < model.frames[f].storeys(); ++i) {
       const FloorResponse& r = st.floors[static_cast<std::size_t>(layout.dof(f, i))];
@@ -171,6 +209,7 @@ json to_json(const TimeHistoryResult& result) {
                                   {"absolute_acceleration", ratio(r.absolute_acceleration.value, q.absolute_acceleration.value)},
                                   {"interstorey_drift", ratio(r.drift.value, q.drift.value)}};
       }
+      if (!is_default(model.frames[f].storey_law)) entry["storey"] = storey_response(result, links, layout.dof(f, i));
       floors.push_back(std::move(entry));
     }
   }
@@ -278,6 +317,7 @@ json to_json(const TimeHistoryResult& result) {
               {"residual_J", e.residual()},
               {"relative_residual", result.relative_residual},
               {"max_relative_residual", result.max_relative_residual}};
+  if (has_inelastic_storeys(model)) energy["storey_hysteretic_J"] = e.storey_hysteretic;
   const TimeHistoryOptions& o = result.options;
   json analysis{{"kind", to_string(input.analysis.kind)},
                 {"integrator", std::string(to_string(input.analysis.options.integrator))},
@@ -346,8 +386,18 @@ TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem:
   }
   for (int f = 0; f < model.frame_count(); ++f) history.text(fmt::format("V_{}", f + 1));
   for (const GapElement& g : model.gaps) history.text(fmt::format("F_{}_{}", g.left_frame + 1, g.floor + 1));
+  // The storeys of frames with an inelastic law: drift and restoring force (hysteresis loops).
+  const bool inelastic = has_inelastic_storeys(model);
+  std::vector<int> inelastic_dofs;
+  for (const int d : dofs) {
+    if (!is_default(model.frames[static_cast<std::size_t>(layout.frame_of(d))].storey_law)) inelastic_dofs.push_back(d);
+  }
+  for (const int d : inelastic_dofs) history.text(fmt::format("drift_{}", dof_label(layout, d)));
+  for (const int d : inelastic_dofs) history.text(fmt::format("Fs_{}", dof_label(layout, d)));
   history.texts({"E_input", "E_kinetic", "E_storey_strain", "E_gap_strain", "E_storey_damping", "E_gap_damping",
-                 "E_impact", "E_residual"}).end_row();
+                 "E_impact"});
+  if (inelastic) history.text("E_storey_hysteretic");
+  history.text("E_residual").end_row();
 
   events.texts({"t", "frame_left", "frame_right", "floor", "kind", "relative_velocity_before",
                 "relative_velocity_after", "impulse"}).end_row();
@@ -365,12 +415,15 @@ TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem:
     }
     for (int f = 0; f < model.frame_count(); ++f) history.number(sim.base_shear(f));
     for (int p = 0; p < model.gap_count(); ++p) history.number(sim.gap_force(p));
+    for (const int d : inelastic_dofs) history.number(sim.storey_drift(d));
+    for (const int d : inelastic_dofs) history.number(sim.storey_force(d));
     const EnergyBalance& e = sim.energy();
     for (const double term : {e.input, e.kinetic, e.storey_strain, e.gap_strain, e.storey_damping,
-                              e.gap_damping, e.impact_loss, e.residual()}) {
+                              e.gap_damping, e.impact_loss}) {
       history.number(term);
     }
-    history.end_row();
+    if (inelastic) history.number(e.storey_hysteretic);
+    history.number(e.residual()).end_row();
   };
   std::optional<TimeHistoryAnalysis> analysis;
   try {

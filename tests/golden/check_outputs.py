@@ -36,6 +36,7 @@ CASES = [
     ("three_buildings_el_centro_force", "examples/three_buildings_el_centro.toml",
      ["--set", "analysis.separation=force"]),
     ("el_centro_5_and_8_storeys_hertzdamp", "examples/el_centro_5_and_8_storeys_hertzdamp.toml", []),
+    ("el_centro_5_and_8_storeys_bilinear", "examples/el_centro_5_and_8_storeys_bilinear.toml", []),
     ("ensemble_fig2_frames", "examples/ensemble_fig2_frames.toml", []),
 ] + [(f"contact_laws_{law}", f"examples/contact_laws/{law}.toml", [])
      for law in ("paper", "kelvin_voigt", "hertz", "hertzdamp", "jankowski")] + [

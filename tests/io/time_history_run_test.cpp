@@ -3,10 +3,12 @@
 
 #include "poundsim/io/time_history_run.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -114,6 +116,57 @@ TEST(TimeHistoryResult, SummaryAndReportAreWrittenFromIt) {
   EXPECT_NE(text.find(fmt::format("impacts 14, max gap force 0 N, max impact impulse {:.6g} N·s",
                                   r.max_impact_impulse())), std::string::npos) << text;
   EXPECT_NE(text.find(fmt::format("wrote {}/history.csv", out.string())), std::string::npos) << text;
+  fs::remove_all(out);
+}
+
+// Frames with inelastic storeys: each storey's entry (ductility = peak drift ÷ yield drift,
+// hysteretic energies summing to the balance's), and history.csv's drift and restoring-force
+// columns, whose last row is the storey's state at the end.
+TEST(TimeHistoryResult, InelasticStoreysReportTheirDuctilityResidualDriftAndHysteresis) {
+  const fs::path example = fs::path(POUNDSIM_SOURCE_DIR) / "examples" / "el_centro_5_and_8_storeys_bilinear.toml";
+  RunInput input = read_input(example);
+  input.analysis.duration = 8.0;  // past the strong motion
+  const fs::path out = fs::temp_directory_path() / "poundsim_th_bilinear";
+  const TimeHistoryResult r = run_time_history(input, out);
+  const nlohmann::json summary = to_json(r);
+  double hysteretic = 0.0;
+  int yielded = 0;
+  for (const auto& floor : summary["peaks"]["floors"]) {
+    const auto& storey = floor.at("storey");
+    EXPECT_EQ(storey["yield_drift_m"].get<double>(), 0.010);
+    EXPECT_DOUBLE_EQ(storey["ductility"].get<double>(), floor["interstorey_drift_m"]["value"].get<double>() / 0.010);
+    hysteretic += storey["hysteretic_energy_J"].get<double>();
+    // A storey dissipates hysteretic energy exactly when it yielded.
+    EXPECT_EQ(storey["yield_excursions"].get<int>() > 0, storey["hysteretic_energy_J"].get<double>() > 0);
+    yielded += storey["ductility"].get<double>() > 1 ? 1 : 0;
+  }
+  EXPECT_GE(yielded, 6);
+  EXPECT_NEAR(hysteretic, summary["energy"]["storey_hysteretic_J"].get<double>(), 1e-9 * hysteretic);
+  EXPECT_LT(r.max_relative_residual, 1e-5);  // Hertzdamp's Newton tolerance dominates
+
+  std::ifstream history(out / "history.csv");
+  std::string header, line, last;
+  std::getline(history, header);
+  while (std::getline(history, line)) last = line;
+  std::vector<std::string> names, values;
+  for (std::string* text : {&header, &last}) {
+    std::vector<std::string>& into = text == &header ? names : values;
+    std::size_t from = 0;
+    for (std::size_t comma; (comma = text->find(',', from)) != std::string::npos; from = comma + 1) {
+      into.push_back(text->substr(from, comma - from));
+    }
+    into.push_back(text->substr(from));
+  }
+  const auto column = [&](const std::string& name) {
+    const auto at = std::find(names.begin(), names.end(), name);
+    EXPECT_NE(at, names.end()) << name;
+    return std::stod(values.at(static_cast<std::size_t>(at - names.begin())));
+  };
+  const auto& first = summary["peaks"]["floors"][0]["storey"];
+  EXPECT_DOUBLE_EQ(column("drift_1_1"), first["residual_drift_m"].get<double>());
+  // The first storey's restoring force at the end is the base shear's then.
+  EXPECT_DOUBLE_EQ(column("Fs_1_1"), column("V_1"));
+  EXPECT_DOUBLE_EQ(column("E_storey_hysteretic"), summary["energy"]["storey_hysteretic_J"].get<double>());
   fs::remove_all(out);
 }
 

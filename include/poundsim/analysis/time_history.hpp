@@ -54,6 +54,11 @@ struct TimeHistoryAnalysis {
   /// What each gap element's law dissipated [J] (EnergyMeter::element_dissipation); empty with
   /// the exact integrator, whose integrals are not per element.
   std::vector<double> element_dissipation;
+  /// What each storey ended with, by the DOF of the floor above it: its drift at the end (the
+  /// residual drift once the motion has died out) [m] and the hysteretic energy it dissipated
+  /// [J] (0 for a storey that does not yield).
+  std::vector<double> final_drift;
+  std::vector<double> storey_hysteretic;
   double relative_residual = 0;     ///< Energy balance residual ÷ scale, at the end.
   double max_relative_residual = 0; ///< The largest over the run.
   double end_time = 0;              ///< [s]

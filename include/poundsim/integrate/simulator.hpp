@@ -274,6 +274,11 @@ class Simulator : private detail::Loop {
   [[nodiscard]] double shortening(int p) const;
   /// Force transmitted by gap element p now [N], compression positive (0 when open).
   [[nodiscard]] double gap_force(int p) const;
+  /// The restoring force of the storey below floor DOF `dof` now (its law's, without its
+  /// dashpot: K d for a linear storey; what hysteresis loops plot) [N].
+  [[nodiscard]] double storey_force(int dof) const;
+  /// The drift of that storey now [m].
+  [[nodiscard]] double storey_drift(int dof) const;
   /// V = K_1 u_1 of frame f now [N].
   [[nodiscard]] double base_shear(int f) const;
   /// K_1 u_1 + C_1 u̇_1 of frame f now [N].

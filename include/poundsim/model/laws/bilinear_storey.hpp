@@ -132,8 +132,8 @@ struct BilinearStorey {
     const double d = k.ua - k.ub;
     return post_yield_ratio * stiffness * d + hysteretic_force(d, m, state) + damping * (k.va - k.vb);
   }
-  /// The spring force F − C ḋ [N] (the storey shear without its dashpot).
-  [[nodiscard]] double spring_force(double d, LinkMode m, const State& state) const {
+  /// The restoring force F − C ḋ [N] (the storey shear without its dashpot).
+  [[nodiscard]] double restoring_force(double d, LinkMode m, const State& state) const {
     return post_yield_ratio * stiffness * d + hysteretic_force(d, m, state);
   }
 

@@ -46,6 +46,12 @@ struct LinearStorey {
   }
   /// F [N].
   [[nodiscard]] double force(double d, double rate) const { return stiffness * d + damping * rate; }
+  /// K d: the storey's restoring force without its dashpot [N] (mode and state unused).
+  [[nodiscard]] double restoring_force(double d, LinkMode /*mode*/, const State& /*state*/) const {
+    return stiffness * d;
+  }
+  /// No yield drift: the storey never yields (ductility is not defined).
+  [[nodiscard]] static double yield_drift() { return 0.0; }
   /// ½ K d² [J].
   [[nodiscard]] double stored_energy(double d) const { return 0.5 * (stiffness * d * d); }
   /// C ḋ² [W].
