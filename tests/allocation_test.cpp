@@ -145,5 +145,31 @@ TEST(Allocation, NewtonStepsWithSmoothContactsAllocateNothing) {
   EXPECT_EQ(n, 0);
 }
 
+TEST(Allocation, StepsWithYieldingStoreysAllocateNothing) {
+  // Newmark with bilinear storeys yielding and unloading (events, the phase's state loads), and
+  // with Bouc–Wen storeys (Newton on every step, trial and commit). (The exact integrator's
+  // segments allocate when an event starts one, ExactTrajectory::start, as with contacts; its
+  // steps without events are ExactStepsWithoutEventsAllocateNothing's.)
+  for (const int law : {0, 2}) {
+    Frame frame = make_uniform_frame(3, 1e5, 1e8, 1e5);
+    if (law == 2) {
+      frame.storey_law = PerStorey<BoucWenStorey>{std::vector<BoucWenStorey::Parameters>(3, {.yield_drift = 0.002, .n = 4})};
+    } else {
+      frame.storey_law = PerStorey<BilinearStorey>{
+          std::vector<BilinearStorey::Parameters>(3, {.yield_drift = 0.002, .post_yield_ratio = 0.1})};
+    }
+    Simulator sim(make_model({frame}, PaperGap{}), HarmonicExcitation{8.0, 20.0}, TimeHistoryOptions{.dt = 1e-3});
+    sim.advance_to(3.0);  // every phase it will visit is factorised by now
+    const auto yields = sim.statistics().floors[0].yield_excursions;
+    const long n = allocations_during([&] { sim.advance_to(3.3); });
+    if (law == 0) {
+      EXPECT_GT(sim.statistics().floors[0].yield_excursions, yields) << "law " << law;  // it yields meanwhile
+    } else {
+      EXPECT_GT(sim.energy().storey_hysteretic, 0.0);
+    }
+    EXPECT_EQ(n, 0) << "law " << law;
+  }
+}
+
 }  // namespace
 }  // namespace poundsim

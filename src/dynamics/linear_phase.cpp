@@ -90,7 +90,7 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
   for (int i = 0; i < n; ++i) group_of_[i] = group_of_[leader[i]];
   for (SmoothLink& link : smooth_links_) {
     link.group_a = group_of_[static_cast<std::size_t>(link.a)];
-    link.group_b = group_of_[static_cast<std::size_t>(link.b)];
+    link.group_b = link.b >= 0 ? group_of_[static_cast<std::size_t>(link.b)] : -1;  // −1: the ground
   }
   const auto nr = static_cast<Eigen::Index>(representative_.size());
 
@@ -129,7 +129,7 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
   }
   for (Eigen::Index i = 0; i < nr; ++i) pattern.emplace_back(i, i, 0.0);
   for (const SmoothLink& link : smooth_links_) {
-    if (link.group_a != link.group_b) {
+    if (link.group_b >= 0 && link.group_a != link.group_b) {
       pattern.emplace_back(std::min(link.group_a, link.group_b), std::max(link.group_a, link.group_b), 0.0);
     }
   }
@@ -159,11 +159,15 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
       return -1;
     };
     for (const SmoothLink& link : smooth_links_) {
-      tangent_slots_.push_back(link.group_a == link.group_b
-                                   ? TangentSlots{}
-                                   : TangentSlots{.aa = slot(link.group_a, link.group_a),
-                                                  .bb = slot(link.group_b, link.group_b),
-                                                  .ab = slot(link.group_a, link.group_b)});
+      if (link.group_b < 0) {  // a first storey: its tangent on its floor's diagonal only
+        tangent_slots_.push_back({.aa = slot(link.group_a, link.group_a)});
+      } else {
+        tangent_slots_.push_back(link.group_a == link.group_b
+                                     ? TangentSlots{}
+                                     : TangentSlots{.aa = slot(link.group_a, link.group_a),
+                                                    .bb = slot(link.group_b, link.group_b),
+                                                    .ab = slot(link.group_a, link.group_b)});
+      }
     }
     tangent_solver_.analyzePattern(effective_);
   }
@@ -232,10 +236,11 @@ void LinearPhase::factorize(Solver& solver, double tau, std::span<const ForceTan
   // The smooth links' tangents, at the entries of their groups (tangent_solver).
   for (std::size_t i = 0; !smooth.empty() && i < smooth_links_.size(); ++i) {
     const TangentSlots& slots = tangent_slots_[i];
-    if (slots.ab < 0) continue;  // both floors in one group: the force is internal to it
+    if (slots.aa < 0) continue;  // both floors in one group: the force is internal to it
     const ForceTangent& t = smooth[static_cast<std::size_t>(smooth_links_[i].element)];
     const double entry = 0.5 * tau * t.damping + 0.25 * tau * tau * t.stiffness;
     values(slots.aa) += entry;
+    if (slots.bb < 0) continue;  // to the ground
     values(slots.bb) += entry;
     values(slots.ab) -= entry;
   }
@@ -251,7 +256,7 @@ void LinearPhase::add_smooth_loads(std::span<const ForceTangent> by_element, Eig
   for (const SmoothLink& link : smooth_links_) {
     const double force = by_element[static_cast<std::size_t>(link.element)].force;
     reduced(link.group_a) -= force;
-    reduced(link.group_b) += force;
+    if (link.group_b >= 0) reduced(link.group_b) += force;
   }
 }
 

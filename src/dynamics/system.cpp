@@ -48,6 +48,11 @@ PoundingSystem::PoundingSystem(Model model, Excitation excitation, EventRules ru
   }
   contact_table_ = LinkTable(contact_links());
   tracked_table_ = LinkTable(tracked_links_);
+  tracked_table_.for_each_law([&](auto links) {
+    if constexpr (CommittingLaw<std::decay_t<decltype(links.front().law)>>) {
+      has_committing_laws_ = has_committing_laws_ || !links.empty();
+    }
+  });
   mass_.resize(layout_.size());
   for (int i = 0; i < layout_.size(); ++i) {
     mass_(i) = model_.frames[static_cast<std::size_t>(layout_.frame_of(i))].mass[static_cast<std::size_t>(layout_.floor_of(i))];
@@ -121,6 +126,17 @@ void PoundingSystem::smooth_forces(const KinematicState& x, const ContactState& 
       for (const auto& link : links) {
         const auto p = static_cast<std::size_t>(link.element);
         by_element[p] = link.law.force_tangent(kinematics(x, link), c.config[p], c.states.at(link));
+      }
+    }
+  });
+}
+
+void PoundingSystem::commit_states(const KinematicState& x, ContactState& c) const {
+  tracked_table_.for_each_law([&](auto links) {
+    if constexpr (CommittingLaw<std::decay_t<decltype(links.front().law)>>) {
+      for (const auto& link : links) {
+        link.law.commit(kinematics(x, link), c.config[static_cast<std::size_t>(link.element)],
+                        c.states.at(link.law, link.slot));
       }
     }
   });

@@ -103,6 +103,11 @@ Loop::Loop(PoundingSystem system, const TimeHistoryOptions& options)
       monitor_(system_.model(), system_.layout(), first_storey_forms(system_.model(), system_.layout())),
       events_(std::make_unique<Events>(*this)) {
   state_.resize(system_.layout().size());
+  for (const Link& link : system_.links()) {
+    if (link.element >= 0 && link.b < 0 && link.smooth_in(0)) {
+      smooth_first_storeys_.push_back(system_.layout().frame_of(link.a));
+    }
+  }
   for (auto* g : {&guards_.lo, &guards_.hi, &guards_.work, &guards_.rate_lo, &guards_.rate_hi, &guards_.rate_work}) {
     g->assign(2 * static_cast<std::size_t>(system_.tracked_count()), 0.0);
   }
@@ -154,6 +159,8 @@ Simulator::Simulator(Model model, Excitation excitation, TimeHistoryOptions opti
     stepper_ = std::make_unique<detail::NewmarkStepper>(n, tracked);
   }
   contact_ = system_.initial_contact(state_);
+  // An initial drift loads a Bouc–Wen storey monotonically from rest.
+  if (system_.has_committing_laws()) system_.commit_states(state_, contact_);
   settle_state();
   record_statistics();
 }
@@ -210,27 +217,40 @@ double Simulator::storey_drift(int dof) const {
   return state_.u(dof) - (below >= 0 ? state_.u(below) : 0.0);
 }
 
-double Simulator::storey_force(int dof) const {
+double Simulator::storey_force(int dof) const { return restoring_force(dof); }
+
+namespace detail {
+double Loop::restoring_force(int dof) const {
   // make_links puts the storeys first, one per DOF.
   const Link& link = system_.links()[static_cast<std::size_t>(dof)];
   const LinkMode mode = mode_of(link, contact_.config);
+  const int below = system_.layout().below(dof);
+  const double drift = state_.u(dof) - (below >= 0 ? state_.u(below) : 0.0);
   return std::visit(
       [&](const auto& law) -> double {
         using L = std::decay_t<decltype(law)>;
         if constexpr (ContactLaw<L>) {
-          throw std::logic_error("storey_force: a gap element's link");
+          throw std::logic_error("restoring_force: a gap element's link");
         } else {
-          return law.restoring_force(storey_drift(dof), mode, contact_.states.at(law, link.slot));
+          return law.restoring_force(drift, mode, contact_.states.at(law, link.slot));
         }
       },
       link.law);
 }
+}  // namespace detail
 
 double Simulator::base_shear(int f) const {
+  if (std::find(smooth_first_storeys_.begin(), smooth_first_storeys_.end(), f) != smooth_first_storeys_.end()) {
+    return restoring_force(layout().dof(f, 0));
+  }
   return monitor_.base_shear(state_, f);
 }
 
 double Simulator::storey_shear(int f) const {
+  if (std::find(smooth_first_storeys_.begin(), smooth_first_storeys_.end(), f) != smooth_first_storeys_.end()) {
+    const int dof = layout().dof(f, 0);
+    return restoring_force(dof) + model().frames[static_cast<std::size_t>(f)].damping[0] * state_.v(dof);
+  }
   return monitor_.storey_shear(state_, f);
 }
 
@@ -325,6 +345,8 @@ void Loop::after_accept(KinematicState& next) {
     if (contact_.transmits[p] != 0) monitor_.observe_in_contact(p, h);
     if (contact_.rigid[p] != 0) monitor_.observe_locked(p, h);
   }
+  // The laws that follow the motion (a Bouc–Wen storey's z) take the accepted state as theirs.
+  if (system_.has_committing_laws()) system_.commit_states(next, contact_);
   std::swap(state_, next);
   ++monitor_.counts().substeps;
   record_statistics();
@@ -375,6 +397,12 @@ void Loop::check_finite() const {
 void Loop::record_statistics() {
   check_finite();
   monitor_.observe(state_);
+  for (const int f : smooth_first_storeys_) {
+    const int dof = system_.layout().dof(f, 0);
+    const double spring = restoring_force(dof);
+    monitor_.observe_first_storey(f, spring, spring + system_.model().frames[static_cast<std::size_t>(f)].damping[0] * state_.v(dof),
+                                  state_.t);
+  }
   // Law by law (no dispatch per element): this runs at every accepted state.
   for_each_contact_link(system_.contact_table(), [&](const auto& link) {
     const auto p = static_cast<std::size_t>(link.element);

@@ -177,7 +177,7 @@ TEST(InputPhysical, StoreyLawIsChosenByItsName) {
   EXPECT_EQ(std::get<LinearStorey>(links[3].law).stiffness, 100.0);
   const std::string unknown = error_of(replace(text, "storey_law = \"linear\"", "storey_law = \"trilinear\""));
   EXPECT_NE(unknown.find("frames[2].storey_law"), std::string::npos) << unknown;
-  EXPECT_NE(unknown.find("\"trilinear\" is not one of: \"linear\", \"bilinear\""), std::string::npos) << unknown;
+  EXPECT_NE(unknown.find("\"trilinear\" is not one of: \"linear\", \"bilinear\", \"bouc_wen\""), std::string::npos) << unknown;
   // A parameter of no law of this frame is an unknown key.
   const std::string stray = error_of(replace(text, "storey_law = \"linear\"", "storey_law = \"linear\"\nyield_force = 3"));
   EXPECT_NE(stray.find("frames[2].yield_force"), std::string::npos) << stray;

@@ -100,8 +100,8 @@ class LinearPhase {
   [[nodiscard]] const SparseMatrix& stiffness() const { return stiffness_; }
   [[nodiscard]] const Eigen::VectorXd& constant_load() const { return constant_load_; }
 
-  /// A link whose law is smooth in this configuration: gap element `element` between the floor
-  /// DOFs a and b, in the groups group_a and group_b.
+  /// A link whose law is smooth in this configuration: tracked link `element` between the floor
+  /// DOFs a and b, in the groups group_a and group_b (b = group_b = −1: a first storey's ground).
   struct SmoothLink {
     int element = 0;
     int a = 0, b = 0;
@@ -173,8 +173,9 @@ class LinearPhase {
   mutable SparseMatrix effective_;
   Eigen::VectorXd effective_m_, effective_c_, effective_k_;
 
-  /// Positions in effective_'s values of each smooth link's entries (a,a), (b,b), (a,b) — −1
-  /// when both floors are in one group — in smooth_links_ order.
+  /// Positions in effective_'s values of each smooth link's entries (a,a), (b,b), (a,b) — all
+  /// −1 when both floors are in one group, bb and ab −1 for a link to the ground — in
+  /// smooth_links_ order.
   struct TangentSlots {
     Eigen::Index aa = -1, bb = -1, ab = -1;
   };

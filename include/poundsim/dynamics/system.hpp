@@ -172,6 +172,10 @@ class PoundingSystem {
   /// Sets ü from the equation of motion of `phase` at x.t (after the velocities or the phase
   /// changed), with the forces of the smooth laws at x (c.smooth is its scratch).
   void equilibrate(LinearPhase& phase, KinematicState& x, ContactState& c) const;
+  /// Whether some link's law commits its State at every accepted state (CommittingLaw).
+  [[nodiscard]] bool has_committing_laws() const { return has_committing_laws_; }
+  /// Commits those States at the accepted state x (trial becomes committed).
+  void commit_states(const KinematicState& x, ContactState& c) const;
   /// The force and tangent of every element whose law is smooth (SmoothLaw), at x, into
   /// `by_element` (others untouched). No dispatch per link; allocation-free.
   void smooth_forces(const KinematicState& x, const ContactState& c, std::span<ForceTangent> by_element) const;
@@ -197,6 +201,7 @@ class PoundingSystem {
   std::vector<Link> tracked_links_;  ///< By Link::element: the gap elements first.
   LinkTable contact_table_;  ///< The contact links by law, for the loops of every step.
   LinkTable tracked_table_;
+  bool has_committing_laws_ = false;
   Eigen::VectorXd mass_;     ///< Floor masses in DOF order [kg].
 };
 

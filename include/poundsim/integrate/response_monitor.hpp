@@ -142,6 +142,12 @@ class ResponseMonitor {
   /// The first storey of frame f now has the linear form `form` (a yielding storey changed its
   /// mode or plastic drift).
   void set_first_storey(int f, const LinearForm& form) { first_storey_[static_cast<std::size_t>(f)] = form; }
+  /// The base shear V and first-storey shear of frame f at time t, for a first storey whose
+  /// force is not a linear form (sampled at accepted states, not refined between them).
+  void observe_first_storey(int f, double base_shear, double storey_shear, double t) {
+    stats_.base_shear[static_cast<std::size_t>(f)].update(base_shear, t);
+    stats_.storey_shear[static_cast<std::size_t>(f)].update(storey_shear, t);
+  }
   /// The storey below floor DOF `dof` yielded or unloaded.
   void observe_storey_event(int dof, EventKind kind) {
     if (kind == EventKind::yield) ++stats_.floors[static_cast<std::size_t>(dof)].yield_excursions;

@@ -199,6 +199,11 @@ class Loop {
   /// Reports an event; velocities after are read from the current state.
   void emit(int gap, EventKind kind, double left_before, double right_before, double impulse);
   void record_statistics();
+  /// The restoring force of the storey below floor DOF `dof` at the current state [N].
+  [[nodiscard]] double restoring_force(int dof) const;
+  /// Frames whose first storey's law is smooth (a Bouc–Wen storey): their base shear is not a
+  /// linear form's, so the loop samples it at every accepted state.
+  std::vector<int> smooth_first_storeys_;
   /// Throws SimulationError naming the time and the quantity when the state, a force or an energy
   /// is no longer finite.
   void check_finite() const;

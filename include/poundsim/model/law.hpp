@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "poundsim/model/laws/bilinear_storey.hpp"
+#include "poundsim/model/laws/bouc_wen.hpp"
 #include "poundsim/model/laws/hertz.hpp"
 #include "poundsim/model/laws/hertzdamp.hpp"
 #include "poundsim/model/laws/jankowski.hpp"
@@ -37,7 +38,8 @@
 namespace poundsim {
 
 /// The closed set of laws.
-using Law = std::variant<LinearStorey, PaperGap, KelvinVoigt, Hertz, Hertzdamp, Jankowski, BilinearStorey>;
+using Law = std::variant<LinearStorey, PaperGap, KelvinVoigt, Hertz, Hertzdamp, Jankowski, BilinearStorey,
+                         BoucWenStorey>;
 
 /// A law whose force in some modes is a smooth function of the link's motion (not linear): it
 /// gives the force with its consistent tangent, which Newmark's Newton iterations solve.
@@ -59,6 +61,14 @@ concept StateLoadedLaw = requires(const L& law, LinkMode mode, const typename L:
 template <class L>
 concept YieldingLaw = requires(const L& law, const LinkKinematics& k, LinkMode mode, const typename L::State& state) {
   { law.plastic_work(k, k, mode, state) } -> std::same_as<double>;
+};
+
+/// A law whose State follows the motion continuously (a Bouc–Wen storey's z): its force at a
+/// trial state is a function of the committed State, and the loop commits the State at every
+/// accepted state (OpenSees' trial/commit).
+template <class L>
+concept CommittingLaw = requires(const L& law, const LinkKinematics& k, LinkMode mode, typename L::State& state) {
+  law.commit(k, mode, state);
 };
 
 /// A law whose links the system tracks (gives an index in the contact configuration): one with
