@@ -35,6 +35,7 @@
 #include "poundsim/model/contact_state.hpp"
 #include "poundsim/model/laws/contact_law.hpp"
 #include "poundsim/model/laws/law_traits.hpp"
+#include "poundsim/model/laws/yielding_storey.hpp"
 
 namespace poundsim {
 
@@ -56,11 +57,7 @@ struct BilinearStorey {
     }
     /// Exactly one of the yield force and the yield drift is given (> 0).
     [[nodiscard]] std::optional<FieldRule> rule_violation() const {
-      if ((yield_force > 0) == (yield_drift > 0)) {
-        return FieldRule{{"yield_force", "yield_drift"},
-                         "give either yield_force (F_y) or yield_drift (u_y = F_y / K), one of them > 0"};
-      }
-      return std::nullopt;
+      return yielding_storey::yield_rule(yield_force, yield_drift);
     }
     [[nodiscard]] bool operator==(const Parameters&) const = default;
   };
@@ -69,7 +66,7 @@ struct BilinearStorey {
   [[nodiscard]] static BilinearStorey make(double stiffness, double damping, const Parameters& p) {
     return {.stiffness = stiffness,
             .damping = damping,
-            .yield_force = p.yield_force > 0 ? p.yield_force : stiffness * p.yield_drift,
+            .yield_force = yielding_storey::yield_force(stiffness, p.yield_force, p.yield_drift),
             .post_yield_ratio = p.post_yield_ratio};
   }
 
@@ -196,13 +193,11 @@ struct BilinearStorey {
     return 0.5 * post_yield_ratio * stiffness * d * d + 0.5 * fh * fh / plastic_spring();
   }
   [[nodiscard]] double dissipated_power(const LinkKinematics& k, LinkMode /*mode*/, const State& /*state*/) const {
-    const double rate = k.va - k.vb;
-    return damping * rate * rate;
+    return yielding_storey::dashpot_power(damping, k);
   }
   [[nodiscard]] double trapezoidal_power(const LinkKinematics& k0, const LinkKinematics& k1, LinkMode /*mode*/,
                                          const State& /*state*/) const {
-    const double rate = 0.5 * (k0.va + k1.va - (k0.vb + k1.vb));
-    return damping * rate * rate;
+    return yielding_storey::trapezoidal_dashpot_power(damping, k0, k1);
   }
   [[nodiscard]] static double relaxation_release(LinkMode /*mode*/, const State& /*state*/, double /*t0*/,
                                                  double /*t1*/) {

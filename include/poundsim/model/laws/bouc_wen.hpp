@@ -33,6 +33,7 @@
 #include "poundsim/fields.hpp"
 #include "poundsim/model/laws/contact_law.hpp"
 #include "poundsim/model/laws/law_traits.hpp"
+#include "poundsim/model/laws/yielding_storey.hpp"
 #include "poundsim/model/laws/smooth_contact.hpp"
 
 namespace poundsim {
@@ -60,10 +61,7 @@ struct BoucWenStorey {
       };
     }
     [[nodiscard]] std::optional<FieldRule> rule_violation() const {
-      if ((yield_force > 0) == (yield_drift > 0)) {
-        return FieldRule{{"yield_force", "yield_drift"},
-                         "give either yield_force (F_y) or yield_drift (u_y = F_y / K), one of them > 0"};
-      }
+      if (auto rule = yielding_storey::yield_rule(yield_force, yield_drift)) return rule;
       if (!(beta + gamma > 0)) return FieldRule{{"gamma", "beta"}, "β + γ must be > 0 (z saturates at (A/(β+γ))^(1/n))"};
       return std::nullopt;
     }
@@ -74,7 +72,7 @@ struct BoucWenStorey {
   [[nodiscard]] static BoucWenStorey make(double stiffness, double damping, const Parameters& p) {
     return {.stiffness = stiffness,
             .damping = damping,
-            .yield_force = p.yield_force > 0 ? p.yield_force : stiffness * p.yield_drift,
+            .yield_force = yielding_storey::yield_force(stiffness, p.yield_force, p.yield_drift),
             .post_yield_ratio = p.post_yield_ratio,
             .a = p.a,
             .beta = p.beta,
@@ -143,13 +141,11 @@ struct BoucWenStorey {
     return 0.5 * post_yield_ratio * stiffness * d * d + 0.5 * hysteretic_scale() * yield_drift() * z * z / a;
   }
   [[nodiscard]] double dissipated_power(const LinkKinematics& k, LinkMode /*mode*/, const State& /*state*/) const {
-    const double rate = k.va - k.vb;
-    return damping * rate * rate;
+    return yielding_storey::dashpot_power(damping, k);
   }
   [[nodiscard]] double trapezoidal_power(const LinkKinematics& k0, const LinkKinematics& k1, LinkMode /*mode*/,
                                          const State& /*state*/) const {
-    const double rate = 0.5 * (k0.va + k1.va - (k0.vb + k1.vb));
-    return damping * rate * rate;
+    return yielding_storey::trapezoidal_dashpot_power(damping, k0, k1);
   }
   [[nodiscard]] static double relaxation_release(LinkMode /*mode*/, const State& /*state*/, double /*t0*/,
                                                  double /*t1*/) {
