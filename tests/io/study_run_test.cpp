@@ -270,6 +270,38 @@ values = [0.0, 0.05]
   fs::remove_all(dir);
 }
 
+// The storeys' law and its parameters are axes like any key: a yield drift, and the law itself
+// (both yielding laws read yield_drift and post_yield_ratio).
+TEST(StudyRun, AxesOverStoreyLawsAndTheirParameters) {
+  std::string text = slurp(fs::path(POUNDSIM_SOURCE_DIR) / "examples" / "el_centro_5_and_8_storeys_bilinear.toml");
+  const std::string analysis = "kind = \"time_history\"", duration = "duration = 20.0";
+  text.replace(text.find(analysis), analysis.size(), "kind = \"study\"");
+  text.replace(text.find(duration), duration.size(), "duration = 3.0");
+  text += R"([study]
+each = "time_history"
+baseline = false
+[[study.parameter]]
+key = "frames[1].yield_drift"
+values = [0.005, 0.02]
+[[study.parameter]]
+key = "frames[2].storey_law"
+values = ["bilinear", "bouc_wen"]
+)";
+  const fs::path dir = fresh("storeys");
+  const RunInput input = read_input_string(text, "study.toml", fs::path(POUNDSIM_SOURCE_DIR) / "examples");
+  const nlohmann::json summary = to_json(run_study(input, dir));
+  EXPECT_TRUE(summary["complete"].get<bool>());
+  EXPECT_EQ(summary["finished"], 4);
+  std::istringstream lines(slurp(dir / "study.csv"));
+  std::string header;
+  std::getline(lines, header);
+  EXPECT_NE(header.find("frames[1].yield_drift,frames[2].storey_law"), std::string::npos) << header;
+  std::set<std::string> rows;
+  for (std::string line; std::getline(lines, line);) rows.insert(line.substr(line.find(',') + 1));
+  EXPECT_EQ(rows.size(), 4U);  // four different responses
+  fs::remove_all(dir);
+}
+
 TEST(StudyRun, ExportWritesEveryPoint) {
   const fs::path dir = fresh("export");
   run_study(read(kStudy), dir);
