@@ -75,6 +75,35 @@ void BM_StepWithHertzdampAtEveryFloor(benchmark::State& state) {
 }
 BENCHMARK(BM_StepWithHertzdampAtEveryFloor);
 
+/// A whole 20 s run of one 10-storey frame under a harmonic ground motion that makes its lower
+/// storeys yield again and again: linear storeys (0), bilinear (1, Newmark, yield and unload
+/// events), bilinear with the exact integrator (2), Bouc–Wen (3, Newton at every step) — the
+/// cost of inelastic storeys against the linear frame.
+void BM_WholeRunWithYieldingStoreys(benchmark::State& state) {
+  const int law = static_cast<int>(state.range(0));
+  Frame frame = make_uniform_frame(10, 1e5, 2e8, 2e5, "frame");
+  if (law == 1 || law == 2) {
+    frame.storey_law = PerStorey<BilinearStorey>{
+        std::vector<BilinearStorey::Parameters>(10, {.yield_drift = 0.004, .post_yield_ratio = 0.05})};
+  } else if (law == 3) {
+    frame.storey_law = PerStorey<BoucWenStorey>{std::vector<BoucWenStorey::Parameters>(10, {.yield_drift = 0.004, .post_yield_ratio = 0.05, .n = 4})};
+  }
+  const Model m = make_model({frame}, PaperGap{});
+  TimeHistoryOptions options{.dt = 1e-3, .integrator = law == 2 ? Integrator::exact : Integrator::newmark};
+  std::int64_t steps = 0, yields = 0;
+  for (auto _ : state) {
+    Simulator sim(m, HarmonicExcitation{6.0, 9.0}, options);
+    sim.advance_to(10.0);
+    steps += sim.statistics().steps;
+    for (const FloorResponse& f : sim.statistics().floors) yields += f.yield_excursions;
+  }
+  state.SetItemsProcessed(steps);
+  state.counters["yield_excursions_per_run"] = static_cast<double>(yields) / static_cast<double>(state.iterations());
+  state.counters["ns_per_step"] =
+      benchmark::Counter(static_cast<double>(steps), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_WholeRunWithYieldingStoreys)->DenseRange(0, 3)->Unit(benchmark::kMillisecond);
+
 /// A whole 20 s run of the Fig. 2c system scaled to `storeys`, with contacts and impacts.
 void BM_WholeRunWithPounding(benchmark::State& state) {
   const int storeys = static_cast<int>(state.range(0));

@@ -2,8 +2,22 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace poundsim {
+
+namespace {
+/// |z|ⁿ: by multiplication for the integer exponents of common use (std::pow costs several
+/// times more, and every Newton iteration of every step asks it).
+double power_of(double az, double n) {
+  if (n == std::floor(n) && n <= 16) {
+    double p = 1.0;
+    for (int i = 0; i < static_cast<int>(n); ++i) p *= az;
+    return p;
+  }
+  return std::pow(az, n);
+}
+}  // namespace
 
 BoucWenStorey::Trial BoucWenStorey::trial(double d, const State& state) const {
   const double uy = yield_drift();
@@ -12,7 +26,7 @@ BoucWenStorey::Trial BoucWenStorey::trial(double d, const State& state) const {
     // The slope of the loading branch the state is on (its direction unknown: the tangent of a
     // step about to start is Φ for the sign Newton's first increment will take; take loading).
     const double z = state.z, az = std::abs(z);
-    return {.z = z, .slope = (a - std::pow(az, n) * (beta + gamma)) / uy};
+    return {.z = z, .slope = (a - power_of(az, n) * (beta + gamma)) / uy};
   }
   const double direction = step > 0 ? 1.0 : -1.0;
   // Φ(z) and Φ′(z) for this step's direction.
@@ -20,7 +34,7 @@ BoucWenStorey::Trial BoucWenStorey::trial(double d, const State& state) const {
     const double az = std::abs(z);
     const double s = direction * z >= 0 ? 1.0 : -1.0;  // sgn(Δd z)
     const double shape = beta * s + gamma;
-    const double power = std::pow(az, n);
+    const double power = power_of(az, n);
     derivative = az > 0 ? -n * power / az * (z > 0 ? 1.0 : -1.0) * shape : 0.0;
     return a - power * shape;
   };
@@ -29,16 +43,17 @@ BoucWenStorey::Trial BoucWenStorey::trial(double d, const State& state) const {
   double derivative = 0.0;
   double z = state.z + step * phi(state.z, derivative);
   double lo = -HUGE_VAL, hi = HUGE_VAL;
-  for (int i = 0; i < 100; ++i) {
+  for (int i = 0; i < 60; ++i) {
     const double g = z - state.z - step * phi(z, derivative);
+    if (g == 0.0) break;
     const double dg = 1.0 - step * derivative;
     if (g > 0) {
       hi = std::min(hi, z);
     } else {
       lo = std::max(lo, z);
     }
-    double next = dg > 0 ? z - g / dg : z;
-    if (!(next > lo && next < hi) || dg <= 0) {
+    double next = z - g / dg;
+    if (!(dg > 0) || !(next >= lo && next <= hi)) {
       // Outside the bracket (or a non-monotone g): bisect once it exists, else step out.
       if (std::isfinite(lo) && std::isfinite(hi)) {
         next = 0.5 * (lo + hi);
@@ -46,7 +61,7 @@ BoucWenStorey::Trial BoucWenStorey::trial(double d, const State& state) const {
         next = g > 0 ? z - std::max(1.0, std::abs(z)) : z + std::max(1.0, std::abs(z));
       }
     }
-    const bool converged = std::abs(next - z) <= 1e-15 * std::max(1.0, std::abs(z));
+    const bool converged = std::abs(next - z) <= 4 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(z));
     z = next;
     if (converged) break;
   }
