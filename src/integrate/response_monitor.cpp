@@ -12,13 +12,10 @@ namespace poundsim {
 ResponseMonitor::ResponseMonitor(const Model& model, const DofLayout& layout, std::vector<LinearForm> first_storey)
     : layout_(layout), first_storey_(std::move(first_storey)) {
   stats_.floors.resize(static_cast<std::size_t>(layout_.size()));
-  for (int f = 0; f + 1 < model.frame_count(); ++f) {
-    const int shared = std::min(model.frames[f].storeys(), model.frames[f + 1].storeys());
-    for (int i = 0; i < shared; ++i) {
-      stats_.neighbours.push_back(NeighbourResponse{f, i});
-      neighbour_left_.push_back(layout_.dof(f, i));
-      neighbour_right_.push_back(layout_.dof(f + 1, i));
-    }
+  for (const FloorPair& p : facing_floors(model)) {
+    stats_.neighbours.push_back(NeighbourResponse{p.left_frame, p.left_floor, p.right_floor});
+    neighbour_left_.push_back(layout_.dof(p.left_frame, p.left_floor));
+    neighbour_right_.push_back(layout_.dof(p.left_frame + 1, p.right_floor));
   }
   for (int f = 0; f < model.frame_count(); ++f) first_storey_dofs_.push_back(layout_.dof(f, 0));
   stats_.base_shear.resize(static_cast<std::size_t>(model.frame_count()));
@@ -36,7 +33,7 @@ void ResponseMonitor::reset() {
   for (Peak& p : stats_.base_shear) p = Peak{};
   for (Peak& p : stats_.storey_shear) p = Peak{};
   for (GapResponse& g : stats_.gaps) g = GapResponse{};
-  for (NeighbourResponse& nb : stats_.neighbours) nb = NeighbourResponse{nb.left_frame, nb.floor};
+  for (NeighbourResponse& nb : stats_.neighbours) nb = NeighbourResponse{nb.left_frame, nb.floor, nb.right_floor};
 }
 
 void ResponseMonitor::observe(const KinematicState& x) {

@@ -601,9 +601,13 @@ void check_floor_heights(const std::vector<Frame>& frames, std::vector<TableRead
       // Heights written to different precision (3.2 and 3.2000000001) are the same floor.
       if (std::abs(height_left - height_right) > 1e-9 * std::max(height_left, height_right)) {
         tables[f + 1].fail("storey_height", fmt::format(
-            "floor {} stands {} m above the ground, floor {} of frame {} {} m: gap elements join "
-            "floors at the same height (floors at different heights are not modelled)",
-            i + 1, height_right, i + 1, f + 1, height_left));
+            "floor {} stands {} m above the ground, floor {} of frame {} {} m: the gap elements join "
+            "floors of the same number (gap_elements.pairing = \"floor\", the default), which must "
+            "stand at the same height. Set gap_elements.pairing = \"height\" to join the floors that "
+            "stand at the same height, or pairing = \"listed\" with a [[gap_elements.pair]] table "
+            "(frames = [{}, {}], floors = [left floor, right floor]) for each pair of floors that "
+            "strike each other",
+            i + 1, height_right, i + 1, f + 1, height_left, f + 1, f + 2));
       }
     }
   }
@@ -776,8 +780,6 @@ Model read_physical(TableReader& top, RunInput& run) {
     f.finish();
     frames.push_back(std::move(frame));
   }
-  check_floor_heights(frames, frame_tables);
-
   if (frames.size() == 1) {
     if (top.has("gap_elements")) {
       top.fail("gap_elements", "the model has a single frame: there are no gap elements");
@@ -786,6 +788,61 @@ Model read_physical(TableReader& top, RunInput& run) {
   }
   TableReader gaps = top.table("gap_elements");
   gaps.declare<keys::GapElements>();
+  const std::string pairing = gaps.choice("pairing", {"floor", "height", "listed"}, std::string("floor"));
+  std::vector<FloorPair> pairs;
+  if (pairing == "floor") {
+    check_floor_heights(frames, frame_tables);
+  } else if (pairing == "height") {
+    pairs = floors_at_equal_heights(frames);
+    for (std::size_t f = 0; f + 1 < frames.size(); ++f) {
+      for (const std::size_t g : {f, f + 1}) {
+        if (frames[g].storey_height.empty()) {
+          frame_tables[g].fail_table(fmt::format(
+              "missing key: storey_height (gap_elements.pairing = \"height\" joins the floors of frames {} "
+              "and {} that stand at the same height)", f + 1, f + 2));
+        }
+      }
+      if (std::none_of(pairs.begin(), pairs.end(), [&](const FloorPair& p) { return p.left_frame == static_cast<int>(f); })) {
+        gaps.fail("pairing", fmt::format("no floor of frame {} stands at the height of a floor of frame {}: list "
+                                         "the floors that strike each other (pairing = \"listed\")", f + 1, f + 2));
+      }
+    }
+  } else {
+    if (!gaps.has("pair")) gaps.fail("pairing", "\"listed\" needs a [[gap_elements.pair]] table per pair of floors");
+    for (TableReader& t : gaps.tables("pair")) {
+      t.declare<keys::GapPair>();
+      const toml::array* frame_pair = t.require("frames").as_array();
+      const toml::array* floor_pair = t.require("floors").as_array();
+      if (frame_pair == nullptr || frame_pair->size() != 2) {
+        t.fail("frames", "expected two neighbouring frame numbers, e.g. [1, 2]");
+      }
+      if (floor_pair == nullptr || floor_pair->size() != 2) {
+        t.fail("floors", "expected [floor of the left frame, floor of the right frame], e.g. [3, 2]");
+      }
+      const auto frames_count = static_cast<std::int64_t>(frames.size());
+      const int left = bounded_integer((*frame_pair)[0], 1, frames_count, "item 1: ",
+                                       [&](const std::string& m) { t.fail("frames", m); });
+      const int right = bounded_integer((*frame_pair)[1], 1, frames_count, "item 2: ",
+                                        [&](const std::string& m) { t.fail("frames", m); });
+      if (right != left + 1) t.fail("frames", fmt::format("[{}, {}] are not neighbouring frames", left, right));
+      const auto storeys = [&](int frame) { return static_cast<std::int64_t>(frames[static_cast<std::size_t>(frame - 1)].storeys()); };
+      const int lf = bounded_integer((*floor_pair)[0], 1, storeys(left), "item 1: ", [&](const std::string& m) {
+        t.fail("floors", fmt::format("{} (frame {} has {} floors)", m, left, storeys(left)));
+      });
+      const int rf = bounded_integer((*floor_pair)[1], 1, storeys(right), "item 2: ", [&](const std::string& m) {
+        t.fail("floors", fmt::format("{} (frame {} has {} floors)", m, right, storeys(right)));
+      });
+      for (const FloorPair& seen : pairs) {
+        if (seen.left_frame == left - 1 && (seen.left_floor == lf - 1 || seen.right_floor == rf - 1)) {
+          t.fail("floors", fmt::format("a floor of [{}, {}] already has a gap element towards frame {}: a floor "
+                                       "meets its neighbour at one place", lf, rf, right));
+        }
+      }
+      pairs.push_back({.left_frame = left - 1, .left_floor = lf - 1, .right_floor = rf - 1});
+      t.finish();
+    }
+  }
+  if (pairing != "listed" && gaps.has("pair")) gaps.fail("pair", "[[gap_elements.pair]] needs pairing = \"listed\"");
   const GapSpec defaults = read_gap_law(gaps, nullptr);
   std::vector<GapOverride> overrides;
   std::vector<std::optional<double>> override_joints;
@@ -811,9 +868,16 @@ Model read_physical(TableReader& top, RunInput& run) {
       }
       const int shared = std::min(frames[static_cast<std::size_t>(left - 1)].storeys(),
                                   frames[static_cast<std::size_t>(right - 1)].storeys());
-      const int floor = bounded_integer(o.require("floor"), 1, shared, "", [&](const std::string& m) {
+      const int floor = bounded_integer(o.require("floor"), 1, pairs.empty() ? shared : frames[static_cast<std::size_t>(left - 1)].storeys(), "",
+                                        [&](const std::string& m) {
         o.fail("floor", fmt::format("{}: frames {} and {} share floors 1..{}", m, left, right, shared));
       });
+      if (!pairs.empty() && std::none_of(pairs.begin(), pairs.end(), [&](const FloorPair& p) {
+            return p.left_frame == left - 1 && p.left_floor == floor - 1;
+          })) {
+        o.fail("floor", fmt::format("no gap element joins floor {} of frame {} to frame {} (an override names an "
+                                    "element by its left floor)", floor, left, right));
+      }
       const GapSpec spec = read_gap_law(o, &defaults);
       GapOverride go{left - 1, floor - 1, spec.law};
       for (const GapOverride& seen : overrides) {
@@ -827,7 +891,7 @@ Model read_physical(TableReader& top, RunInput& run) {
     }
   }
   gaps.finish();
-  Model model = make_model(std::move(frames), defaults.law, overrides);
+  Model model = make_model(std::move(frames), defaults.law, overrides, pairs);
   for (const GapElement& g : model.gaps) {
     std::optional<double> joint = defaults.joint;
     for (std::size_t k = 0; k < overrides.size(); ++k) {
@@ -1377,7 +1441,7 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
   if (run.model.frame_count() > 0 && !run.initial.displacement.empty()) {
     for (const GapElement& g : run.model.gaps) {
       const double d = run.initial.displacement[g.left_frame][g.floor] -
-                       run.initial.displacement[g.left_frame + 1][g.floor];
+                       run.initial.displacement[g.left_frame + 1][g.floor_right()];
       try {  // the law says whether it can start at d (the simulator asks it the same)
         std::visit([&](const auto& law) { static_cast<void>(law.initial_mode(d)); }, g.law);
       } catch (const std::invalid_argument& e) {
@@ -1542,6 +1606,16 @@ toml::table model_tables(const RunInput& in, toml::table& root) {
     if (joint(k) != in.model.gaps[k].gap()) t.insert("joint_width", joint(k));
   };
   put_law(gaps, in.model.gaps.front().law, gap_law_names.front());  // no joint: overrides inherit it
+  if (!in.model.facing.empty()) {
+    // Pairs by height or listed: written as the list they made.
+    gaps.insert("pairing", "listed");
+    toml::array pairs;
+    for (const FloorPair& p : in.model.facing) {
+      pairs.push_back(toml::table{{"frames", toml::array{p.left_frame + 1, p.left_frame + 2}},
+                                  {"floors", toml::array{p.left_floor + 1, p.right_floor + 1}}});
+    }
+    gaps.insert("pair", std::move(pairs));
+  }
   toml::array overrides;
   for (std::size_t k = 0; k < in.model.gaps.size(); ++k) {
     const GapElement& g = in.model.gaps[k];

@@ -51,6 +51,7 @@ json describe_model(const RunInput& input) {
   json gaps = json::array();
   for (const GapElement& g : input.model.gaps) {
     json element{{"frames", {g.left_frame + 1, g.left_frame + 2}}, {"floor", g.floor + 1}};
+    if (g.floor_right() != g.floor) element["right_floor"] = g.floor_right() + 1;
     std::visit(
         [&](const auto& law) {
           if (!is_default(g.law)) element["law"] = law.key;
@@ -240,7 +241,7 @@ json to_json(const TimeHistoryResult& result) {
       const int f = nb.left_frame, i = nb.floor;
       min_gap[k] = std::max(0.0, nb.max_approach);
       const double u1 = free->floors[static_cast<std::size_t>(layout.dof(f, i))].displacement.value;
-      const double u2 = free->floors[static_cast<std::size_t>(layout.dof(f + 1, i))].displacement.value;
+      const double u2 = free->floors[static_cast<std::size_t>(layout.dof(f + 1, nb.right_floor))].displacement.value;
       const FundamentalMode& a = modes[static_cast<std::size_t>(f)];
       const FundamentalMode& b = modes[static_cast<std::size_t>(f + 1)];
       const double rho = modal_correlation(a.omega, a.damping_ratio, b.omega, b.damping_ratio);
@@ -255,9 +256,10 @@ json to_json(const TimeHistoryResult& result) {
                  {"ddc_correlation", rho},
                  {"rules", rules},
                  {"rule_over_min_gap", over}};
+      if (nb.right_floor != i) entry["right_floor"] = nb.right_floor + 1;
       for (int p = 0; p < model.gap_count(); ++p) {
         const GapElement& g = model.gaps[static_cast<std::size_t>(p)];
-        if (g.left_frame == f && g.floor == i) {
+        if (g.left_frame == f && g.floor == i && g.floor_right() == nb.right_floor) {
           const GapResponse& gr = st.gaps[static_cast<std::size_t>(p)];
           entry["gap_m"] = g.gap();
           entry["gap_over_min_gap"] = ratio(g.gap(), min_gap[k]);
@@ -288,6 +290,7 @@ json to_json(const TimeHistoryResult& result) {
                     {"contact_time_s", g.contact_time},
                     {"completed_contacts", g.completed_contacts},
                     {"longest_contact_s", peak(g.longest_contact)}});
+    if (e.floor_right() != e.floor) gaps.back()["right_floor"] = e.floor_right() + 1;
     // The restitution the law achieved, contact by contact (none without a completed contact),
     // and what it dissipated (the exact integrator gives the total only, energy.gap_damping_J).
     gaps.back()["effective_restitution"] =

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -9,12 +10,23 @@
 namespace poundsim {
 
 Model make_model(std::vector<Frame> frames, const GapLaw& defaults,
-                 std::span<const GapOverride> overrides) {
+                 std::span<const GapOverride> overrides, std::span<const FloorPair> pairs) {
   Model model;
   model.frames = std::move(frames);
-  for (int f = 0; f + 1 < model.frame_count(); ++f) {
-    const int shared = std::min(model.frames[f].storeys(), model.frames[f + 1].storeys());
-    for (int floor = 0; floor < shared; ++floor) model.gaps.push_back({f, floor, defaults});
+  if (pairs.empty()) {
+    for (int f = 0; f + 1 < model.frame_count(); ++f) {
+      const int shared = std::min(model.frames[f].storeys(), model.frames[f + 1].storeys());
+      for (int floor = 0; floor < shared; ++floor) model.gaps.push_back({f, floor, defaults});
+    }
+  } else {
+    for (const FloorPair& p : pairs) {
+      model.gaps.push_back({.left_frame = p.left_frame, .floor = p.left_floor, .law = defaults,
+                            .right_floor = p.right_floor == p.left_floor ? -1 : p.right_floor});
+    }
+    std::stable_sort(model.gaps.begin(), model.gaps.end(), [](const GapElement& a, const GapElement& b) {
+      return a.left_frame != b.left_frame ? a.left_frame < b.left_frame : a.floor < b.floor;
+    });
+    for (const GapElement& g : model.gaps) model.facing.push_back({g.left_frame, g.floor, g.floor_right()});
   }
   for (const GapOverride& o : overrides) {
     const auto it = std::find_if(model.gaps.begin(), model.gaps.end(), [&](const GapElement& g) {
@@ -30,6 +42,37 @@ Model make_model(std::vector<Frame> frames, const GapLaw& defaults,
   return model;
 }
 
+std::vector<FloorPair> floors_at_equal_heights(const std::vector<Frame>& frames) {
+  std::vector<FloorPair> pairs;
+  for (std::size_t f = 0; f + 1 < frames.size(); ++f) {
+    const Frame& left = frames[f];
+    const Frame& right = frames[f + 1];
+    double height_left = 0.0;
+    for (int i = 0; i < static_cast<int>(left.storey_height.size()); ++i) {
+      height_left += left.storey_height[static_cast<std::size_t>(i)];
+      double height_right = 0.0;
+      for (int j = 0; j < static_cast<int>(right.storey_height.size()); ++j) {
+        height_right += right.storey_height[static_cast<std::size_t>(j)];
+        // Heights written to different precision (3.2 and 3.2000000001) are the same floor.
+        if (std::abs(height_left - height_right) <= 1e-9 * std::max(height_left, height_right)) {
+          pairs.push_back({.left_frame = static_cast<int>(f), .left_floor = i, .right_floor = j});
+        }
+      }
+    }
+  }
+  return pairs;
+}
+
+std::vector<FloorPair> facing_floors(const Model& model) {
+  if (!model.facing.empty()) return model.facing;
+  std::vector<FloorPair> pairs;
+  for (int f = 0; f + 1 < model.frame_count(); ++f) {
+    const int shared = std::min(model.frames[f].storeys(), model.frames[f + 1].storeys());
+    for (int i = 0; i < shared; ++i) pairs.push_back({f, i, i});
+  }
+  return pairs;
+}
+
 void validate(const Model& model) {
   if (model.frames.empty()) throw std::invalid_argument("the model has no frames");
   for (int f = 0; f < model.frame_count(); ++f) {
@@ -39,14 +82,25 @@ void validate(const Model& model) {
       throw std::invalid_argument(fmt::format("frame {}: {}", f + 1, e.what()));
     }
   }
-  for (const GapElement& g : model.gaps) {
-    const std::string what =
-        fmt::format("gap element between frames {} and {} at floor {}", g.left_frame + 1,
-                    g.left_frame + 2, g.floor + 1);
+  for (std::size_t k = 0; k < model.gaps.size(); ++k) {
+    const GapElement& g = model.gaps[k];
+    const std::string what = g.floor_right() == g.floor
+                                 ? fmt::format("gap element between frames {} and {} at floor {}", g.left_frame + 1,
+                                               g.left_frame + 2, g.floor + 1)
+                                 : fmt::format("gap element between floor {} of frame {} and floor {} of frame {}",
+                                               g.floor + 1, g.left_frame + 1, g.floor_right() + 1, g.left_frame + 2);
     if (g.left_frame < 0 || g.left_frame + 1 >= model.frame_count() || g.floor < 0 ||
-        g.floor >= model.frames[g.left_frame].storeys() ||
-        g.floor >= model.frames[g.left_frame + 1].storeys()) {
+        g.floor >= model.frames[g.left_frame].storeys() || g.floor_right() < 0 ||
+        g.floor_right() >= model.frames[g.left_frame + 1].storeys()) {
       throw std::invalid_argument(what + ": no such floors");
+    }
+    // A floor meets its neighbour at one place: one element per floor and side.
+    for (std::size_t q = 0; q < k; ++q) {
+      const GapElement& o = model.gaps[q];
+      if (o.left_frame != g.left_frame) continue;
+      if (o.floor == g.floor || o.floor_right() == g.floor_right()) {
+        throw std::invalid_argument(what + ": a floor of it already has a gap element on that side");
+      }
     }
     std::visit([&](const auto& law) { validate_fields(law.parameters, what); }, g.law);
   }
@@ -71,7 +125,7 @@ DofLayout::DofLayout(const Model& model) {
   }
   for (const GapElement& g : model.gaps) {
     gap_left_.push_back(dof_.at(g.left_frame).at(g.floor));
-    gap_right_.push_back(dof_.at(g.left_frame + 1).at(g.floor));
+    gap_right_.push_back(dof_.at(g.left_frame + 1).at(g.floor_right()));
   }
 }
 
@@ -79,6 +133,10 @@ std::string describe(const Link& link, const DofLayout& layout) {
   const int frame = layout.frame_of(link.a), floor = layout.floor_of(link.a);
   if (link.b < 0 || layout.frame_of(link.b) == frame) {
     return fmt::format("storey {} of frame {} ({})", floor + 1, frame + 1, link.traits().name);
+  }
+  if (layout.floor_of(link.b) != floor) {
+    return fmt::format("{} between floor {} of frame {} and floor {} of frame {}", link.traits().name, floor + 1,
+                       frame + 1, layout.floor_of(link.b) + 1, layout.frame_of(link.b) + 1);
   }
   return fmt::format("{} between frames {} and {} at floor {}", link.traits().name, frame + 1,
                      layout.frame_of(link.b) + 1, floor + 1);

@@ -223,7 +223,8 @@ TEST(InputDocs, TheOtherTablesDocumentExactlyTheirDeclaredKeys) {
   expect_exactly_documented<io::keys::Frame, Frame>("`[[frames]]`:");
   expect_documented<io::keys::GapElements>("`[gap_elements]` gives every element's law");
   expect_documented<io::keys::GapOverride>("`[gap_elements]` gives every element's law");
-  expect_exactly_documented<io::keys::GapElements, io::keys::GapOverride>(
+  expect_documented<io::keys::GapPair>("`[gap_elements]` gives every element's law");
+  expect_exactly_documented<io::keys::GapElements, io::keys::GapOverride, io::keys::GapPair>(
       "`[gap_elements]` gives every element's law");
   expect_documented<io::keys::Initial>("## `[initial]`", no_default);
   expect_exactly_documented<io::keys::Initial>("## `[initial]`");

@@ -69,7 +69,8 @@ struct GapResponse {
 /// Corresponding floors of neighbouring frames (whether or not a gap element joins them).
 struct NeighbourResponse {
   int left_frame = 0;  ///< Frame f; its neighbour is f+1.
-  int floor = 0;
+  int floor = 0;       ///< The floor of frame f
+  int right_floor = 0; ///< and the floor of frame f+1 facing it (facing_floors).
   /// The largest u_L − u_R [m] (signed: how far the left floor came towards the right one); its
   /// positive part is the smallest gap that avoids contact.
   double max_approach = -std::numeric_limits<double>::infinity();

@@ -157,6 +157,18 @@ struct GapElements {
         C{"law", "the gap elements' law (model/law.hpp's GapLaw), \"paper\" by default"},
         C{"joint_width", "w [m], the joint's width"},
         C{"override", "changes to single elements", true},
+        C{"pairing", "which floors the elements join: \"floor\" (same number), \"height\" or \"listed\""},
+        C{"pair", "with pairing = \"listed\": one table per pair of floors", true},
+    };
+  }
+};
+/// [[gap_elements.pair]]'s keys.
+struct GapPair {
+  static constexpr auto fields() {
+    using C = CustomField<GapPair>;
+    return std::tuple{
+        C{"frames", "the two neighbouring frames, e.g. [1, 2]"},
+        C{"floors", "the floor of each, from 1: [left, right]"},
     };
   }
 };

@@ -1,10 +1,12 @@
 #pragma once
 /// @file
-/// The structural model: a row of shear frames, left to right, with one gap element between each
-/// pair of corresponding floors of neighbouring frames, and the numbering of its degrees of freedom.
+/// The structural model: a row of shear frames, left to right, with gap elements between floors
+/// of neighbouring frames, and the numbering of its degrees of freedom.
 ///
-/// The paper's system is two frames; any number ≥ 1 works (buildings in series). Frame f and
-/// f+1 are joined at floors 1..min(n_f, n_{f+1}).
+/// The paper's system is two frames; any number ≥ 1 works (buildings in series). By default
+/// frame f and f+1 are joined at corresponding floors 1..min(n_f, n_{f+1}); a model may instead
+/// join the floors that stand at the same height, or any floors it lists (FloorPair): floors of
+/// frames with different storey heights.
 ///
 /// Example:
 /// @code
@@ -25,11 +27,24 @@
 
 namespace poundsim {
 
-/// One gap element between corresponding floors of neighbouring frames. 0-based indices.
+/// A pair of floors a gap element joins: `left_floor` of `left_frame` and `right_floor` of the
+/// frame to its right. 0-based.
+struct FloorPair {
+  int left_frame = 0;
+  int left_floor = 0;
+  int right_floor = 0;
+};
+
+/// One gap element between a floor of a frame and a floor of its right neighbour. 0-based.
 struct GapElement {
   int left_frame = 0;  ///< Frame L; the right frame is L+1.
-  int floor = 0;       ///< Floor index (0 = first floor above the ground).
+  int floor = 0;       ///< Floor index in frame L (0 = first floor above the ground).
   GapLaw law;          ///< Its law with its parameters (the paper's by default).
+  /// Floor index in frame L+1; −1: the same as `floor` (corresponding floors).
+  int right_floor = -1;
+
+  /// The floor of frame L+1 it joins.
+  [[nodiscard]] int floor_right() const { return right_floor < 0 ? floor : right_floor; }
 
   /// δ [m]: the clear distance at rest, whatever the law.
   [[nodiscard]] double gap() const {
@@ -50,6 +65,10 @@ template <class L>
 struct Model {
   std::vector<Frame> frames;     ///< Left to right.
   std::vector<GapElement> gaps;  ///< Ordered by frame pair, then by floor.
+  /// The floors that face each other across each joint, where the frames may pound (the pairs
+  /// of make_model; they stay when the gap elements are taken away, free_frames); empty: the
+  /// corresponding floors 1..min(n_f, n_{f+1}).
+  std::vector<FloorPair> facing;
 
   [[nodiscard]] int frame_count() const { return static_cast<int>(frames.size()); }
   [[nodiscard]] int gap_count() const { return static_cast<int>(gaps.size()); }
@@ -62,11 +81,20 @@ struct GapOverride {
   GapLaw law;
 };
 
-/// Builds the model with an element at every pair of corresponding floors, all with `defaults`
-/// except those listed in `overrides`. Throws std::invalid_argument for an override that names
-/// no element.
+/// Builds the model with an element at every pair of corresponding floors — or, when `pairs`
+/// is given, at exactly those pairs (ordered by frame pair, then floor) — all with `defaults`
+/// except those listed in `overrides` (named by their left frame and floor). Throws
+/// std::invalid_argument for an override that names no element.
 Model make_model(std::vector<Frame> frames, const GapLaw& defaults,
-                 std::span<const GapOverride> overrides = {});
+                 std::span<const GapOverride> overrides = {}, std::span<const FloorPair> pairs = {});
+
+/// The pairs of floors of neighbouring frames that stand at the same height above the ground
+/// (Frame::storey_height, to 1e-9 relative), every frame pair in turn. Frames without storey
+/// heights pair no floors.
+std::vector<FloorPair> floors_at_equal_heights(const std::vector<Frame>& frames);
+
+/// The floors facing each other across the joints (Model::facing, or the corresponding floors).
+std::vector<FloorPair> facing_floors(const Model& model);
 
 /// Throws std::invalid_argument naming the frame, element and field of the first problem.
 void validate(const Model& model);
