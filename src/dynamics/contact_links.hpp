@@ -40,12 +40,8 @@ R with_event_law(const Link& link, F&& f, G&& otherwise) {
       link.law);
 }
 
-/// The link's two floors at `x` (b = −1: the ground, at rest in the relative frame).
-inline LinkKinematics kinematics(const KinematicState& x, const Link& link) {
-  if (link.b < 0) return {.ua = x.u(link.a), .va = x.v(link.a), .aa = x.a(link.a), .t = x.t};
-  return {.ua = x.u(link.a), .ub = x.u(link.b), .va = x.v(link.a), .vb = x.v(link.b),
-          .aa = x.a(link.a), .ab = x.a(link.b), .t = x.t};
-}
+/// The link's two floors at `x`.
+inline LinkKinematics kinematics(const KinematicState& x, const Link& link) { return kinematics(x, link.a, link.b); }
 
 /// Calls f(link) for every link of `table` whose law is a contact law, law by law: the loops
 /// that run every step call the law directly, with no dispatch per link.

@@ -212,20 +212,30 @@ double Simulator::shortening(int p) const { return system_.shortening(state_, p)
 
 double Simulator::gap_force(int p) const { return system_.gap_force(state_, contact_, p); }
 
-double Simulator::storey_drift(int dof) const {
-  const int below = layout().below(dof);
-  return state_.u(dof) - (below >= 0 ? state_.u(below) : 0.0);
-}
+double Simulator::storey_drift(int dof) const { return Loop::storey_drift(dof); }
 
 double Simulator::storey_force(int dof) const { return restoring_force(dof); }
 
 namespace detail {
+double Loop::storey_drift(int dof) const {
+  const int below = system_.layout().below(dof);
+  return state_.u(dof) - (below >= 0 ? state_.u(below) : 0.0);
+}
+
+std::optional<Loop::FirstStoreyForces> Loop::smooth_first_storey(int f) const {
+  if (std::find(smooth_first_storeys_.begin(), smooth_first_storeys_.end(), f) == smooth_first_storeys_.end()) {
+    return std::nullopt;
+  }
+  const int dof = system_.layout().dof(f, 0);
+  const double spring = restoring_force(dof);
+  return FirstStoreyForces{spring, spring + system_.model().frames[static_cast<std::size_t>(f)].damping[0] * state_.v(dof)};
+}
+
 double Loop::restoring_force(int dof) const {
   // make_links puts the storeys first, one per DOF.
   const Link& link = system_.links()[static_cast<std::size_t>(dof)];
   const LinkMode mode = mode_of(link, contact_.config);
-  const int below = system_.layout().below(dof);
-  const double drift = state_.u(dof) - (below >= 0 ? state_.u(below) : 0.0);
+  const double drift = storey_drift(dof);
   return std::visit(
       [&](const auto& law) -> double {
         using L = std::decay_t<decltype(law)>;
@@ -240,17 +250,12 @@ double Loop::restoring_force(int dof) const {
 }  // namespace detail
 
 double Simulator::base_shear(int f) const {
-  if (std::find(smooth_first_storeys_.begin(), smooth_first_storeys_.end(), f) != smooth_first_storeys_.end()) {
-    return restoring_force(layout().dof(f, 0));
-  }
+  if (const auto smooth = smooth_first_storey(f)) return smooth->base_shear;
   return monitor_.base_shear(state_, f);
 }
 
 double Simulator::storey_shear(int f) const {
-  if (std::find(smooth_first_storeys_.begin(), smooth_first_storeys_.end(), f) != smooth_first_storeys_.end()) {
-    const int dof = layout().dof(f, 0);
-    return restoring_force(dof) + model().frames[static_cast<std::size_t>(f)].damping[0] * state_.v(dof);
-  }
+  if (const auto smooth = smooth_first_storey(f)) return smooth->storey_shear;
   return monitor_.storey_shear(state_, f);
 }
 
@@ -398,10 +403,8 @@ void Loop::record_statistics() {
   check_finite();
   monitor_.observe(state_);
   for (const int f : smooth_first_storeys_) {
-    const int dof = system_.layout().dof(f, 0);
-    const double spring = restoring_force(dof);
-    monitor_.observe_first_storey(f, spring, spring + system_.model().frames[static_cast<std::size_t>(f)].damping[0] * state_.v(dof),
-                                  state_.t);
+    const FirstStoreyForces forces = *smooth_first_storey(f);
+    monitor_.observe_first_storey(f, forces.base_shear, forces.storey_shear, state_.t);
   }
   // Law by law (no dispatch per element): this runs at every accepted state.
   for_each_contact_link(system_.contact_table(), [&](const auto& link) {
@@ -416,25 +419,21 @@ void Loop::emit(int gap, EventKind kind, double left_before, double right_before
                      double impulse) {
   const auto p = static_cast<std::size_t>(gap);
   const Link& link = system_.tracked_links()[p];
-  if (gap >= system_.gap_count()) {  // a storey yields or unloads
-    if (++events_this_step_ > options_.max_events_per_step) {
-      throw SimulationError(fmt::format("more than {} events within one step at t = {} s ({})",
-                                        options_.max_events_per_step, state_.t, describe(link, system_.layout())),
-                            StopReason::event_limit);
-    }
+  const bool storey = gap >= system_.gap_count();  // a storey yields or unloads
+  if (++events_this_step_ > options_.max_events_per_step) {
+    throw SimulationError(
+        fmt::format("more than {} events within one step at t = {} s ({}){}", options_.max_events_per_step, state_.t,
+                    describe(link, system_.layout()),
+                    storey ? "" : fmt::format(": chattering that lock_time = {} s does not suppress", options_.lock_time)),
+        StopReason::event_limit);
+  }
+  if (storey) {
     monitor_.observe_storey_event(link.a, kind);
     return;
   }
   const double left_after = state_.v(link.a);
   const double right_after = state_.v(link.b);
   const double before = left_before - right_before, after = left_after - right_after;
-  if (++events_this_step_ > options_.max_events_per_step) {
-    throw SimulationError(fmt::format(
-        "more than {} events within one step at t = {} s ({}): chattering that lock_time = {} s does not "
-        "suppress",
-        options_.max_events_per_step, state_.t, describe(link, system_.layout()), options_.lock_time),
-        StopReason::event_limit);
-  }
   monitor_.observe_event(p, kind, before, impulse, state_.t);
   if (on_event_) {
     on_event_(Event{state_.t, gap, kind, before, after, impulse, left_before, right_before,

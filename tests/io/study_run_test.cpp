@@ -233,18 +233,22 @@ TEST(StudyRun, ABadParameterStopsTheStudyBeforeAnyPointRuns) {
   fs::remove_all(dir);
 }
 
+/// An example's time history as a study of `duration` over `axes` ([[study.parameter]] tables),
+/// each point a time history without a baseline.
+std::string as_study(const fs::path& example, const std::string& duration, const std::string& axes) {
+  std::string text = slurp(example);
+  const std::string analysis = "kind = \"time_history\"", whole = "duration = 20.0";
+  text.replace(text.find(analysis), analysis.size(), "kind = \"study\"");
+  text.replace(text.find(whole), whole.size(), "duration = " + duration);
+  return text + "[study]\neach = \"time_history\"\nbaseline = false\n" + axes;
+}
+
 // The contact laws' and the frames' damping parameters are study axes like any key: a grid over
 // Hertzdamp's restitution and damping model and a frame's modal damping runs every point, and
 // each point's figures differ.
 TEST(StudyRun, AxesOverContactLawAndDampingParameters) {
-  std::string text = slurp(fs::path(POUNDSIM_SOURCE_DIR) / "examples" / "contact_laws" / "hertzdamp.toml");
-  const std::string analysis = "kind = \"time_history\"", duration = "duration = 20.0";
-  text.replace(text.find(analysis), analysis.size(), "kind = \"study\"");
-  text.replace(text.find(duration), duration.size(), "duration = 2.0");
-  text += R"([study]
-each = "time_history"
-baseline = false
-[[study.parameter]]
+  const std::string text = as_study(fs::path(POUNDSIM_SOURCE_DIR) / "examples" / "contact_laws" / "hertzdamp.toml", "2.0",
+                                    R"([[study.parameter]]
 key = "gap_elements.restitution"
 values = [0.5, 0.9]
 [[study.parameter]]
@@ -253,7 +257,7 @@ values = ["lankarani_nikravesh", "ye_li_zhu"]
 [[study.parameter]]
 key = "frames[1].modal_damping_ratios"
 values = [0.0, 0.05]
-)";
+)");
   const fs::path dir = fresh("laws");
   const nlohmann::json summary = to_json(run_study(read(text), dir));
   EXPECT_TRUE(summary["complete"].get<bool>());
@@ -273,20 +277,14 @@ values = [0.0, 0.05]
 // The storeys' law and its parameters are axes like any key: a yield drift, and the law itself
 // (both yielding laws read yield_drift and post_yield_ratio).
 TEST(StudyRun, AxesOverStoreyLawsAndTheirParameters) {
-  std::string text = slurp(fs::path(POUNDSIM_SOURCE_DIR) / "examples" / "el_centro_5_and_8_storeys_bilinear.toml");
-  const std::string analysis = "kind = \"time_history\"", duration = "duration = 20.0";
-  text.replace(text.find(analysis), analysis.size(), "kind = \"study\"");
-  text.replace(text.find(duration), duration.size(), "duration = 3.0");
-  text += R"([study]
-each = "time_history"
-baseline = false
-[[study.parameter]]
+  const std::string text = as_study(fs::path(POUNDSIM_SOURCE_DIR) / "examples" / "el_centro_5_and_8_storeys_bilinear.toml",
+                                    "3.0", R"([[study.parameter]]
 key = "frames[1].yield_drift"
 values = [0.005, 0.02]
 [[study.parameter]]
 key = "frames[2].storey_law"
 values = ["bilinear", "bouc_wen"]
-)";
+)");
   const fs::path dir = fresh("storeys");
   const RunInput input = read_input_string(text, "study.toml", fs::path(POUNDSIM_SOURCE_DIR) / "examples");
   const nlohmann::json summary = to_json(run_study(input, dir));

@@ -36,15 +36,15 @@
 namespace poundsim {
 
 namespace detail {
-/// The two floors of a typed link at `x` (both floors: contact links join two).
+/// Floors a and b at `x` (b = −1: the ground, at rest in the relative frame: a first storey's).
+inline LinkKinematics kinematics(const KinematicState& x, int a, int b) {
+  if (b < 0) return {.ua = x.u(a), .va = x.v(a), .aa = x.a(a), .t = x.t};
+  return {.ua = x.u(a), .ub = x.u(b), .va = x.v(a), .vb = x.v(b), .aa = x.a(a), .ab = x.a(b), .t = x.t};
+}
+/// The two floors of a typed link at `x`.
 template <class L>
 LinkKinematics kinematics(const KinematicState& x, const TypedLink<L>& link) {
-  if constexpr (!ContactLaw<L>) {
-    // A storey's floor b is the ground (−1) for a first storey.
-    if (link.b < 0) return {.ua = x.u(link.a), .va = x.v(link.a), .aa = x.a(link.a), .t = x.t};
-  }
-  return {.ua = x.u(link.a), .ub = x.u(link.b), .va = x.v(link.a), .vb = x.v(link.b),
-          .aa = x.a(link.a), .ab = x.a(link.b), .t = x.t};
+  return kinematics(x, link.a, link.b);
 }
 }  // namespace detail
 

@@ -199,8 +199,16 @@ class Loop {
   /// Reports an event; velocities after are read from the current state.
   void emit(int gap, EventKind kind, double left_before, double right_before, double impulse);
   void record_statistics();
-  /// The restoring force of the storey below floor DOF `dof` at the current state [N].
+  /// The drift [m] and restoring force [N] of the storey below floor DOF `dof` now.
+  [[nodiscard]] double storey_drift(int dof) const;
   [[nodiscard]] double restoring_force(int dof) const;
+  /// Frame f's base shear (restoring force) and first-storey shear (with its dashpot) now [N],
+  /// when its first storey's law is smooth; nothing otherwise (the monitor's linear form gives them).
+  struct FirstStoreyForces {
+    double base_shear = 0.0;
+    double storey_shear = 0.0;
+  };
+  [[nodiscard]] std::optional<FirstStoreyForces> smooth_first_storey(int f) const;
   /// Frames whose first storey's law is smooth (a Bouc–Wen storey): their base shear is not a
   /// linear form's, so the loop samples it at every accepted state.
   std::vector<int> smooth_first_storeys_;

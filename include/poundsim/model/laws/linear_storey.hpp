@@ -50,8 +50,6 @@ struct LinearStorey {
   [[nodiscard]] double restoring_force(double d, LinkMode /*mode*/, const State& /*state*/) const {
     return stiffness * d;
   }
-  /// No yield drift: the storey never yields (ductility is not defined).
-  [[nodiscard]] static double yield_drift() { return 0.0; }
   /// ½ K d² [J].
   [[nodiscard]] double stored_energy(double d) const { return 0.5 * (stiffness * d * d); }
   /// C ḋ² [W].
