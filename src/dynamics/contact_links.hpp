@@ -40,9 +40,6 @@ R with_event_law(const Link& link, F&& f, G&& otherwise) {
       link.law);
 }
 
-/// The link's two floors at `x`.
-inline LinkKinematics kinematics(const KinematicState& x, const Link& link) { return kinematics(x, link.a, link.b); }
-
 /// Calls f(link) for every link of `table` whose law is a contact law, law by law: the loops
 /// that run every step call the law directly, with no dispatch per link.
 template <class F>

@@ -4,16 +4,11 @@
 #include <cmath>
 #include <optional>
 
+#include "poundsim/dynamics/link_kinematics.hpp"
+
 namespace poundsim {
 
 namespace {
-
-/// The link's floors at `x` (the ground for b = −1); energies need no accelerations.
-template <class L>
-LinkKinematics kinematics_of(const TypedLink<L>& link, const KinematicState& x) {
-  return {.ua = x.u(link.a), .ub = link.b >= 0 ? x.u(link.b) : 0.0,
-          .va = x.v(link.a), .vb = link.b >= 0 ? x.v(link.b) : 0.0, .t = x.t};
-}
 
 template <class L>
 LinkMode mode_in(const TypedLink<L>& link, const ContactConfiguration& config) {
@@ -78,7 +73,7 @@ void EnergyMeter::update_stored(const KinematicState& x, const ContactConfigurat
     if (links.empty()) return;
     double sum = 0.0;  // in a register: one law's links, in link order
     for (const auto& link : links) {
-      sum += link.law.stored_energy(kinematics_of(link, x), mode_in(link, config),
+      sum += link.law.stored_energy(detail::kinematics<detail::Derivatives::velocities>(x, link), mode_in(link, config),
                                     states.at(link));
     }
     term(links.front().law.traits.energy, storey, gap) += sum;
@@ -109,7 +104,7 @@ void EnergyMeter::step(const KinematicState& x0, const KinematicState& x1,
     if (links.empty()) return;
     double sum = 0.0;
     for (const auto& link : links) {
-      const double power = link.law.trapezoidal_power(kinematics_of(link, x0), kinematics_of(link, x1),
+      const double power = link.law.trapezoidal_power(detail::kinematics<detail::Derivatives::velocities>(x0, link), detail::kinematics<detail::Derivatives::velocities>(x1, link),
                                                        mode_in(link, config), states.at(link));
       sum += power;
       if constexpr (ContactLaw<std::decay_t<decltype(link.law)>>) {
@@ -136,7 +131,7 @@ EnergyMeter::Powers EnergyMeter::powers(const KinematicState& x, const ContactCo
     if (links.empty()) return;
     double sum = 0.0;
     for (const auto& link : links) {
-      sum += link.law.dissipated_power(kinematics_of(link, x), mode_in(link, config), states.at(link));
+      sum += link.law.dissipated_power(detail::kinematics<detail::Derivatives::velocities>(x, link), mode_in(link, config), states.at(link));
     }
     term(links.front().law.traits.energy, p.storey_damping, p.gap_damping) += sum;
   });
@@ -150,14 +145,18 @@ PowerForms EnergyMeter::power_forms(const ContactConfiguration& config,
                    .gap_damping = Eigen::MatrixXd::Zero(groups, groups),
                    .mass = Eigen::VectorXd::Zero(groups)};
   const auto g = [&](int dof) { return static_cast<Eigen::Index>(group_of[static_cast<std::size_t>(dof)]); };
-  // c (u̇_a − u̇_b)² with u̇ = T q̇ adds c to (a,a) and (b,b) and −c to (a,b), (b,a) of the groups;
-  // floors of one group cancel.
-  const auto add = [](Eigen::MatrixXd& form, Eigen::Index a, Eigen::Index b, double c) {
-    form(a, a) += c;
-    if (b < 0) return;
-    form(b, b) += c;
-    form(a, b) -= c;
-    form(b, a) -= c;
+  // c ḋ² with ḋ = nᵀu̇ = nᵀT q̇ adds c n_i n_j to the groups of terms i and j (c to (a,a) and (b,b),
+  // −c to (a,b) and (b,a) for a link between floors); floors of one group cancel.
+  const auto add = [&](Eigen::MatrixXd& form, const LinkDofs& dofs, double c) {
+    const auto terms = dofs.terms();
+    for (const DofTerm& t : terms) form(g(t.dof), g(t.dof)) += c * (t.coefficient * t.coefficient);
+    for (std::size_t i = 0; i < terms.size(); ++i) {
+      for (std::size_t j = i + 1; j < terms.size(); ++j) {
+        const double cij = c * (terms[i].coefficient * terms[j].coefficient);
+        form(g(terms[i].dof), g(terms[j].dof)) += cij;
+        form(g(terms[j].dof), g(terms[i].dof)) += cij;
+      }
+    }
   };
   for (Eigen::Index i = 0; i < mass_.size(); ++i) forms.mass(g(static_cast<int>(i))) += mass_(i);
   links_.for_each_law([&](auto links) {
@@ -167,7 +166,7 @@ PowerForms EnergyMeter::power_forms(const ContactConfiguration& config,
       Eigen::MatrixXd& target = link.law.traits.energy == EnergyGroup::storey
                                     ? forms.storey_damping
                                     : forms.gap_damping;
-      add(target, g(link.a), link.b >= 0 ? g(link.b) : -1, form->damping);
+      add(target, link_dofs(link), form->damping);
     }
   });
   for (const FrameDashpots& d : frame_dashpots_) {
@@ -200,7 +199,7 @@ void EnergyMeter::add_plastic_work(const KinematicState& x0, const KinematicStat
     if constexpr (YieldingLaw<L>) {
       double sum = 0.0;
       for (const auto& link : links) {
-        const double work = link.law.plastic_work(kinematics_of(link, x0), kinematics_of(link, x1),
+        const double work = link.law.plastic_work(detail::kinematics<detail::Derivatives::velocities>(x0, link), detail::kinematics<detail::Derivatives::velocities>(x1, link),
                                                   mode_in(link, config), states.at(link));
         storey_hysteretic_[static_cast<std::size_t>(link.a)] += work;
         sum += work;

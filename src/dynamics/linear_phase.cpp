@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <optional>
+#include <stdexcept>
 #include <utility>
 
 #include <fmt/format.h>
@@ -13,14 +14,22 @@ namespace poundsim {
 namespace {
 using Triplet = Eigen::Triplet<double>;
 
-void add_link(std::vector<Triplet>& t, int i, int j, double value) {
-  // A two-node element (storey or gap) between DOF i and DOF j (j < 0: the ground).
-  t.emplace_back(i, i, value);
-  if (j >= 0) {
-    t.emplace_back(j, j, value);
-    t.emplace_back(i, j, -value);
-    t.emplace_back(j, i, -value);
+void add_link(std::vector<Triplet>& t, const LinkDofs& dofs, double value) {
+  // value·n nᵀ with d = nᵀu: a two-node element's value on the diagonal and −value off it.
+  const auto terms = dofs.terms();
+  for (const DofTerm& i : terms) t.emplace_back(i.dof, i.dof, value * (i.coefficient * i.coefficient));
+  for (std::size_t i = 0; i < terms.size(); ++i) {
+    for (std::size_t j = i + 1; j < terms.size(); ++j) {
+      const double entry = value * (terms[i].coefficient * terms[j].coefficient);
+      t.emplace_back(terms[i].dof, terms[j].dof, entry);
+      t.emplace_back(terms[j].dof, terms[i].dof, entry);
+    }
   }
+}
+
+/// −f n: a force f of the link on its floors (−f on a, +f on b between floors).
+void add_link_load(Eigen::VectorXd& load, const LinkDofs& dofs, double force) {
+  for (const DofTerm& t : dofs.terms()) load(t.dof) -= t.coefficient * force;
 }
 }  // namespace
 
@@ -42,22 +51,23 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
   std::vector<int> leader(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) leader[i] = i;
   for (const Link& link : make_links(model, layout)) {
+    const LinkDofs dofs = link_dofs(link);
     if (link.smooth_in(mode_of(link, configuration_))) {
-      smooth_links_.push_back({.element = link.element, .a = link.a, .b = link.b});
+      smooth_links_.push_back({.element = link.element, .dofs = dofs});
       continue;
     }
     const std::optional<LinearForm> form = link.linear_form(mode_of(link, configuration_));
     if (!form) continue;  // the link transmits nothing in this mode (an open gap element)
-    add_link(k_triplets, link.a, link.b, form->stiffness);
-    add_link(c_triplets, link.a, link.b, form->damping);
-    if (form->force_at_zero != 0.0) {
-      load_full_(link.a) -= form->force_at_zero;
-      if (link.b >= 0) load_full_(link.b) += form->force_at_zero;
-    }
+    add_link(k_triplets, dofs, form->stiffness);
+    add_link(c_triplets, dofs, form->damping);
+    if (form->force_at_zero != 0.0) add_link_load(load_full_, dofs, form->force_at_zero);
     if (std::visit([](const auto& law) { return StateLoadedLaw<std::decay_t<decltype(law)>>; }, link.law)) {
-      state_loaded_.push_back({.link = link, .mode = mode_of(link, configuration_)});
+      state_loaded_.push_back({.link = link, .dofs = dofs, .mode = mode_of(link, configuration_)});
     }
     if (form->rigid) {
+      // A rigid link merges two floors into one group; a column point is not a floor (the
+      // model refuses laws with a stop there, validate(Model)).
+      if (!link.joins_floors()) throw std::logic_error("a rigid link at a column point");
       leader[static_cast<std::size_t>(link.b)] = leader[static_cast<std::size_t>(link.a)];
       rigid_links_.push_back({link.a, link.b, link.element});
       unreduced_ = false;
@@ -89,8 +99,18 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
   }
   for (int i = 0; i < n; ++i) group_of_[i] = group_of_[leader[i]];
   for (SmoothLink& link : smooth_links_) {
-    link.group_a = group_of_[static_cast<std::size_t>(link.a)];
-    link.group_b = link.b >= 0 ? group_of_[static_cast<std::size_t>(link.b)] : -1;  // −1: the ground
+    // The link's terms by group: floors of one group add their coefficients.
+    for (const DofTerm& t : link.dofs.terms()) {
+      const int group = group_of_[static_cast<std::size_t>(t.dof)];
+      auto& groups = link.groups.term;
+      const auto end = groups.begin() + link.groups.size;
+      const auto same = std::find_if(groups.begin(), end, [&](const DofTerm& g) { return g.dof == group; });
+      if (same != end) {
+        same->coefficient += t.coefficient;
+      } else {
+        groups[static_cast<std::size_t>(link.groups.size++)] = {group, t.coefficient};
+      }
+    }
   }
   const auto nr = static_cast<Eigen::Index>(representative_.size());
 
@@ -129,8 +149,11 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
   }
   for (Eigen::Index i = 0; i < nr; ++i) pattern.emplace_back(i, i, 0.0);
   for (const SmoothLink& link : smooth_links_) {
-    if (link.group_b >= 0 && link.group_a != link.group_b) {
-      pattern.emplace_back(std::min(link.group_a, link.group_b), std::max(link.group_a, link.group_b), 0.0);
+    const auto groups = link.groups.terms();
+    for (std::size_t i = 0; i < groups.size(); ++i) {
+      for (std::size_t j = i + 1; j < groups.size(); ++j) {
+        pattern.emplace_back(std::min(groups[i].dof, groups[j].dof), std::max(groups[i].dof, groups[j].dof), 0.0);
+      }
     }
   }
   effective_.resize(nr, nr);
@@ -158,16 +181,26 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
       }
       return -1;
     };
-    for (const SmoothLink& link : smooth_links_) {
-      if (link.group_b < 0) {  // a first storey: its tangent on its floor's diagonal only
-        tangent_slots_.push_back({.aa = slot(link.group_a, link.group_a)});
-      } else {
-        tangent_slots_.push_back(link.group_a == link.group_b
-                                     ? TangentSlots{}
-                                     : TangentSlots{.aa = slot(link.group_a, link.group_a),
-                                                    .bb = slot(link.group_b, link.group_b),
-                                                    .ab = slot(link.group_a, link.group_b)});
+    // The tangent t adds t n_i n_j at the groups of terms i and j: t on the diagonal of a link
+    // between floors and −t off it; nothing when both floors are in one group (the force is
+    // internal to it).
+    for (SmoothLink& link : smooth_links_) {
+      link.first_slot = static_cast<int>(tangent_slots_.size());
+      const auto groups = link.groups.terms();
+      for (const DofTerm& g : groups) {
+        if (g.coefficient != 0.0) {
+          tangent_slots_.push_back({.slot = slot(g.dof, g.dof), .coefficient = g.coefficient * g.coefficient});
+        }
       }
+      for (std::size_t i = 0; i < groups.size(); ++i) {
+        for (std::size_t j = i + 1; j < groups.size(); ++j) {
+          const double coefficient = groups[i].coefficient * groups[j].coefficient;
+          if (coefficient != 0.0) {
+            tangent_slots_.push_back({.slot = slot(groups[i].dof, groups[j].dof), .coefficient = coefficient});
+          }
+        }
+      }
+      link.end_slot = static_cast<int>(tangent_slots_.size());
     }
     tangent_solver_.analyzePattern(effective_);
   }
@@ -205,11 +238,7 @@ const LinearPhase::Solver& LinearPhase::step_solver() const {
 void LinearPhase::set_law_states(const LinkStates& states) {
   if (state_loaded_.empty()) return;
   load_full_ = load_of_forms_;
-  for (const StateLoadedLink& s : state_loaded_) {
-    const double f0 = s.link.state_force(s.mode, states);
-    load_full_(s.link.a) -= f0;
-    if (s.link.b >= 0) load_full_(s.link.b) += f0;
-  }
+  for (const StateLoadedLink& s : state_loaded_) add_link_load(load_full_, s.dofs, s.link.state_force(s.mode, states));
   if (unreduced_) {
     constant_load_ = load_full_;
     return;
@@ -235,14 +264,13 @@ void LinearPhase::factorize(Solver& solver, double tau, std::span<const ForceTan
   values = effective_m_ + (0.5 * tau) * effective_c_ + (0.25 * tau * tau) * effective_k_;
   // The smooth links' tangents, at the entries of their groups (tangent_solver).
   for (std::size_t i = 0; !smooth.empty() && i < smooth_links_.size(); ++i) {
-    const TangentSlots& slots = tangent_slots_[i];
-    if (slots.aa < 0) continue;  // both floors in one group: the force is internal to it
-    const ForceTangent& t = smooth[static_cast<std::size_t>(smooth_links_[i].element)];
+    const SmoothLink& link = smooth_links_[i];
+    const ForceTangent& t = smooth[static_cast<std::size_t>(link.element)];
     const double entry = 0.5 * tau * t.damping + 0.25 * tau * tau * t.stiffness;
-    values(slots.aa) += entry;
-    if (slots.bb < 0) continue;  // to the ground
-    values(slots.bb) += entry;
-    values(slots.ab) -= entry;
+    for (int k = link.first_slot; k < link.end_slot; ++k) {
+      const TangentSlot& s = tangent_slots_[static_cast<std::size_t>(k)];
+      values(s.slot) += s.coefficient * entry;
+    }
   }
   solver.factorize_in_place(effective_);
   if (solver.info() != Eigen::Success) {
@@ -255,8 +283,7 @@ void LinearPhase::factorize(Solver& solver, double tau, std::span<const ForceTan
 void LinearPhase::add_smooth_loads(std::span<const ForceTangent> by_element, Eigen::Ref<Eigen::VectorXd> reduced) const {
   for (const SmoothLink& link : smooth_links_) {
     const double force = by_element[static_cast<std::size_t>(link.element)].force;
-    reduced(link.group_a) -= force;
-    if (link.group_b >= 0) reduced(link.group_b) += force;
+    for (const DofTerm& g : link.groups.terms()) reduced(g.dof) -= g.coefficient * force;
   }
 }
 

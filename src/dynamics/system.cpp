@@ -67,7 +67,8 @@ ContactState PoundingSystem::initial_contact(const KinematicState& x) const {
   c.config.assign(ng, LinkMode{0});
   for (std::size_t p = 0; p < ng; ++p) {
     const Link& link = tracked_links_[p];
-    const double d = x.u(link.a) - (link.b >= 0 ? x.u(link.b) : 0.0);
+    const LinkKinematics k = kinematics(x, link);
+    const double d = k.ua - k.ub;
     try {
       c.config[p] = with_event_law<LinkMode>(
           link, [&](const auto& law) { return law.initial_mode(d); }, [] { return LinkMode{0}; });
@@ -152,7 +153,8 @@ double PoundingSystem::gap_force(const KinematicState& x, const ContactState& c,
   const Link& link = tracked_links_[static_cast<std::size_t>(p)];
   return with_contact_law<double>(link, [&](const auto& law) {
     using L = std::decay_t<decltype(law)>;
-    return gap_force(x, c, TypedLink<L>{.a = link.a, .b = link.b, .element = link.element, .slot = link.slot, .law = law});
+    return gap_force(x, c, TypedLink<L>{.a = link.a, .b = link.b, .element = link.element, .slot = link.slot,
+                                        .law = law, .a_column = link.a_column, .b_column = link.b_column});
   });
 }
 
@@ -192,14 +194,16 @@ void PoundingSystem::compute_stop_reactions(const KinematicState& x, const Linea
   const Eigen::VectorXd& m = phase.full_mass();
   const LinearPhase::SparseMatrix& cm = phase.full_damping();
   const LinearPhase::SparseMatrix& k = phase.full_stiffness();
-  // A smooth law's force on a floor of the chain is a load like f_S: −F on its floor a, +F on b.
+  // A smooth law's force on a floor of the chain is a load like f_S: −F n (−F on its floor a, +F
+  // on b).
   if (phase.has_smooth_links()) smooth_forces(x, c, c.smooth);
   const auto smooth_load = [&](int floor) {
     double load = 0.0;
     for (const LinearPhase::SmoothLink& link : phase.smooth_links()) {
       const double force = c.smooth[static_cast<std::size_t>(link.element)].force;
-      if (link.a == floor) load -= force;
-      if (link.b == floor) load += force;
+      for (const DofTerm& t : link.dofs.terms()) {
+        if (t.dof == floor) load -= t.coefficient * force;
+      }
     }
     return load;
   };
@@ -236,8 +240,8 @@ LinearPhase& PoundingSystem::apply_events(std::span<const double> fired, Kinemat
     const std::size_t p = j / 2;
     const int pi = static_cast<int>(p);
     const Link& link = tracked_links_[p];
-    const double vl = x.v(link.a), vr = link.b >= 0 ? x.v(link.b) : 0.0;
     const LinkKinematics k = kinematics(x, link);
+    const double vl = k.va, vr = k.vb;
     LinkMode m = c.config[p];
     const Transition transition = with_event_law<Transition>(
         link,

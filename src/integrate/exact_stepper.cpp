@@ -80,11 +80,10 @@ Eigen::MatrixXd ExactStepper::guard_rows(const Loop& loop, const ExactPhase& exa
       switch (form.kind) {
         case GuardForm::Kind::inactive: break;
         case GuardForm::Kind::affine:
-          rows(j, g(l)) += form.d_coefficient;
-          if (r >= 0) rows(j, g(r)) -= form.d_coefficient;
-          if (form.rate_coefficient != 0.0) {
-            rows(j, n + g(l)) += form.rate_coefficient;
-            if (r >= 0) rows(j, n + g(r)) -= form.rate_coefficient;
+          // d = nᵀu over the link's terms (u_l − u_r between floors).
+          for (const DofTerm& t : link_dofs(link).terms()) {
+            rows(j, g(t.dof)) += t.coefficient * form.d_coefficient;
+            if (form.rate_coefficient != 0.0) rows(j, n + g(t.dof)) += t.coefficient * form.rate_coefficient;
           }
           break;
         case GuardForm::Kind::reaction: {

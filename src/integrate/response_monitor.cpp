@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "hermite_cubic.hpp"
+#include "poundsim/dynamics/link_kinematics.hpp"
 
 namespace poundsim {
 
@@ -13,9 +14,14 @@ ResponseMonitor::ResponseMonitor(const Model& model, const DofLayout& layout, st
     : layout_(layout), first_storey_(std::move(first_storey)) {
   stats_.floors.resize(static_cast<std::size_t>(layout_.size()));
   for (const FloorPair& p : facing_floors(model)) {
-    stats_.neighbours.push_back(NeighbourResponse{p.left_frame, p.left_floor, p.right_floor});
-    neighbour_left_.push_back(layout_.dof(p.left_frame, p.left_floor));
-    neighbour_right_.push_back(layout_.dof(p.left_frame + 1, p.right_floor));
+    stats_.neighbours.push_back(NeighbourResponse{p.left_frame, p.left_floor, p.right_floor, p.column});
+    FacingPoints points{.a = layout_.dof(p.left_frame, p.left_floor), .b = layout_.dof(p.left_frame + 1, p.right_floor)};
+    if (p.column) {
+      const bool left = p.column->struck == Side::left;
+      (left ? points.a_column : points.b_column) = {.below = layout_.below(left ? points.a : points.b),
+                                                    .weight = p.column->weight};
+    }
+    facing_.push_back(points);
   }
   for (int f = 0; f < model.frame_count(); ++f) first_storey_dofs_.push_back(layout_.dof(f, 0));
   stats_.base_shear.resize(static_cast<std::size_t>(model.frame_count()));
@@ -33,7 +39,7 @@ void ResponseMonitor::reset() {
   for (Peak& p : stats_.base_shear) p = Peak{};
   for (Peak& p : stats_.storey_shear) p = Peak{};
   for (GapResponse& g : stats_.gaps) g = GapResponse{};
-  for (NeighbourResponse& nb : stats_.neighbours) nb = NeighbourResponse{nb.left_frame, nb.floor, nb.right_floor};
+  for (NeighbourResponse& nb : stats_.neighbours) nb = NeighbourResponse{nb.left_frame, nb.floor, nb.right_floor, nb.column};
 }
 
 void ResponseMonitor::observe(const KinematicState& x) {
@@ -52,7 +58,8 @@ void ResponseMonitor::observe(const KinematicState& x) {
     stats_.storey_shear[static_cast<std::size_t>(f)].update(storey_shear(x, f), t);
   }
   for (std::size_t k = 0; k < stats_.neighbours.size(); ++k) {
-    stats_.neighbours[k].update(x.u(neighbour_left_[k]) - x.u(neighbour_right_[k]), t);
+    const LinkKinematics p = detail::kinematics(x, facing_[k]);
+    stats_.neighbours[k].update(p.ua - p.ub, t);
   }
 }
 
@@ -118,10 +125,10 @@ void ResponseMonitor::observe_step(const KinematicState& a, const KinematicState
   }
   for (std::size_t k = 0; k < stats_.neighbours.size(); ++k) {
     // A signed maximum: where u_L − u_R stops growing inside the step.
-    const int l = neighbour_left_[k], r = neighbour_right_[k];
-    const double r0 = a.v(l) - a.v(r), r1 = b.v(l) - b.v(r);
+    const LinkKinematics p0 = detail::kinematics(a, facing_[k]), p1 = detail::kinematics(b, facing_[k]);
+    const double r0 = p0.va - p0.vb, r1 = p1.va - p1.vb;
     if (!(r0 > 0 && r1 < 0)) continue;
-    const detail::HermiteCubic cubic(a.u(l) - a.u(r), r0, b.u(l) - b.u(r), r1, h);
+    const detail::HermiteCubic cubic(p0.ua - p0.ub, r0, p1.ua - p1.ub, r1, h);
     for (const double theta : cubic.critical_points()) {
       if (theta > 0 && theta < 1) stats_.neighbours[k].update(cubic(theta), t0 + theta * h);
     }
@@ -154,11 +161,16 @@ void ResponseMonitor::observe_step(const KinematicState& from, const KinematicSt
   };
   const double a = from.t - t0, b = to.t - t0;
   for (std::size_t k = 0; k < stats_.neighbours.size(); ++k) {
-    const int l = neighbour_left_[k], r = neighbour_right_[k];
-    const double ra = from.v(l) - from.v(r), rb = to.v(l) - to.v(r);
+    const FacingPoints& points = facing_[k];
+    const auto rate = [&points](const KinematicState& x) {
+      const LinkKinematics p = detail::kinematics(x, points);
+      return p.va - p.vb;
+    };
+    const double ra = rate(from), rb = rate(to);
     if (!(ra > 0 && rb < 0)) continue;
-    extremum([l, r](const KinematicState& x) { return x.v(l) - x.v(r); }, a, b, ra);
-    stats_.neighbours[k].update(node_.u(l) - node_.u(r), node_.t);
+    extremum(rate, a, b, ra);
+    const LinkKinematics p = detail::kinematics(node_, points);
+    stats_.neighbours[k].update(p.ua - p.ub, node_.t);
   }
   for (int i = 0; i < layout_.size(); ++i) {
     FloorResponse& fr = stats_.floors[static_cast<std::size_t>(i)];

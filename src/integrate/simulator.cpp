@@ -431,8 +431,9 @@ void Loop::emit(int gap, EventKind kind, double left_before, double right_before
     monitor_.observe_storey_event(link.a, kind);
     return;
   }
-  const double left_after = state_.v(link.a);
-  const double right_after = state_.v(link.b);
+  const LinkKinematics after_event = detail::kinematics(state_, link);  // at a column point, its velocity
+  const double left_after = after_event.va;
+  const double right_after = after_event.vb;
   const double before = left_before - right_before, after = left_after - right_after;
   monitor_.observe_event(p, kind, before, impulse, state_.t);
   if (on_event_) {

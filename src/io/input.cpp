@@ -579,8 +579,87 @@ GapSpec read_gap_law(TableReader& t, const GapSpec* defaults) {
   return spec;
 }
 
-/// Storey heights: gap elements join floors at the same height above the ground. Floors at
-/// different heights (a slab hitting a column) are not modelled, so they are refused.
+/// `floors = [left, right]` of a [[gap_elements.pair]] between frames `left` and `right` (from 1).
+template <class Storeys>
+FloorPair read_floor_pair(TableReader& t, int left, int right, const Storeys& storeys) {
+  const toml::array* floor_pair = t.require("floors").as_array();
+  if (floor_pair == nullptr || floor_pair->size() != 2) {
+    t.fail("floors", "expected [floor of the left frame, floor of the right frame], e.g. [3, 2]");
+  }
+  const int lf = bounded_integer((*floor_pair)[0], 1, storeys(left), "item 1: ", [&](const std::string& m) {
+    t.fail("floors", fmt::format("{} (frame {} has {} floors)", m, left, storeys(left)));
+  });
+  const int rf = bounded_integer((*floor_pair)[1], 1, storeys(right), "item 2: ", [&](const std::string& m) {
+    t.fail("floors", fmt::format("{} (frame {} has {} floors)", m, right, storeys(right)));
+  });
+  return {.left_frame = left - 1, .left_floor = lf - 1, .right_floor = rf - 1};
+}
+
+/// The heights of a frame's floors above the ground [m], from its storey heights.
+std::vector<double> floor_heights(const Frame& frame) {
+  std::vector<double> heights;
+  double height = 0.0;
+  for (const double h : frame.storey_height) heights.push_back(height += h);
+  return heights;
+}
+
+/// `slab = [frame, floor]` of a [[gap_elements.pair]] between frames `left` and left + 1: the
+/// slab strikes the other frame's column at its height, between the floors below and above it
+/// (the ground below a first floor), where the column's displacement interpolates theirs
+/// (docs/model.md#slab-to-column). A slab level with a floor of the other frame strikes that
+/// floor: the pair is then two floors.
+FloorPair read_slab_pair(TableReader& t, int left, const std::vector<Frame>& frames,
+                         std::vector<TableReader>& frame_tables) {
+  const toml::array* slab = t.require("slab").as_array();
+  if (slab == nullptr || slab->size() != 2) {
+    t.fail("slab", "expected [frame, floor]: the frame whose slab strikes and its floor, e.g. [1, 4]");
+  }
+  const int frame = bounded_integer((*slab)[0], left, left + 1, "item 1: ", [&](const std::string& m) {
+    t.fail("slab", fmt::format("{} (one of the pair's frames)", m));
+  });
+  const auto storeys = static_cast<std::int64_t>(frames[static_cast<std::size_t>(frame - 1)].storeys());
+  const int floor = bounded_integer((*slab)[1], 1, storeys, "item 2: ", [&](const std::string& m) {
+    t.fail("slab", fmt::format("{} (frame {} has {} floors)", m, frame, storeys));
+  });
+  const int struck = frame == left ? left + 1 : left;
+  for (const int f : {frame, struck}) {
+    if (frames[static_cast<std::size_t>(f - 1)].storey_height.empty()) {
+      frame_tables[static_cast<std::size_t>(f - 1)].fail_table(fmt::format(
+          "missing key: storey_height (gap_elements.pair.slab places the slab of frame {} on the column of frame "
+          "{} by their heights)", frame, struck));
+    }
+  }
+  const double height = floor_heights(frames[static_cast<std::size_t>(frame - 1)])[static_cast<std::size_t>(floor - 1)];
+  const std::vector<double> column = floor_heights(frames[static_cast<std::size_t>(struck - 1)]);
+  // Heights written to different precision (3.2 and 3.2000000001) are the same floor.
+  const auto level = [&](double h) { return std::abs(h - height) <= 1e-9 * std::max(h, height); };
+  const auto above = std::find_if(column.begin(), column.end(), [&](double h) { return h > height || level(h); });
+  if (above == column.end()) {
+    t.fail("slab", fmt::format("floor {} of frame {} stands {} m above the ground, above the roof of frame {} "
+                               "({} m): there is no column to strike", floor, frame, height, struck, column.back()));
+  }
+  const int upper = static_cast<int>(above - column.begin());
+  FloorPair pair{.left_frame = left - 1,
+                 .left_floor = frame == left ? floor - 1 : upper,
+                 .right_floor = frame == left ? upper : floor - 1};
+  if (level(*above)) return pair;  // slab against slab
+  const double below = upper == 0 ? 0.0 : column[static_cast<std::size_t>(upper - 1)];
+  pair.column = ColumnStrike{.struck = struck == left ? Side::left : Side::right,
+                             .weight = (height - below) / (*above - below)};
+  return pair;
+}
+
+/// Whether two pairs of a joint give one floor two elements on the same side (a struck column has
+/// no floor there: several slabs may strike one storey's column).
+bool share_a_floor(const FloorPair& a, const FloorPair& b) {
+  if (a.left_frame != b.left_frame) return false;
+  const auto slab = [](const FloorPair& p, Side side) { return !p.column || p.column->struck != side; };
+  return (slab(a, Side::left) && slab(b, Side::left) && a.left_floor == b.left_floor) ||
+         (slab(a, Side::right) && slab(b, Side::right) && a.right_floor == b.right_floor);
+}
+
+/// Storey heights: by default gap elements join floors of the same number, which must then
+/// stand at the same height above the ground; other floors are paired by height or listed.
 void check_floor_heights(const std::vector<Frame>& frames, std::vector<TableReader>& tables) {
   for (std::size_t f = 0; f + 1 < frames.size(); ++f) {
     const Frame& left = frames[f];
@@ -606,7 +685,7 @@ void check_floor_heights(const std::vector<Frame>& frames, std::vector<TableRead
             "stand at the same height. Set gap_elements.pairing = \"height\" to join the floors that "
             "stand at the same height, or pairing = \"listed\" with a [[gap_elements.pair]] table "
             "(frames = [{}, {}], floors = [left floor, right floor]) for each pair of floors that "
-            "strike each other",
+            "strike each other, or slab = [frame, floor] for a slab that strikes the neighbour's column",
             i + 1, height_right, i + 1, f + 1, height_left, f + 1, f + 2));
       }
     }
@@ -812,12 +891,12 @@ Model read_physical(TableReader& top, RunInput& run) {
     for (TableReader& t : gaps.tables("pair")) {
       t.declare<keys::GapPair>();
       const toml::array* frame_pair = t.require("frames").as_array();
-      const toml::array* floor_pair = t.require("floors").as_array();
       if (frame_pair == nullptr || frame_pair->size() != 2) {
         t.fail("frames", "expected two neighbouring frame numbers, e.g. [1, 2]");
       }
-      if (floor_pair == nullptr || floor_pair->size() != 2) {
-        t.fail("floors", "expected [floor of the left frame, floor of the right frame], e.g. [3, 2]");
+      if (t.has("floors") == t.has("slab")) {
+        t.fail_table("give floors = [left floor, right floor] for two floors that strike each other, or "
+                     "slab = [frame, floor] for a slab that strikes the neighbour's column");
       }
       const auto frames_count = static_cast<std::int64_t>(frames.size());
       const int left = bounded_integer((*frame_pair)[0], 1, frames_count, "item 1: ",
@@ -826,19 +905,16 @@ Model read_physical(TableReader& top, RunInput& run) {
                                         [&](const std::string& m) { t.fail("frames", m); });
       if (right != left + 1) t.fail("frames", fmt::format("[{}, {}] are not neighbouring frames", left, right));
       const auto storeys = [&](int frame) { return static_cast<std::int64_t>(frames[static_cast<std::size_t>(frame - 1)].storeys()); };
-      const int lf = bounded_integer((*floor_pair)[0], 1, storeys(left), "item 1: ", [&](const std::string& m) {
-        t.fail("floors", fmt::format("{} (frame {} has {} floors)", m, left, storeys(left)));
-      });
-      const int rf = bounded_integer((*floor_pair)[1], 1, storeys(right), "item 2: ", [&](const std::string& m) {
-        t.fail("floors", fmt::format("{} (frame {} has {} floors)", m, right, storeys(right)));
-      });
+      FloorPair pair = t.has("floors") ? read_floor_pair(t, left, right, storeys)
+                                       : read_slab_pair(t, left, frames, frame_tables);
       for (const FloorPair& seen : pairs) {
-        if (seen.left_frame == left - 1 && (seen.left_floor == lf - 1 || seen.right_floor == rf - 1)) {
-          t.fail("floors", fmt::format("a floor of [{}, {}] already has a gap element towards frame {}: a floor "
-                                       "meets its neighbour at one place", lf, rf, right));
+        if (share_a_floor(seen, pair)) {
+          t.fail(t.has("floors") ? "floors" : "slab",
+                 fmt::format("a floor of it already has a gap element towards frame {}: a floor meets its neighbour "
+                             "at one place", right));
         }
       }
-      pairs.push_back({.left_frame = left - 1, .left_floor = lf - 1, .right_floor = rf - 1});
+      pairs.push_back(pair);
       t.finish();
     }
   }
@@ -872,11 +948,17 @@ Model read_physical(TableReader& top, RunInput& run) {
                                         [&](const std::string& m) {
         o.fail("floor", fmt::format("{}: frames {} and {} share floors 1..{}", m, left, right, shared));
       });
-      if (!pairs.empty() && std::none_of(pairs.begin(), pairs.end(), [&](const FloorPair& p) {
-            return p.left_frame == left - 1 && p.left_floor == floor - 1;
-          })) {
+      const auto named = std::count_if(pairs.begin(), pairs.end(), [&](const FloorPair& p) {
+        return p.left_frame == left - 1 && p.left_floor == floor - 1;
+      });
+      if (!pairs.empty() && named == 0) {
         o.fail("floor", fmt::format("no gap element joins floor {} of frame {} to frame {} (an override names an "
                                     "element by its left floor)", floor, left, right));
+      }
+      if (named > 1) {
+        o.fail("floor", fmt::format("{} gap elements meet frame {} at floor {} or at its column below it (slabs of "
+                                    "frame {} that strike it): an override, which names an element by its left "
+                                    "floor, cannot tell them apart", named, left, floor, right));
       }
       const GapSpec spec = read_gap_law(o, &defaults);
       GapOverride go{left - 1, floor - 1, spec.law};
@@ -1439,14 +1521,22 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
     if (!support) throw InputError(fmt::format("{}: analysis.integrator: {}", origin.file, support.reason));
   }
   if (run.model.frame_count() > 0 && !run.initial.displacement.empty()) {
+    const auto& u0 = run.initial.displacement;
     for (const GapElement& g : run.model.gaps) {
-      const double d = run.initial.displacement[g.left_frame][g.floor] -
-                       run.initial.displacement[g.left_frame + 1][g.floor_right()];
+      // A struck column's point interpolates the floors around it (the ground below a first floor).
+      const auto at = [&](int frame, int floor, Side side) {
+        const double above = u0[static_cast<std::size_t>(frame)][static_cast<std::size_t>(floor)];
+        if (!g.column || g.column->struck != side) return above;
+        const double below = floor == 0 ? 0.0 : u0[static_cast<std::size_t>(frame)][static_cast<std::size_t>(floor - 1)];
+        return g.column->weight * above + (1 - g.column->weight) * below;
+      };
+      const double d = at(g.left_frame, g.floor, Side::left) - at(g.left_frame + 1, g.floor_right(), Side::right);
       try {  // the law says whether it can start at d (the simulator asks it the same)
         std::visit([&](const auto& law) { static_cast<void>(law.initial_mode(d)); }, g.law);
       } catch (const std::invalid_argument& e) {
-        throw InputError(fmt::format("{}: initial.displacement: frames {} and {} overlap at floor {} {}",
-                                     origin.file, g.left_frame + 1, g.left_frame + 2, g.floor + 1, e.what()));
+        const std::string where = g.column ? "at the " + describe(g) : fmt::format("at floor {}", g.floor + 1);
+        throw InputError(fmt::format("{}: initial.displacement: frames {} and {} overlap {} {}", origin.file,
+                                     g.left_frame + 1, g.left_frame + 2, where, e.what()));
       }
     }
   }
@@ -1611,8 +1701,14 @@ toml::table model_tables(const RunInput& in, toml::table& root) {
     gaps.insert("pairing", "listed");
     toml::array pairs;
     for (const FloorPair& p : in.model.facing) {
-      pairs.push_back(toml::table{{"frames", toml::array{p.left_frame + 1, p.left_frame + 2}},
-                                  {"floors", toml::array{p.left_floor + 1, p.right_floor + 1}}});
+      toml::table pair{{"frames", toml::array{p.left_frame + 1, p.left_frame + 2}}};
+      if (p.column) {  // the slab's side: its height places it on the column again
+        const bool left_slab = p.column->struck == Side::right;
+        pair.insert("slab", toml::array{p.left_frame + (left_slab ? 1 : 2), (left_slab ? p.left_floor : p.right_floor) + 1});
+      } else {
+        pair.insert("floors", toml::array{p.left_floor + 1, p.right_floor + 1});
+      }
+      pairs.push_back(std::move(pair));
     }
     gaps.insert("pair", std::move(pairs));
   }

@@ -55,6 +55,12 @@ json describe_model(const Model& model) {
   json gaps = json::array();
   for (const GapElement& g : model.gaps) {
     json element{g.left_frame, g.floor};
+    // Elements between floors of different numbers or at a struck column differ from those at
+    // corresponding floors (named only then, so that earlier studies keep their fingerprints).
+    if (g.floor_right() != g.floor || g.column) {
+      element.push_back(json{{"right_floor", g.floor_right()}});
+      if (g.column) element.push_back(json{{"struck", g.column->struck == Side::left ? "left" : "right"}, {"weight", g.column->weight}});
+    }
     std::visit(
         [&](const auto& law) {
           // A law other than the first is named, so that two laws with equal values differ.

@@ -23,6 +23,24 @@ json peak(const Peak& p) { return json{{"value", p.value}, {"time", p.time}}; }
 /// a / b, or null when b is 0 (nothing to compare with).
 json ratio(double a, double b) { return b > 0 ? json(a / b) : json(); }
 
+/// Where a slab strikes its neighbour's column: the struck frame, the floors around the point
+/// (0: the ground) and the weight of the floor above.
+json struck_column_json(const ColumnStrike& c, int left_frame, int left_floor, int right_floor) {
+  const bool left = c.struck == Side::left;
+  const int above = (left ? left_floor : right_floor) + 1;
+  return {{"frame", left_frame + (left ? 1 : 2)}, {"floors", {above - 1, above}}, {"weight_of_floor_above", c.weight}};
+}
+
+/// The name of a gap element in history.csv: its left frame and left floor, and also its right
+/// floor when its left end is a struck column (the floor above the point is not its own there,
+/// and another element may have that floor on its left).
+std::string gap_label(const GapElement& g) {
+  if (g.column && g.column->struck == Side::left) {
+    return fmt::format("{}_{}_{}", g.left_frame + 1, g.floor + 1, g.floor_right() + 1);
+  }
+  return fmt::format("{}_{}", g.left_frame + 1, g.floor + 1);
+}
+
 json describe_model(const RunInput& input) {
   json frames = json::array();
   for (const Frame& f : input.model.frames) {
@@ -52,6 +70,7 @@ json describe_model(const RunInput& input) {
   for (const GapElement& g : input.model.gaps) {
     json element{{"frames", {g.left_frame + 1, g.left_frame + 2}}, {"floor", g.floor + 1}};
     if (g.floor_right() != g.floor) element["right_floor"] = g.floor_right() + 1;
+    if (g.column) element["struck_column"] = struck_column_json(*g.column, g.left_frame, g.floor, g.floor_right());
     std::visit(
         [&](const auto& law) {
           if (!is_default(g.law)) element["law"] = law.key;
@@ -240,8 +259,19 @@ json to_json(const TimeHistoryResult& result) {
       const NeighbourResponse& nb = free->neighbours[k];
       const int f = nb.left_frame, i = nb.floor;
       min_gap[k] = std::max(0.0, nb.max_approach);
-      const double u1 = free->floors[static_cast<std::size_t>(layout.dof(f, i))].displacement.value;
-      const double u2 = free->floors[static_cast<std::size_t>(layout.dof(f + 1, nb.right_floor))].displacement.value;
+      // A column point's peak is bounded by its floors' peaks interpolated to its height (the
+      // codes interpolate displacements over a storey likewise).
+      const auto peak_at = [&](int frame, int floor, bool column) {
+        const double above = free->floors[static_cast<std::size_t>(layout.dof(frame, floor))].displacement.value;
+        if (!column) return above;
+        const double w = nb.column->weight;
+        const double below = floor == 0 ? 0.0 : free->floors[static_cast<std::size_t>(layout.dof(frame, floor - 1))].displacement.value;
+        return w * above + (1 - w) * below;
+      };
+      const bool left_struck = nb.column && nb.column->struck == Side::left;
+      const bool right_struck = nb.column && nb.column->struck == Side::right;
+      const double u1 = peak_at(f, i, left_struck);
+      const double u2 = peak_at(f + 1, nb.right_floor, right_struck);
       const FundamentalMode& a = modes[static_cast<std::size_t>(f)];
       const FundamentalMode& b = modes[static_cast<std::size_t>(f + 1)];
       const double rho = modal_correlation(a.omega, a.damping_ratio, b.omega, b.damping_ratio);
@@ -257,9 +287,10 @@ json to_json(const TimeHistoryResult& result) {
                  {"rules", rules},
                  {"rule_over_min_gap", over}};
       if (nb.right_floor != i) entry["right_floor"] = nb.right_floor + 1;
+      if (nb.column) entry["struck_column"] = struck_column_json(*nb.column, f, i, nb.right_floor);
       for (int p = 0; p < model.gap_count(); ++p) {
         const GapElement& g = model.gaps[static_cast<std::size_t>(p)];
-        if (g.left_frame == f && g.floor == i && g.floor_right() == nb.right_floor) {
+        if (g.left_frame == f && g.floor == i && g.floor_right() == nb.right_floor && g.column == nb.column) {
           const GapResponse& gr = st.gaps[static_cast<std::size_t>(p)];
           entry["gap_m"] = g.gap();
           entry["gap_over_min_gap"] = ratio(g.gap(), min_gap[k]);
@@ -291,6 +322,7 @@ json to_json(const TimeHistoryResult& result) {
                     {"completed_contacts", g.completed_contacts},
                     {"longest_contact_s", peak(g.longest_contact)}});
     if (e.floor_right() != e.floor) gaps.back()["right_floor"] = e.floor_right() + 1;
+    if (e.column) gaps.back()["struck_column"] = struck_column_json(*e.column, e.left_frame, e.floor, e.floor_right());
     // The restitution the law achieved, contact by contact (none without a completed contact),
     // and what it dissipated (the exact integrator gives the total only, energy.gap_damping_J).
     gaps.back()["effective_restitution"] =
@@ -302,7 +334,9 @@ json to_json(const TimeHistoryResult& result) {
                                       : json(result.element_dissipation[static_cast<std::size_t>(p)]);
     if (free != nullptr) {
       for (std::size_t k = 0; k < st.neighbours.size(); ++k) {
-        if (st.neighbours[k].left_frame == e.left_frame && st.neighbours[k].floor == e.floor) {
+        const NeighbourResponse& nb = st.neighbours[k];
+        if (nb.left_frame == e.left_frame && nb.floor == e.floor && nb.right_floor == e.floor_right() &&
+            nb.column == e.column) {
           gaps.back()["min_gap_m"] = min_gap[k];
         }
       }
@@ -388,7 +422,7 @@ TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem:
     for (const int d : dofs) history.text(fmt::format("{}_{}", q, dof_label(layout, d)));
   }
   for (int f = 0; f < model.frame_count(); ++f) history.text(fmt::format("V_{}", f + 1));
-  for (const GapElement& g : model.gaps) history.text(fmt::format("F_{}_{}", g.left_frame + 1, g.floor + 1));
+  for (const GapElement& g : model.gaps) history.text("F_" + gap_label(g));
   // The storeys of frames with an inelastic law: drift and restoring force (hysteresis loops).
   const bool inelastic = has_inelastic_storeys(model);
   std::vector<int> inelastic_dofs;
@@ -402,12 +436,19 @@ TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem:
   if (inelastic) history.text("E_storey_hysteretic");
   history.text("E_residual").end_row();
 
-  events.texts({"t", "frame_left", "frame_right", "floor", "kind", "relative_velocity_before",
-                "relative_velocity_after", "impulse"}).end_row();
+  // The right floor, when an element joins floors of different numbers (floor and right_floor
+  // then name it, a struck column by the floor above the point).
+  const bool right_floors = std::any_of(model.gaps.begin(), model.gaps.end(), [](const GapElement& g) {
+    return g.floor_right() != g.floor || g.column.has_value();
+  });
+  events.texts({"t", "frame_left", "frame_right", "floor"});
+  if (right_floors) events.text("right_floor");
+  events.texts({"kind", "relative_velocity_before", "relative_velocity_after", "impulse"}).end_row();
   TimeHistoryObserver observer;
   observer.on_event = [&](const Event& e) {
     const GapElement& g = model.gaps[static_cast<std::size_t>(e.gap)];
     events.number(e.time).integer(g.left_frame + 1).integer(g.left_frame + 2).integer(g.floor + 1);
+    if (right_floors) events.integer(g.floor_right() + 1);
     events.text(to_string(e.kind)).number(e.rate_before).number(e.rate_after).number(e.impulse).end_row();
   };
   observer.on_output = [&](const Simulator& sim) {

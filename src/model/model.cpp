@@ -21,12 +21,13 @@ Model make_model(std::vector<Frame> frames, const GapLaw& defaults,
   } else {
     for (const FloorPair& p : pairs) {
       model.gaps.push_back({.left_frame = p.left_frame, .floor = p.left_floor, .law = defaults,
-                            .right_floor = p.right_floor == p.left_floor ? -1 : p.right_floor});
+                            .right_floor = p.right_floor == p.left_floor ? -1 : p.right_floor,
+                            .column = p.column});
     }
     std::stable_sort(model.gaps.begin(), model.gaps.end(), [](const GapElement& a, const GapElement& b) {
       return a.left_frame != b.left_frame ? a.left_frame < b.left_frame : a.floor < b.floor;
     });
-    for (const GapElement& g : model.gaps) model.facing.push_back({g.left_frame, g.floor, g.floor_right()});
+    for (const GapElement& g : model.gaps) model.facing.push_back({g.left_frame, g.floor, g.floor_right(), g.column});
   }
   for (const GapOverride& o : overrides) {
     const auto it = std::find_if(model.gaps.begin(), model.gaps.end(), [&](const GapElement& g) {
@@ -84,21 +85,34 @@ void validate(const Model& model) {
   }
   for (std::size_t k = 0; k < model.gaps.size(); ++k) {
     const GapElement& g = model.gaps[k];
-    const std::string what = g.floor_right() == g.floor
-                                 ? fmt::format("gap element between frames {} and {} at floor {}", g.left_frame + 1,
-                                               g.left_frame + 2, g.floor + 1)
-                                 : fmt::format("gap element between floor {} of frame {} and floor {} of frame {}",
-                                               g.floor + 1, g.left_frame + 1, g.floor_right() + 1, g.left_frame + 2);
+    const std::string what = describe(g);
     if (g.left_frame < 0 || g.left_frame + 1 >= model.frame_count() || g.floor < 0 ||
         g.floor >= model.frames[g.left_frame].storeys() || g.floor_right() < 0 ||
         g.floor_right() >= model.frames[g.left_frame + 1].storeys()) {
       throw std::invalid_argument(what + ": no such floors");
     }
-    // A floor meets its neighbour at one place: one element per floor and side.
+    if (g.column) {
+      if (!(g.column->weight > 0.0 && g.column->weight < 1.0)) {
+        throw std::invalid_argument(fmt::format("{}: the weight of the floor above the struck point must be in "
+                                                "(0, 1) (got {})", what, g.column->weight));
+      }
+      const LawTraits& traits = std::visit([](const auto& law) -> const LawTraits& { return law.traits; }, g.law);
+      if (traits.has_stop) {
+        throw std::invalid_argument(fmt::format(
+            "{}: {} has a stop, whose impacts and locking act between two floors; a slab that strikes a column "
+            "takes a contact law without one (kelvin_voigt, hertz, hertzdamp, jankowski)", what, traits.name));
+      }
+    }
+    // A floor meets its neighbour at one place: one element per floor and side (a struck
+    // column's side has no floor there: several slabs may strike one storey's column).
+    const auto slab = [](const GapElement& e, Side side) {
+      return !e.column || e.column->struck != side;
+    };
     for (std::size_t q = 0; q < k; ++q) {
       const GapElement& o = model.gaps[q];
       if (o.left_frame != g.left_frame) continue;
-      if (o.floor == g.floor || o.floor_right() == g.floor_right()) {
+      if ((slab(o, Side::left) && slab(g, Side::left) && o.floor == g.floor) ||
+          (slab(o, Side::right) && slab(g, Side::right) && o.floor_right() == g.floor_right())) {
         throw std::invalid_argument(what + ": a floor of it already has a gap element on that side");
       }
     }
@@ -129,10 +143,38 @@ DofLayout::DofLayout(const Model& model) {
   }
 }
 
+namespace {
+/// "floor 3 of frame 1", or "the column of frame 2 between floors 2 and 3" (the point below floor
+/// `floor`, 0-based).
+std::string end_name(int frame, int floor, bool column) {
+  if (!column) return fmt::format("floor {} of frame {}", floor + 1, frame + 1);
+  return floor == 0 ? fmt::format("the column of frame {} between the ground and floor 1", frame + 1)
+                    : fmt::format("the column of frame {} between floors {} and {}", frame + 1, floor, floor + 1);
+}
+}  // namespace
+
+std::string describe(const GapElement& g) {
+  if (g.column) {
+    const bool left_struck = g.column->struck == Side::left;
+    return fmt::format("gap element between {} and {}", end_name(g.left_frame, g.floor, left_struck),
+                       end_name(g.left_frame + 1, g.floor_right(), !left_struck));
+  }
+  return g.floor_right() == g.floor
+             ? fmt::format("gap element between frames {} and {} at floor {}", g.left_frame + 1, g.left_frame + 2,
+                           g.floor + 1)
+             : fmt::format("gap element between floor {} of frame {} and floor {} of frame {}", g.floor + 1,
+                           g.left_frame + 1, g.floor_right() + 1, g.left_frame + 2);
+}
+
 std::string describe(const Link& link, const DofLayout& layout) {
   const int frame = layout.frame_of(link.a), floor = layout.floor_of(link.a);
   if (link.b < 0 || layout.frame_of(link.b) == frame) {
     return fmt::format("storey {} of frame {} ({})", floor + 1, frame + 1, link.traits().name);
+  }
+  if (!link.joins_floors()) {
+    return fmt::format("{} between {} and {}", link.traits().name,
+                       end_name(frame, floor, !link.a_column.at_floor()),
+                       end_name(layout.frame_of(link.b), layout.floor_of(link.b), !link.b_column.at_floor()));
   }
   if (layout.floor_of(link.b) != floor) {
     return fmt::format("{} between floor {} of frame {} and floor {} of frame {}", link.traits().name, floor + 1,
@@ -167,19 +209,36 @@ std::vector<Link> make_links(const Model& model, const DofLayout& layout) {
   const auto mass = [&](int dof) {
     return model.frames[static_cast<std::size_t>(layout.frame_of(dof))].mass[static_cast<std::size_t>(layout.floor_of(dof))];
   };
+  // A column point's mass for a dashpot tuned to the masses: the mass an impulse J there meets,
+  // 1/m = w²/m_above + (1 − w)²/m_below (the ground below a first floor is immovable).
+  const auto point_mass = [&](int dof, const ColumnPoint& point) {
+    if (point.at_floor()) return mass(dof);
+    const double w = point.weight;
+    return 1.0 / (w * w / mass(dof) + (point.below >= 0 ? (1 - w) * (1 - w) / mass(point.below) : 0.0));
+  };
   for (int p = 0; p < model.gap_count(); ++p) {
+    const GapElement& g = model.gaps[static_cast<std::size_t>(p)];
     const int a = layout.gap_left(p), b = layout.gap_right(p);
+    ColumnPoint a_column, b_column;
+    if (g.column) {
+      const int struck = g.column->struck == Side::left ? a : b;
+      (g.column->struck == Side::left ? a_column : b_column) = {.below = layout.below(struck), .weight = g.column->weight};
+    }
     links.push_back({.a = a,
                      .b = b,
                      .law = std::visit(
                          [&](auto law) -> Law {
                            // A law whose parameters depend on the floors it joins (a dashpot tuned
                            // to their reduced mass) is bound to them here.
-                           if constexpr (requires { law.bind_masses(1.0, 1.0); }) law.bind_masses(mass(a), mass(b));
+                           if constexpr (requires { law.bind_masses(1.0, 1.0); }) {
+                             law.bind_masses(point_mass(a, a_column), point_mass(b, b_column));
+                           }
                            return law;
                          },
-                         model.gaps[p].law),
-                     .element = p});
+                         g.law),
+                     .element = p,
+                     .a_column = a_column,
+                     .b_column = b_column});
   }
   // Each link's index among its law's links: where LinkStates keeps its state.
   std::array<int, std::variant_size_v<Law>> next_slot{};

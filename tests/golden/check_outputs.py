@@ -38,6 +38,7 @@ CASES = [
     ("el_centro_5_and_8_storeys_hertzdamp", "examples/el_centro_5_and_8_storeys_hertzdamp.toml", []),
     ("el_centro_5_and_8_storeys_bilinear", "examples/el_centro_5_and_8_storeys_bilinear.toml", []),
     ("different_storey_heights", "examples/different_storey_heights.toml", []),
+    ("slab_to_column", "examples/slab_to_column.toml", []),
     ("ensemble_fig2_frames", "examples/ensemble_fig2_frames.toml", []),
 ] + [(f"contact_laws_{law}", f"examples/contact_laws/{law}.toml", [])
      for law in ("paper", "kelvin_voigt", "hertz", "hertzdamp", "jankowski")] + [

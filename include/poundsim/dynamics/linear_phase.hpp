@@ -100,16 +100,18 @@ class LinearPhase {
   [[nodiscard]] const SparseMatrix& stiffness() const { return stiffness_; }
   [[nodiscard]] const Eigen::VectorXd& constant_load() const { return constant_load_; }
 
-  /// A link whose law is smooth in this configuration: tracked link `element` between the floor
-  /// DOFs a and b, in the groups group_a and group_b (b = group_b = −1: a first storey's ground).
+  /// A link whose law is smooth in this configuration: tracked link `element`, whose deformation
+  /// is `dofs` over the floors and `groups` over the reduced coordinates (the same terms with the
+  /// DOFs replaced by their groups, the coefficients of one group added).
   struct SmoothLink {
     int element = 0;
-    int a = 0, b = 0;
-    int group_a = 0, group_b = 0;
+    LinkDofs dofs{};
+    LinkDofs groups{};
+    int first_slot = 0, end_slot = 0;  ///< Its range of tangent_slots_.
   };
   [[nodiscard]] std::span<const SmoothLink> smooth_links() const { return smooth_links_; }
   [[nodiscard]] bool has_smooth_links() const { return !smooth_links_.empty(); }
-  /// Adds the smooth links' loads, −F on group a and +F on group b, to a reduced vector
+  /// Adds the smooth links' loads, −F n (−F on group a and +F on group b), to a reduced vector
   /// (`by_element`: each gap element's force and tangent, indexed by element).
   void add_smooth_loads(std::span<const ForceTangent> by_element, Eigen::Ref<Eigen::VectorXd> reduced) const;
   /// Factorisation of M_r + (τ/2)(C_r + C_t) + (τ²/4)(K_r + K_t) with the tangents of the smooth
@@ -158,6 +160,7 @@ class LinearPhase {
   /// The links whose f₀ depends on their State, with their modes here.
   struct StateLoadedLink {
     Link link;
+    LinkDofs dofs;
     LinkMode mode;
   };
   std::vector<StateLoadedLink> state_loaded_;
@@ -176,11 +179,13 @@ class LinearPhase {
   /// Positions in effective_'s values of each smooth link's entries (a,a), (b,b), (a,b) — all
   /// −1 when both floors are in one group, bb and ab −1 for a link to the ground — in
   /// smooth_links_ order.
-  struct TangentSlots {
-    Eigen::Index aa = -1, bb = -1, ab = -1;
+  /// An entry of the effective matrix's values that a smooth link's tangent adds to, times n_i n_j.
+  struct TangentSlot {
+    Eigen::Index slot = -1;
+    double coefficient = 0.0;
   };
   std::vector<SmoothLink> smooth_links_;
-  std::vector<TangentSlots> tangent_slots_;
+  std::vector<TangentSlot> tangent_slots_;
   mutable Solver tangent_solver_;
 
   double step_ = 0.0;

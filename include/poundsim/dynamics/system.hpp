@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "poundsim/dynamics/event.hpp"
+#include "poundsim/dynamics/link_kinematics.hpp"
 #include "poundsim/dynamics/linear_phase.hpp"
 #include "poundsim/dynamics/state.hpp"
 #include "poundsim/model/contact_state.hpp"
@@ -35,18 +36,6 @@
 
 namespace poundsim {
 
-namespace detail {
-/// Floors a and b at `x` (b = −1: the ground, at rest in the relative frame: a first storey's).
-inline LinkKinematics kinematics(const KinematicState& x, int a, int b) {
-  if (b < 0) return {.ua = x.u(a), .va = x.v(a), .aa = x.a(a), .t = x.t};
-  return {.ua = x.u(a), .ub = x.u(b), .va = x.v(a), .vb = x.v(b), .aa = x.a(a), .ab = x.a(b), .t = x.t};
-}
-/// The two floors of a typed link at `x`.
-template <class L>
-LinkKinematics kinematics(const KinematicState& x, const TypedLink<L>& link) {
-  return kinematics(x, link.a, link.b);
-}
-}  // namespace detail
 
 /// The rules of the system's events (the event keys of [analysis], docs/input.md). SI units;
 /// TimeHistoryOptions validates them.

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "poundsim/dynamics/event.hpp"
@@ -71,6 +72,9 @@ struct NeighbourResponse {
   int left_frame = 0;  ///< Frame f; its neighbour is f+1.
   int floor = 0;       ///< The floor of frame f
   int right_floor = 0; ///< and the floor of frame f+1 facing it (facing_floors).
+  /// A slab facing the neighbour's column: the points are the slab and the column at its height
+  /// (the struck side's floor above is the one named).
+  std::optional<ColumnStrike> column{};
   /// The largest u_L − u_R [m] (signed: how far the left floor came towards the right one); its
   /// positive part is the smallest gap that avoids contact.
   double max_approach = -std::numeric_limits<double>::infinity();
@@ -179,7 +183,14 @@ class ResponseMonitor {
  private:
   DofLayout layout_;
   std::vector<LinearForm> first_storey_;
-  std::vector<int> neighbour_left_, neighbour_right_;  ///< DOFs of every NeighbourResponse
+  /// The two points of every NeighbourResponse, as the ends of a link (floors, or a floor and a
+  /// column point): their approach is the link's d.
+  struct FacingPoints {
+    int a = 0, b = 0;
+    ColumnPoint a_column{}, b_column{};
+    [[nodiscard]] bool joins_floors() const { return a_column.at_floor() && b_column.at_floor(); }
+  };
+  std::vector<FacingPoints> facing_;
   std::vector<int> first_storey_dofs_;                 ///< The floor above each frame's first storey.
   std::vector<double> contact_start_;    ///< When each element's current contact began (NaN: none)
   std::vector<double> contact_closing_;  ///< ṡ at that contact's onset [m/s]

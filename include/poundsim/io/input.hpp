@@ -169,6 +169,7 @@ struct GapPair {
     return std::tuple{
         C{"frames", "the two neighbouring frames, e.g. [1, 2]"},
         C{"floors", "the floor of each, from 1: [left, right]"},
+        C{"slab", "instead of floors: [frame, floor] of a slab that strikes the other frame's column"},
     };
   }
 };

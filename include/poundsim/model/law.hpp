@@ -186,6 +186,51 @@ void for_each_storey_parameter(const StoreyLawParameters& law, F&& f) {
 
 class LinkStates;
 
+/// Where an end of a link meets its frame when that is not at a floor: a point of the column
+/// between the end's floor and the floor below, struck by a neighbour's slab (Karayannis &
+/// Favvata 2005, "Earthquake-induced interaction between adjacent reinforced concrete structures
+/// with non-equal heights"). A shear frame's storey deforms linearly over its height, so the
+/// point moves as u = w u_floor + (1 − w) u_below, and a force F there acts as w F on the floor
+/// and (1 − w) F on the floor below (virtual work: the same weights, so that the link's power is
+/// F times the point's velocity and momentum and energy stay exact). docs/model.md#slab-to-column.
+struct ColumnPoint {
+  int below = -1;       ///< DOF of the floor below the point, or −1 for the ground.
+  double weight = 1.0;  ///< w of the end's own floor, in (0, 1]; 1: the end is at that floor.
+  [[nodiscard]] bool at_floor() const { return weight == 1.0; }
+  [[nodiscard]] bool operator==(const ColumnPoint&) const = default;
+};
+
+/// One term of a link's deformation d = Σ coefficient·u_dof (the ground omitted).
+struct DofTerm {
+  int dof = 0;
+  double coefficient = 0.0;
+};
+
+/// A link's deformation as a combination of floor displacements: u_a − u_b for a link between
+/// floors (u_a for a first storey), with the weights of a column point at either end
+/// (ColumnPoint). Assembly (K += k n nᵀ, loads −f₀ n), the energy's quadratic forms and the exact
+/// integrator's guard rows read it; for a link between floors its terms are (a, 1), (b, −1) so
+/// that they add exactly what a two-node element adds.
+struct LinkDofs {
+  std::array<DofTerm, 4> term{};
+  int size = 0;
+  [[nodiscard]] std::span<const DofTerm> terms() const { return std::span(term).first(static_cast<std::size_t>(size)); }
+};
+
+/// The terms of a link's deformation, in the order a, the point below a, b, the point below b.
+template <class LinkLike>
+[[nodiscard]] LinkDofs link_dofs(const LinkLike& link) {
+  LinkDofs d;
+  const auto add = [&](int dof, double coefficient) {
+    if (dof >= 0 && coefficient != 0.0) d.term[static_cast<std::size_t>(d.size++)] = {dof, coefficient};
+  };
+  add(link.a, link.a_column.weight);
+  if (!link.a_column.at_floor()) add(link.a_column.below, 1.0 - link.a_column.weight);
+  add(link.b, -link.b_column.weight);
+  if (!link.b_column.at_floor()) add(link.b_column.below, -(1.0 - link.b_column.weight));
+  return d;
+}
+
 /// A link between two degrees of freedom (DofLayout numbering) carrying a law.
 struct Link {
   int a = 0;        ///< DOF of floor a.
@@ -198,6 +243,11 @@ struct Link {
   /// Its index among the links of its law (make_links numbers them): LinkStates keeps its
   /// law's State by this index.
   int slot = 0;
+  /// A gap element's end at a column point rather than at its floor (a slab striking the
+  /// neighbour's column): a and b are then the floors above those points.
+  ColumnPoint a_column{}, b_column{};
+  /// Both ends at floors: d = u_a − u_b.
+  [[nodiscard]] bool joins_floors() const { return a_column.at_floor() && b_column.at_floor(); }
 
   [[nodiscard]] const LawTraits& traits() const {
     return std::visit([](const auto& l) -> const LawTraits& { return l.traits; }, law);
@@ -232,6 +282,8 @@ struct TypedLink {
   int element = -1;
   int slot = 0;
   L law;
+  ColumnPoint a_column{}, b_column{};
+  [[nodiscard]] bool joins_floors() const { return a_column.at_floor() && b_column.at_floor(); }
 };
 
 namespace detail {
@@ -261,7 +313,7 @@ class LinkTable {
           [&](const auto& law) {
             using L = std::decay_t<decltype(law)>;
             std::get<std::vector<TypedLink<L>>>(tables_).push_back(
-                {link.a, link.b, link.element, link.slot, law});
+                {link.a, link.b, link.element, link.slot, law, link.a_column, link.b_column});
           },
           link.law);
     }

@@ -17,6 +17,8 @@
 /// @endcode
 
 #include <cstddef>
+#include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -27,12 +29,27 @@
 
 namespace poundsim {
 
+/// A side of a joint between two frames.
+enum class Side : std::uint8_t { left, right };
+
+/// A slab that strikes its neighbour's column between two floors (Karayannis & Favvata 2005):
+/// the struck frame's floor in the pair is the floor above the point, which moves as
+/// w u_above + (1 − w) u_below (model/law.hpp's ColumnPoint; below a first floor, the ground).
+/// docs/model.md#slab-to-column.
+struct ColumnStrike {
+  Side struck = Side::right;  ///< The frame whose column is struck; the other's slab strikes it.
+  double weight = 1.0;        ///< w of the struck frame's floor above the point, in (0, 1).
+  [[nodiscard]] bool operator==(const ColumnStrike&) const = default;
+};
+
 /// A pair of floors a gap element joins: `left_floor` of `left_frame` and `right_floor` of the
-/// frame to its right. 0-based.
+/// frame to its right, or a slab and the point of the neighbour's column it strikes (`column`:
+/// the struck side's floor is then the one above the point). 0-based.
 struct FloorPair {
   int left_frame = 0;
   int left_floor = 0;
   int right_floor = 0;
+  std::optional<ColumnStrike> column{};
 };
 
 /// One gap element between a floor of a frame and a floor of its right neighbour. 0-based.
@@ -42,6 +59,9 @@ struct GapElement {
   GapLaw law;          ///< Its law with its parameters (the paper's by default).
   /// Floor index in frame L+1; −1: the same as `floor` (corresponding floors).
   int right_floor = -1;
+  /// A slab striking the neighbour's column (the struck side's floor is the one above the
+  /// point); none: the element joins two floors.
+  std::optional<ColumnStrike> column{};
 
   /// The floor of frame L+1 it joins.
   [[nodiscard]] int floor_right() const { return right_floor < 0 ? floor : right_floor; }
@@ -144,6 +164,9 @@ std::vector<Link> make_links(const Model& model, const DofLayout& layout);
 /// The link as messages name it, from its floors and its law: "storey 2 of frame 1 (linear
 /// storey)", "the paper's gap element between frames 1 and 2 at floor 3". Frames and floors from 1.
 [[nodiscard]] std::string describe(const Link& link, const DofLayout& layout);
+/// "gap element between frames 1 and 2 at floor 3", "… between floor 4 of frame 1 and the column
+/// of frame 2 between floors 3 and 4": how messages name a gap element.
+[[nodiscard]] std::string describe(const GapElement& gap);
 
 /// The mode of `link` in the contact configuration `config` (untracked storeys have one mode, 0).
 [[nodiscard]] inline LinkMode mode_of(const Link& link, const ContactConfiguration& config) {
