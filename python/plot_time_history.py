@@ -21,6 +21,15 @@ from poundsim_results import colour, use_matplotlib
 plt = use_matplotlib()
 
 
+
+def gap_label(column):
+    """F_1_3: "gap 1, floor 3" (left frame and floor); F_1_5_4, a slab of the right frame's
+    floor 4 striking the left column below floor 5: "gap 1, column below floor 5, slab 4"."""
+    parts = column[2:].split("_")
+    if len(parts) == 3:
+        return f"gap {parts[0]}, column below floor {parts[1]}, slab {parts[2]}"
+    return f"gap {parts[0]}, floor {parts[1]}"
+
 def columns(path):
     """Every column of a CSV of numbers, by name, in the file's order."""
     with open(path, newline="") as f:
@@ -51,7 +60,7 @@ def main():
     top.legend(fontsize=7)
     gap_columns = [h for h in history if h.startswith("F_")]
     for k, name in enumerate(gap_columns):
-        forces.plot(t, history[name], lw=0.8, color=colour(k), label=f"gap {name[2:].replace('_', ', floor ')}")
+        forces.plot(t, history[name], lw=0.8, color=colour(k), label=gap_label(name))
     impacts = [float(e["t"]) for e in events if e["kind"] == "impact"]
     locks = [float(e["t"]) for e in events if e["kind"] == "lock"]
     if impacts:

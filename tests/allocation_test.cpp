@@ -132,17 +132,41 @@ TEST(Allocation, StepsWithModalAndGroundDampingAllocateNothing) {
   EXPECT_EQ(n, 0);
 }
 
-TEST(Allocation, NewtonStepsWithSmoothContactsAllocateNothing) {
-  // Ten Hertzdamp contacts pressed at once: forces, tangents and the tangent factorisation.
-  Simulator sim(testing::pressed_hertzdamp_frames(), testing::constant_push(), TimeHistoryOptions{.dt = 1e-3});
+/// A second of Newmark steps at 1e-3 s with every smooth contact of `model` pressed by a constant
+/// push after 20 s: forces, tangents and the tangent factorisation, no events.
+void expect_pressed_newton_steps_allocate_nothing(const Model& model) {
+  Simulator sim(model, testing::constant_push(), TimeHistoryOptions{.dt = 1e-3});
   sim.advance_to(20.0);
-  for (int p = 0; p < 10; ++p) ASSERT_GT(sim.gap_force(p), 0.0) << "floor " << p + 1;
+  for (int p = 0; p < model.gap_count(); ++p) ASSERT_GT(sim.gap_force(p), 0.0) << describe(model.gaps[p]);
   const auto events = sim.statistics().events;
   const auto newton_steps = sim.statistics().newton_steps;
   const long n = allocations_during([&] { sim.advance_to(21.0); });
   EXPECT_EQ(sim.statistics().events, events);
   EXPECT_EQ(sim.statistics().newton_steps, newton_steps + 1000);
   EXPECT_EQ(n, 0);
+}
+
+TEST(Allocation, NewtonStepsWithSmoothContactsAllocateNothing) {
+  // Ten Hertzdamp contacts pressed at once.
+  expect_pressed_newton_steps_allocate_nothing(testing::pressed_hertzdamp_frames());
+}
+
+TEST(Allocation, NewtonStepsWithSlabsOnColumnsAllocateNothing) {
+  // Hertzdamp slabs pressed on the neighbour's columns (three or four DOFs a link: the point's
+  // interpolation, its forces shared by weights, its tangent in six entries), and the roofs.
+  Frame soft = make_uniform_frame(4, 1e4, 2e7, 2e5, "soft");
+  soft.storey_height = {3.0, 3.0, 3.0, 3.0};
+  Frame stiff = make_uniform_frame(4, 1e4, 4e8, 4e6, "stiff");
+  stiff.storey_height = {4.0, 4.0, 4.0, 4.0};
+  std::vector<FloorPair> pairs;
+  for (const double w : {0.75, 0.5, 0.25}) {  // slabs at 3, 6 and 9 m on the columns of 4 m storeys
+    const int floor = static_cast<int>(pairs.size());
+    pairs.push_back({.left_frame = 0, .left_floor = floor, .right_floor = floor,
+                     .column = ColumnStrike{.struck = Side::right, .weight = w}});
+  }
+  pairs.push_back({.left_frame = 0, .left_floor = 3, .right_floor = 2});  // 12 m, slab on slab
+  expect_pressed_newton_steps_allocate_nothing(make_model(
+      {soft, stiff}, GapLaw(Hertzdamp{.parameters = {.stiffness = 1e10, .gap = 0.0, .restitution = 0.6}}), {}, pairs));
 }
 
 TEST(Allocation, StepsWithYieldingStoreysAllocateNothing) {

@@ -83,7 +83,7 @@ TimeHistoryFigures record(double scale, double impacts) {
   t.frames = {{.peak_V_W = 0.2 * scale, .free_peak_V_W = 0.1, .ratio_to_free = 2 * scale}};
   t.floors = {{.frame = 0, .floor = 0, .peak_u_m = 0.01 * scale, .free_peak_u_m = 0.02, .amp_u = 0.5 * scale,
                .amp_drift = 0.5 * scale, .amp_acc = 3 * scale}};
-  t.joints = {{.left_frame = 0, .floor = 0, .min_gap_m = 0.04 * scale}};
+  t.joints = {{.left_frame = 0, .floor = 0, .min_gap_m = 0.04 * scale, .label = "1_1"}};
   t.impacts = impacts;
   t.max_impact_impulse_Ns = 5 * scale;
   t.max_gap_force_N = 0;

@@ -42,6 +42,7 @@ void zip_figures(TimeHistoryFigures& out, const TimeHistoryFigures& in, F&& f) {
   for (std::size_t k = 0; k < in.joints.size(); ++k) {
     out.joints[k].left_frame = in.joints[k].left_frame;
     out.joints[k].floor = in.joints[k].floor;
+    out.joints[k].label = in.joints[k].label;
     f(out.joints[k].min_gap_m, in.joints[k].min_gap_m);
   }
   f(out.impacts, in.impacts);
@@ -71,7 +72,7 @@ void add_columns(const TimeHistoryFigures& t, const std::string& prefix, bool co
     add("amp_drift_" + at, floor.amp_drift);
     add("amp_acc_" + at, floor.amp_acc);
   }
-  for (const JointFigures& j : t.joints) add(fmt::format("min_gap_{}_{}_m", j.left_frame + 1, j.floor + 1), j.min_gap_m);
+  for (const JointFigures& j : t.joints) add("min_gap_" + j.label + "_m", j.min_gap_m);
   add(std::string(column_names::max_peak_V_W), t.max_peak_V_W);
   add(std::string(column_names::max_ratio_to_free), t.max_ratio_to_free);
   add("impacts", t.impacts, true);
@@ -206,7 +207,10 @@ TimeHistoryFigures time_history_figures(const Model& model, const TimeHistoryAna
     }
   }
   for (const NeighbourResponse& nb : free.neighbours) {
-    out.joints.push_back({.left_frame = nb.left_frame, .floor = nb.floor, .min_gap_m = std::max(0.0, nb.max_approach)});
+    out.joints.push_back({.left_frame = nb.left_frame,
+                          .floor = nb.floor,
+                          .min_gap_m = std::max(0.0, nb.max_approach),
+                          .label = joint_label(nb.left_frame, nb.floor, nb.right_floor, nb.column)});
   }
   int impacts = 0;
   for (const GapResponse& g : stats.gaps) {

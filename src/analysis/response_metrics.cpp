@@ -6,6 +6,8 @@ namespace poundsim {
 Model bare_pounding(const Model& model) {
   Model bare = model;
   for (GapElement& g : bare.gaps) {
+    // A slab striking a column keeps its contact law: a rigid stop's impacts act between floors.
+    if (g.column) continue;
     // Whatever the element's law: the paper's rigid stop at its gap, with its restitution.
     const double restitution = std::visit([](const auto& law) { return law.restitution(); }, g.law);
     g.law = PaperGap{GapProperties{.gap = g.gap(), .restitution = restitution}};

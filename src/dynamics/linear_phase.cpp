@@ -38,8 +38,9 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
     : configuration_(std::move(configuration)), step_(step) {
   const int n = layout.size();
 
-  // Full system: every link's linear form in its mode, F = k d + c ḋ + f₀ with d = u_a − u_b,
-  // adds k and c to the matrices and moves −f₀ to floor a's load, +f₀ to floor b's.
+  // Full system: every link's linear form in its mode, F = k d + c ḋ + f₀ with d = nᵀu (u_a − u_b
+  // between floors, link_dofs), adds k n nᵀ and c n nᵀ to the matrices and −f₀ n to the loads
+  // (−f₀ on floor a, +f₀ on floor b).
   mass_full_.resize(n);
   for (int i = 0; i < n; ++i) {
     mass_full_(i) = model.frames[layout.frame_of(i)].mass[layout.floor_of(i)];

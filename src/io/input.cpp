@@ -948,22 +948,36 @@ Model read_physical(TableReader& top, RunInput& run) {
                                         [&](const std::string& m) {
         o.fail("floor", fmt::format("{}: frames {} and {} share floors 1..{}", m, left, right, shared));
       });
+      // An element is named by its left floor, and by its right floor too when several share
+      // the left one (a slab of the right frame striking the left column below a floor).
+      int right_floor = -1;
+      if (o.has("right_floor")) {
+        if (pairs.empty()) o.fail("right_floor", "only with listed or height pairs (gap_elements.pairing)");
+        const auto storeys = static_cast<std::int64_t>(frames[static_cast<std::size_t>(right - 1)].storeys());
+        right_floor = bounded_integer(o.require("right_floor"), 1, storeys, "", [&](const std::string& m) {
+          o.fail("right_floor", fmt::format("{} (frame {} has {} floors)", m, right, storeys));
+        }) - 1;
+      }
       const auto named = std::count_if(pairs.begin(), pairs.end(), [&](const FloorPair& p) {
-        return p.left_frame == left - 1 && p.left_floor == floor - 1;
+        return p.left_frame == left - 1 && p.left_floor == floor - 1 && (right_floor < 0 || p.right_floor == right_floor);
       });
       if (!pairs.empty() && named == 0) {
-        o.fail("floor", fmt::format("no gap element joins floor {} of frame {} to frame {} (an override names an "
-                                    "element by its left floor)", floor, left, right));
+        o.fail(right_floor < 0 ? "floor" : "right_floor",
+               fmt::format("no gap element joins floor {} of frame {} to {} (an override names an element by its left "
+                           "floor, and right_floor)", floor, left,
+                           right_floor < 0 ? fmt::format("frame {}", right)
+                                           : fmt::format("floor {} of frame {}", right_floor + 1, right)));
       }
       if (named > 1) {
         o.fail("floor", fmt::format("{} gap elements meet frame {} at floor {} or at its column below it (slabs of "
-                                    "frame {} that strike it): an override, which names an element by its left "
-                                    "floor, cannot tell them apart", named, left, floor, right));
+                                    "frame {} that strike it): give right_floor, the element's floor in frame {}",
+                                    named, left, floor, right, right));
       }
       const GapSpec spec = read_gap_law(o, &defaults);
-      GapOverride go{left - 1, floor - 1, spec.law};
+      GapOverride go{.left_frame = left - 1, .floor = floor - 1, .law = spec.law, .right_floor = right_floor};
       for (const GapOverride& seen : overrides) {
-        if (seen.left_frame == go.left_frame && seen.floor == go.floor) {
+        if (seen.left_frame == go.left_frame && seen.floor == go.floor &&
+            (seen.right_floor < 0 || go.right_floor < 0 || seen.right_floor == go.right_floor)) {
           o.fail_table("a second override of the same element");
         }
       }
@@ -977,7 +991,10 @@ Model read_physical(TableReader& top, RunInput& run) {
   for (const GapElement& g : model.gaps) {
     std::optional<double> joint = defaults.joint;
     for (std::size_t k = 0; k < overrides.size(); ++k) {
-      if (overrides[k].left_frame == g.left_frame && overrides[k].floor == g.floor) joint = override_joints[k];
+      const GapOverride& o = overrides[k];
+      if (o.left_frame == g.left_frame && o.floor == g.floor && (o.right_floor < 0 || o.right_floor == g.floor_right())) {
+        joint = override_joints[k];
+      }
     }
     run.joint_widths.push_back(joint.value_or(g.gap()));
   }
@@ -1719,6 +1736,10 @@ toml::table model_tables(const RunInput& in, toml::table& root) {
     toml::table o;
     o.insert("frames", toml::array{g.left_frame + 1, g.left_frame + 2});
     o.insert("floor", g.floor + 1);
+    const auto sharing = std::count_if(in.model.gaps.begin(), in.model.gaps.end(), [&](const GapElement& e) {
+      return e.left_frame == g.left_frame && e.floor == g.floor;
+    });
+    if (sharing > 1) o.insert("right_floor", g.floor_right() + 1);
     put_law(o, g.law, key_of(in.model.gaps.front().law));
     put_joint(o, k);
     overrides.push_back(std::move(o));

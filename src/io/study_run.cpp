@@ -201,7 +201,8 @@ Model bare_pounding_model(const RunInput& point) {
   if (!point.joint_widths.empty()) {
     assert(point.joint_widths.size() == bare.gaps.size());
     for (std::size_t k = 0; k < bare.gaps.size(); ++k) {
-      parameters_of<PaperGap>(bare.gaps[k]).gap = point.joint_widths[k];  // bare_pounding's
+      // bare_pounding's stop, or a slab's contact law, closes at the joint width.
+      std::visit([&](auto& law) { law.parameters.gap = point.joint_widths[k]; }, bare.gaps[k].law);
     }
   }
   return bare;

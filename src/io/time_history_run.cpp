@@ -31,15 +31,6 @@ json struck_column_json(const ColumnStrike& c, int left_frame, int left_floor, i
   return {{"frame", left_frame + (left ? 1 : 2)}, {"floors", {above - 1, above}}, {"weight_of_floor_above", c.weight}};
 }
 
-/// The name of a gap element in history.csv: its left frame and left floor, and also its right
-/// floor when its left end is a struck column (the floor above the point is not its own there,
-/// and another element may have that floor on its left).
-std::string gap_label(const GapElement& g) {
-  if (g.column && g.column->struck == Side::left) {
-    return fmt::format("{}_{}_{}", g.left_frame + 1, g.floor + 1, g.floor_right() + 1);
-  }
-  return fmt::format("{}_{}", g.left_frame + 1, g.floor + 1);
-}
 
 json describe_model(const RunInput& input) {
   json frames = json::array();
@@ -277,9 +268,12 @@ json to_json(const TimeHistoryResult& result) {
       const double rho = modal_correlation(a.omega, a.damping_ratio, b.omega, b.damping_ratio);
       const double abs_sum = u1 + u2, srss = std::hypot(u1, u2);
       const double ddc = std::sqrt(std::max(0.0, u1 * u1 + u2 * u2 - 2 * rho * u1 * u2));
-      json rules{{"absolute_sum_m", abs_sum}, {"srss_m", srss}, {"srss_same_floor_levels_m", 0.7 * srss}, {"ddc_m", ddc}};
+      // The 0.7 SRSS of floors at the same levels does not apply to a slab facing a column.
+      const json same_levels = nb.column ? json(nullptr) : json(0.7 * srss);
+      json rules{{"absolute_sum_m", abs_sum}, {"srss_m", srss}, {"srss_same_floor_levels_m", same_levels}, {"ddc_m", ddc}};
       json over{{"absolute_sum", ratio(abs_sum, min_gap[k])}, {"srss", ratio(srss, min_gap[k])},
-                {"srss_same_floor_levels", ratio(0.7 * srss, min_gap[k])}, {"ddc", ratio(ddc, min_gap[k])}};
+                {"srss_same_floor_levels", nb.column ? json(nullptr) : ratio(0.7 * srss, min_gap[k])},
+                {"ddc", ratio(ddc, min_gap[k])}};
       json entry{{"frames", {f + 1, f + 2}}, {"floor", i + 1},
                  {"min_gap_m", min_gap[k]}, {"min_gap_time_s", nb.max_approach_time},
                  {"free_peak_displacement_m", {u1, u2}},
@@ -422,7 +416,7 @@ TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem:
     for (const int d : dofs) history.text(fmt::format("{}_{}", q, dof_label(layout, d)));
   }
   for (int f = 0; f < model.frame_count(); ++f) history.text(fmt::format("V_{}", f + 1));
-  for (const GapElement& g : model.gaps) history.text("F_" + gap_label(g));
+  for (const GapElement& g : model.gaps) history.text("F_" + joint_label(g.left_frame, g.floor, g.floor_right(), g.column));
   // The storeys of frames with an inelastic law: drift and restoring force (hysteresis loops).
   const bool inelastic = has_inelastic_storeys(model);
   std::vector<int> inelastic_dofs;

@@ -30,17 +30,27 @@ Model make_model(std::vector<Frame> frames, const GapLaw& defaults,
     for (const GapElement& g : model.gaps) model.facing.push_back({g.left_frame, g.floor, g.floor_right(), g.column});
   }
   for (const GapOverride& o : overrides) {
-    const auto it = std::find_if(model.gaps.begin(), model.gaps.end(), [&](const GapElement& g) {
-      return g.left_frame == o.left_frame && g.floor == o.floor;
-    });
+    const auto named = [&](const GapElement& g) {
+      return g.left_frame == o.left_frame && g.floor == o.floor && (o.right_floor < 0 || g.floor_right() == o.right_floor);
+    };
+    const auto it = std::find_if(model.gaps.begin(), model.gaps.end(), named);
     if (it == model.gaps.end()) {
       throw std::invalid_argument(
           fmt::format("no gap element between frames {} and {} at floor {}", o.left_frame + 1,
                       o.left_frame + 2, o.floor + 1));
     }
+    if (std::count_if(model.gaps.begin(), model.gaps.end(), named) > 1) {
+      throw std::invalid_argument(fmt::format("several gap elements between frames {} and {} at floor {}: name "
+                                              "the right floor too", o.left_frame + 1, o.left_frame + 2, o.floor + 1));
+    }
     it->law = o.law;
   }
   return model;
+}
+
+std::string joint_label(int left_frame, int left_floor, int right_floor, const std::optional<ColumnStrike>& column) {
+  if (column && column->struck == Side::left) return fmt::format("{}_{}_{}", left_frame + 1, left_floor + 1, right_floor + 1);
+  return fmt::format("{}_{}", left_frame + 1, left_floor + 1);
 }
 
 std::vector<FloorPair> floors_at_equal_heights(const std::vector<Frame>& frames) {
@@ -83,6 +93,7 @@ void validate(const Model& model) {
       throw std::invalid_argument(fmt::format("frame {}: {}", f + 1, e.what()));
     }
   }
+  const std::vector<FloorPair> facing = facing_floors(model);
   for (std::size_t k = 0; k < model.gaps.size(); ++k) {
     const GapElement& g = model.gaps[k];
     const std::string what = describe(g);
@@ -112,9 +123,18 @@ void validate(const Model& model) {
       const GapElement& o = model.gaps[q];
       if (o.left_frame != g.left_frame) continue;
       if ((slab(o, Side::left) && slab(g, Side::left) && o.floor == g.floor) ||
-          (slab(o, Side::right) && slab(g, Side::right) && o.floor_right() == g.floor_right())) {
+          (slab(o, Side::right) && slab(g, Side::right) && o.floor_right() == g.floor_right()) ||
+          (o.floor == g.floor && o.floor_right() == g.floor_right())) {  // the outputs' names
         throw std::invalid_argument(what + ": a floor of it already has a gap element on that side");
       }
+    }
+    // The monitor follows the facing pairs: an element between other floors than corresponding
+    // ones, or at a column, must be one of them.
+    if (std::none_of(facing.begin(), facing.end(), [&](const FloorPair& p) {
+          return p.left_frame == g.left_frame && p.left_floor == g.floor && p.right_floor == g.floor_right() &&
+                 p.column == g.column;
+        })) {
+      throw std::invalid_argument(what + ": not among the model's facing floors (Model::facing)");
     }
     std::visit([&](const auto& law) { validate_fields(law.parameters, what); }, g.law);
   }

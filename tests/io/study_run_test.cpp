@@ -300,6 +300,36 @@ values = ["bilinear", "bouc_wen"]
   fs::remove_all(dir);
 }
 
+// A study of buildings whose slabs strike columns, with its bare-pounding baseline: the elements
+// between floors become rigid stops, the slabs on columns keep their contact law (a stop's impacts
+// act between floors), and each facing pair has its own min_gap column (the right slab 4 and the
+// left slab 5 share left floor 5: min_gap_1_5_3_m and min_gap_1_5_m).
+TEST(StudyRun, SlabsOnColumnsKeepTheirContactLawInTheBareBaseline) {
+  std::string text = as_study(fs::path(POUNDSIM_SOURCE_DIR) / "examples" / "slab_to_column.toml", "3.0",
+                              "[[study.parameter]]\nkey = \"gap_elements.restitution\"\nvalues = [0.5, 0.8]\n");
+  text.replace(text.find("baseline = false"), 16, "baseline = true");
+  const RunInput input = read_input_string(text, "study.toml", fs::path(POUNDSIM_SOURCE_DIR) / "examples");
+  const Model bare = bare_pounding_model(input);
+  ASSERT_EQ(bare.gap_count(), 5);
+  for (const GapElement& g : bare.gaps) {
+    EXPECT_EQ(std::holds_alternative<Hertzdamp>(g.law), g.column.has_value()) << describe(g);
+    EXPECT_EQ(g.gap(), 0.03) << describe(g);
+  }
+  EXPECT_NO_THROW(validate(bare));
+  const fs::path dir = fresh("slabs");
+  const nlohmann::json summary = to_json(run_study(input, dir));
+  EXPECT_TRUE(summary["complete"].get<bool>());
+  EXPECT_EQ(summary["finished"], 2);
+  std::istringstream lines(slurp(dir / "study.csv"));
+  std::string header;
+  std::getline(lines, header);
+  for (const char* column : {"min_gap_1_3_m", "min_gap_1_4_m", "min_gap_1_5_3_m", "min_gap_1_5_m", "min_gap_1_6_m",
+                             "ratio_to_bare_1", "ratio_to_bare_2"}) {
+    EXPECT_NE(header.find(column), std::string::npos) << column << " in " << header;
+  }
+  fs::remove_all(dir);
+}
+
 TEST(StudyRun, ExportWritesEveryPoint) {
   const fs::path dir = fresh("export");
   run_study(read(kStudy), dir);

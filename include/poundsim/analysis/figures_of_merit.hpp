@@ -41,6 +41,7 @@ struct FloorFigures {
 struct JointFigures {
   int left_frame = 0, floor = 0;  ///< 0-based.
   double min_gap_m = 0.0;
+  std::string label;  ///< Its name in the columns (joint_label): "1_3", or "1_5_4" at a struck left column.
 };
 
 /// A frequency response over a band of ω̄/ω₁.

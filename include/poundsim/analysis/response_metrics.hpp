@@ -13,7 +13,8 @@
 namespace poundsim {
 
 /// The same frames with every gap element replaced by a rigid stop (the paper's element with
-/// k = c = ε = 0) at its gap, with its law's restitution.
+/// k = c = ε = 0) at its gap, with its law's restitution — except a slab striking a column, which
+/// keeps its contact law (impacts with restitution act between floors: docs/model.md#slab-to-column).
 [[nodiscard]] Model bare_pounding(const Model& model);
 
 /// The same frames without gap elements.

@@ -176,10 +176,9 @@ class LinearPhase {
   mutable SparseMatrix effective_;
   Eigen::VectorXd effective_m_, effective_c_, effective_k_;
 
-  /// Positions in effective_'s values of each smooth link's entries (a,a), (b,b), (a,b) — all
-  /// −1 when both floors are in one group, bb and ab −1 for a link to the ground — in
-  /// smooth_links_ order.
-  /// An entry of the effective matrix's values that a smooth link's tangent adds to, times n_i n_j.
+  /// An entry of effective_'s values that a smooth link's tangent adds to, times n_i n_j of its
+  /// groups' terms (the diagonal and the upper triangle; none for a force internal to a group);
+  /// each link's range is SmoothLink::first_slot … end_slot.
   struct TangentSlot {
     Eigen::Index slot = -1;
     double coefficient = 0.0;

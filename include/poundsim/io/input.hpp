@@ -181,6 +181,7 @@ struct GapOverride {
         C{"law", "the element's law; [gap_elements]' by default"},
         C{"frames", "the two neighbouring frames"},
         C{"floor", "the floor, from 1"},
+        C{"right_floor", "the element's floor in the right frame, when elements share the left floor"},
         C{"joint_width", "w [m], the joint's width"},
     };
   }

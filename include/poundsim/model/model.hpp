@@ -99,12 +99,23 @@ struct GapOverride {
   int left_frame = 0;
   int floor = 0;
   GapLaw law;
+  /// The element's floor in frame L+1, which tells apart elements that share the left floor (a
+  /// slab of frame L+1 striking frame L's column below a floor that also strikes); −1: the one
+  /// element at `floor`.
+  int right_floor = -1;
 };
+
+/// How the outputs name the element (or facing pair) at `left_floor` of `left_frame`: "1_5",
+/// frames and floors from 1, by its left frame and floor — and "1_5_4", with its right floor,
+/// when its left end is a struck column (another element may then have that floor on its left).
+[[nodiscard]] std::string joint_label(int left_frame, int left_floor, int right_floor,
+                                      const std::optional<ColumnStrike>& column);
 
 /// Builds the model with an element at every pair of corresponding floors — or, when `pairs`
 /// is given, at exactly those pairs (ordered by frame pair, then floor) — all with `defaults`
-/// except those listed in `overrides` (named by their left frame and floor). Throws
-/// std::invalid_argument for an override that names no element.
+/// except those listed in `overrides` (named by their left frame and floor, and right floor when
+/// that is needed). Throws std::invalid_argument for an override that names no element or
+/// several.
 Model make_model(std::vector<Frame> frames, const GapLaw& defaults,
                  std::span<const GapOverride> overrides = {}, std::span<const FloorPair> pairs = {});
 
