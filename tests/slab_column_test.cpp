@@ -221,8 +221,15 @@ TEST(SlabToColumn, BadSlabsAreRefusedNamingTheKey) {
   };
   // The paper's element has a stop, whose impacts and locking join two floors.
   const std::string paper = error_of(staggered("law = \"paper\"\nstiffness = 2e9\ngap = 0.01\nshortening = 0.005\nrestitution = 0.7"));
-  EXPECT_NE(paper.find("the column of frame 2 between floors 4 and 5"), std::string::npos) << paper;
-  EXPECT_NE(paper.find("has a stop"), std::string::npos) << paper;
+  EXPECT_NE(paper.find("gap_elements.law: \"paper\" for the gap element between floor 5 of frame 1 and the column of "
+                       "frame 2 between floors 4 and 5: a slab that strikes a column takes a contact law without a stop"),
+            std::string::npos) << paper;
+  // So does an override that gives a slab the paper's element.
+  const std::string override = error_of(
+      base + "[[gap_elements.override]]\nframes = [1, 2]\nfloor = 5\nright_floor = 5\nlaw = \"paper\"\n"
+             "stiffness = 2e9\ngap = 0.01\nshortening = 0.005\nrestitution = 0.7\n");
+  EXPECT_NE(override.find("gap_elements.override[1].law: \"paper\" for the gap element between floor 5 of frame 1"),
+            std::string::npos) << override;
   // A slab above the neighbour's roof has no column to strike.
   const std::string high = error_of(with("slab = [1, 5]", "slab = [1, 5]\n[[gap_elements.pair]]\nframes = [1, 2]\nslab = [1, 6]"));
   EXPECT_NE(high.find("gap_elements.pair[3].slab"), std::string::npos) << high;

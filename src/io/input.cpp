@@ -649,6 +649,20 @@ FloorPair read_slab_pair(TableReader& t, int left, const std::vector<Frame>& fra
   return pair;
 }
 
+/// A slab striking a column takes a law without a stop (validate(Model) says so too, without the
+/// key): refused naming the table's `law` (or its default's).
+void check_law_at_column(TableReader& t, const FloorPair& pair, const GapLaw& law) {
+  if (!pair.column) return;
+  const LawTraits& traits = std::visit([](const auto& l) -> const LawTraits& { return l.traits; }, law);
+  if (!traits.has_stop) return;
+  GapElement element{.left_frame = pair.left_frame, .floor = pair.left_floor, .law = law,
+                     .right_floor = pair.right_floor, .column = pair.column};
+  t.fail("law", fmt::format("{} for the {}: a slab that strikes a column takes a contact law without a stop (kelvin_voigt, "
+                            "hertz, hertzdamp, jankowski); {} has one, whose impacts and locking act between two floors",
+                            t.has("law") ? fmt::format("\"{}\"", key_of(law)) : fmt::format("\"{}\" (the default)", key_of(law)),
+                            describe(element), traits.name));
+}
+
 /// Whether two pairs of a joint give one floor two elements on the same side (a struck column has
 /// no floor there: several slabs may strike one storey's column).
 bool share_a_floor(const FloorPair& a, const FloorPair& b) {
@@ -974,6 +988,11 @@ Model read_physical(TableReader& top, RunInput& run) {
                                     named, left, floor, right, right));
       }
       const GapSpec spec = read_gap_law(o, &defaults);
+      for (const FloorPair& p : pairs) {
+        if (p.left_frame == left - 1 && p.left_floor == floor - 1 && (right_floor < 0 || p.right_floor == right_floor)) {
+          check_law_at_column(o, p, spec.law);
+        }
+      }
       GapOverride go{.left_frame = left - 1, .floor = floor - 1, .law = spec.law, .right_floor = right_floor};
       for (const GapOverride& seen : overrides) {
         if (seen.left_frame == go.left_frame && seen.floor == go.floor &&
@@ -985,6 +1004,12 @@ Model read_physical(TableReader& top, RunInput& run) {
       override_joints.push_back(spec.joint);
       o.finish();
     }
+  }
+  for (const FloorPair& p : pairs) {
+    const bool overridden = std::any_of(overrides.begin(), overrides.end(), [&](const GapOverride& o) {
+      return o.left_frame == p.left_frame && o.floor == p.left_floor && (o.right_floor < 0 || o.right_floor == p.right_floor);
+    });
+    if (!overridden) check_law_at_column(gaps, p, defaults.law);
   }
   gaps.finish();
   Model model = make_model(std::move(frames), defaults.law, overrides, pairs);
