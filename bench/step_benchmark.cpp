@@ -44,13 +44,9 @@ void BM_StepWithoutContact(benchmark::State& state) {
 }
 BENCHMARK(BM_StepWithoutContact)->Arg(1)->Arg(10)->Arg(20)->Arg(100);
 
-/// One grid step of two 10-storey frames pressed together at every floor by Hertzdamp contacts
-/// (a soft frame left of a stiff one, no gap, a constant ground acceleration): ten smooth contacts
-/// solved by Newton iterations at each step, against BM_StepWithoutContact/10 (issue 10: ≤ 3×).
-void BM_StepWithHertzdampAtEveryFloor(benchmark::State& state) {
-  const Model m = make_model(
-      {make_uniform_frame(10, 1e4, 2e7, 2e5, "soft"), make_uniform_frame(10, 1e4, 4e8, 4e6, "stiff")},
-      GapLaw(Hertzdamp{.parameters = {.stiffness = 1e10, .gap = 0.0, .restitution = 0.6}}));
+/// One grid step of `m` with its Hertzdamp contacts pressed (a soft frame left of a stiff one, no
+/// gap, a varying ground push), with Newton's iterations per step.
+void step_pressed(benchmark::State& state, const Model& m) {
   // A push of −3 ± 1 m/s² at 1.5 Hz: the contacts stay pressed, and their forces keep changing
   // (a constant push would settle into a static state that converges in one iteration).
   std::vector<double> time, acceleration;
@@ -73,7 +69,30 @@ void BM_StepWithHertzdampAtEveryFloor(benchmark::State& state) {
       static_cast<double>(stats.newton_iterations - iterations0) / static_cast<double>(stats.newton_steps - steps0);
   state.counters["events"] = static_cast<double>(stats.events - events0);
 }
+
+const Hertzdamp kPressedContact{.parameters = {.stiffness = 1e10, .gap = 0.0, .restitution = 0.6}};
+
+/// Two 10-storey frames pressed together at every floor: ten smooth contacts solved by Newton
+/// iterations at each step, against BM_StepWithoutContact/10 (issue 10: ≤ 3×).
+void BM_StepWithHertzdampAtEveryFloor(benchmark::State& state) {
+  step_pressed(state, make_model({make_uniform_frame(10, 1e4, 2e7, 2e5, "soft"), make_uniform_frame(10, 1e4, 4e8, 4e6, "stiff")},
+                                 GapLaw(kPressedContact)));
+}
 BENCHMARK(BM_StepWithHertzdampAtEveryFloor);
+
+/// The same frames with each slab of the left one pressed on the right one's column at mid-height
+/// of the storey below the facing floor (docs/model.md#slab-to-column): ten contacts of three DOFs
+/// each (the first storey's with the ground), against BM_StepWithHertzdampAtEveryFloor.
+void BM_StepWithHertzdampSlabsOnColumns(benchmark::State& state) {
+  std::vector<FloorPair> pairs;
+  for (int i = 0; i < 10; ++i) {
+    pairs.push_back({.left_frame = 0, .left_floor = i, .right_floor = i,
+                     .column = ColumnStrike{.struck = Side::right, .weight = 0.5}});
+  }
+  step_pressed(state, make_model({make_uniform_frame(10, 1e4, 2e7, 2e5, "soft"), make_uniform_frame(10, 1e4, 4e8, 4e6, "stiff")},
+                                 GapLaw(kPressedContact), {}, pairs));
+}
+BENCHMARK(BM_StepWithHertzdampSlabsOnColumns);
 
 /// A whole 20 s run of one 10-storey frame under a harmonic ground motion that makes its lower
 /// storeys yield again and again: linear storeys (0), bilinear (1, Newmark, yield and unload

@@ -11,7 +11,7 @@ namespace poundsim {
 namespace {
 
 template <class L>
-LinkMode mode_in(const TypedLink<L>& link, const ContactConfiguration& config) {
+LinkMode mode_in(const L& link, const ContactConfiguration& config) {
   return link.element < 0 ? LinkMode{0} : config[static_cast<std::size_t>(link.element)];
 }
 

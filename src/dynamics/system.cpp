@@ -153,8 +153,8 @@ double PoundingSystem::gap_force(const KinematicState& x, const ContactState& c,
   const Link& link = tracked_links_[static_cast<std::size_t>(p)];
   return with_contact_law<double>(link, [&](const auto& law) {
     using L = std::decay_t<decltype(law)>;
-    return gap_force(x, c, TypedLink<L>{.a = link.a, .b = link.b, .element = link.element, .slot = link.slot,
-                                        .law = law, .a_column = link.a_column, .b_column = link.b_column});
+    return gap_force(x, c, TypedLink<L, true>{.a = link.a, .b = link.b, .element = link.element, .slot = link.slot,
+                                              .law = law, .a_column = link.a_column, .b_column = link.b_column});
   });
 }
 

@@ -3,12 +3,46 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 #include <utility>
 
 #include "hermite_cubic.hpp"
 #include "poundsim/dynamics/link_kinematics.hpp"
 
 namespace poundsim {
+
+namespace {
+/// The approach of a facing pair, u_L − u_R of its points, and its rate. `AtFloors`
+/// (std::true_type when every pair of the model joins floors, which the loops of every step test
+/// once) reads the floors directly; otherwise a column point is interpolated.
+template <class AtFloors, class Points>
+[[gnu::always_inline]] inline double approach(AtFloors, const KinematicState& x, const Points& p) {
+  if constexpr (AtFloors::value) {
+    return x.u(p.a) - x.u(p.b);
+  } else {
+    const LinkKinematics k = detail::kinematics<detail::Derivatives::velocities>(x, p);
+    return k.ua - k.ub;
+  }
+}
+template <class AtFloors, class Points>
+[[gnu::always_inline]] inline double approach_rate(AtFloors, const KinematicState& x, const Points& p) {
+  if constexpr (AtFloors::value) {
+    return x.v(p.a) - x.v(p.b);
+  } else {
+    const LinkKinematics k = detail::kinematics<detail::Derivatives::velocities>(x, p);
+    return k.va - k.vb;
+  }
+}
+/// Calls f(std::true_type) when every facing pair joins floors, f(std::false_type) otherwise.
+template <class F>
+void with_facing(bool at_floors, F&& f) {
+  if (at_floors) {
+    f(std::true_type{});
+  } else {
+    f(std::false_type{});
+  }
+}
+}  // namespace
 
 ResponseMonitor::ResponseMonitor(const Model& model, const DofLayout& layout, std::vector<LinearForm> first_storey)
     : layout_(layout), first_storey_(std::move(first_storey)) {
@@ -22,6 +56,7 @@ ResponseMonitor::ResponseMonitor(const Model& model, const DofLayout& layout, st
                                                     .weight = p.column->weight};
     }
     facing_.push_back(points);
+    facing_at_floors_ = facing_at_floors_ && points.joins_floors();
   }
   for (int f = 0; f < model.frame_count(); ++f) first_storey_dofs_.push_back(layout_.dof(f, 0));
   stats_.base_shear.resize(static_cast<std::size_t>(model.frame_count()));
@@ -57,10 +92,11 @@ void ResponseMonitor::observe(const KinematicState& x) {
     stats_.base_shear[static_cast<std::size_t>(f)].update(base_shear(x, f), t);
     stats_.storey_shear[static_cast<std::size_t>(f)].update(storey_shear(x, f), t);
   }
-  for (std::size_t k = 0; k < stats_.neighbours.size(); ++k) {
-    const LinkKinematics p = detail::kinematics(x, facing_[k]);
-    stats_.neighbours[k].update(p.ua - p.ub, t);
-  }
+  with_facing(facing_at_floors_, [&](auto at_floors) {
+    for (std::size_t k = 0; k < stats_.neighbours.size(); ++k) {
+      stats_.neighbours[k].update(approach(at_floors, x, facing_[k]), t);
+    }
+  });
 }
 
 void ResponseMonitor::observe_event(std::size_t p, EventKind kind, double closing_velocity, double impulse,
@@ -123,16 +159,17 @@ void ResponseMonitor::observe_step(const KinematicState& a, const KinematicState
       refine(fr.drift, a.u(i) - a.u(below), a.v(i) - a.v(below), b.u(i) - b.u(below), b.v(i) - b.v(below));
     }
   }
-  for (std::size_t k = 0; k < stats_.neighbours.size(); ++k) {
-    // A signed maximum: where u_L − u_R stops growing inside the step.
-    const LinkKinematics p0 = detail::kinematics(a, facing_[k]), p1 = detail::kinematics(b, facing_[k]);
-    const double r0 = p0.va - p0.vb, r1 = p1.va - p1.vb;
-    if (!(r0 > 0 && r1 < 0)) continue;
-    const detail::HermiteCubic cubic(p0.ua - p0.ub, r0, p1.ua - p1.ub, r1, h);
-    for (const double theta : cubic.critical_points()) {
-      if (theta > 0 && theta < 1) stats_.neighbours[k].update(cubic(theta), t0 + theta * h);
+  with_facing(facing_at_floors_, [&](auto at_floors) {
+    for (std::size_t k = 0; k < stats_.neighbours.size(); ++k) {
+      // A signed maximum: where u_L − u_R stops growing inside the step.
+      const double r0 = approach_rate(at_floors, a, facing_[k]), r1 = approach_rate(at_floors, b, facing_[k]);
+      if (!(r0 > 0 && r1 < 0)) continue;
+      const detail::HermiteCubic cubic(approach(at_floors, a, facing_[k]), r0, approach(at_floors, b, facing_[k]), r1, h);
+      for (const double theta : cubic.critical_points()) {
+        if (theta > 0 && theta < 1) stats_.neighbours[k].update(cubic(theta), t0 + theta * h);
+      }
     }
-  }
+  });
   for (std::size_t f = 0; f < first_storey_.size(); ++f) {
     const int d = layout_.dof(static_cast<int>(f), 0);
     const double k = first_storey_[f].stiffness, c = first_storey_[f].damping, f0 = first_storey_[f].force_at_zero;
@@ -162,15 +199,11 @@ void ResponseMonitor::observe_step(const KinematicState& from, const KinematicSt
   const double a = from.t - t0, b = to.t - t0;
   for (std::size_t k = 0; k < stats_.neighbours.size(); ++k) {
     const FacingPoints& points = facing_[k];
-    const auto rate = [&points](const KinematicState& x) {
-      const LinkKinematics p = detail::kinematics(x, points);
-      return p.va - p.vb;
-    };
+    const auto rate = [&points](const KinematicState& x) { return approach_rate(std::false_type{}, x, points); };
     const double ra = rate(from), rb = rate(to);
     if (!(ra > 0 && rb < 0)) continue;
     extremum(rate, a, b, ra);
-    const LinkKinematics p = detail::kinematics(node_, points);
-    stats_.neighbours[k].update(p.ua - p.ub, node_.t);
+    stats_.neighbours[k].update(approach(std::false_type{}, node_, points), node_.t);
   }
   for (int i = 0; i < layout_.size(); ++i) {
     FloorResponse& fr = stats_.floors[static_cast<std::size_t>(i)];

@@ -5,6 +5,7 @@
 /// asked through these, so that a column point's interpolation is written once.
 
 #include <cstdint>
+#include <type_traits>
 
 #include "poundsim/dynamics/state.hpp"
 #include "poundsim/model/law.hpp"
@@ -16,8 +17,9 @@ namespace poundsim::detail {
 enum class Derivatives : std::uint8_t { velocities, accelerations };
 
 /// Floors a and b at `x` (b = −1: the ground, at rest in the relative frame: a first storey's).
+/// Inlined: the loops of every step call it for every link.
 template <Derivatives D = Derivatives::accelerations>
-LinkKinematics kinematics(const KinematicState& x, int a, int b) {
+[[gnu::always_inline]] inline LinkKinematics kinematics(const KinematicState& x, int a, int b) {
   LinkKinematics k{.ua = x.u(a), .va = x.v(a), .t = x.t};
   if (b >= 0) {
     k.ub = x.u(b);
@@ -43,14 +45,29 @@ void to_column_point(const KinematicState& x, const ColumnPoint& point, double& 
   if constexpr (D == Derivatives::accelerations) a += rest * x.a(point.below);
 }
 
+/// The ends of a link with a column point (the rare case, kept out of line).
+template <Derivatives D>
+[[gnu::noinline]] LinkKinematics column_kinematics(const KinematicState& x, int a, int b, const ColumnPoint& a_column,
+                                                   const ColumnPoint& b_column) {
+  LinkKinematics k = kinematics<D>(x, a, b);
+  if (!a_column.at_floor()) to_column_point<D>(x, a_column, k.ua, k.va, k.aa);
+  if (!b_column.at_floor()) to_column_point<D>(x, b_column, k.ub, k.vb, k.ab);
+  return k;
+}
+
 /// The two ends of a link (Link or TypedLink) at `x`.
 template <Derivatives D = Derivatives::accelerations, class LinkLike>
-LinkKinematics kinematics(const KinematicState& x, const LinkLike& link) {
-  LinkKinematics k = kinematics<D>(x, link.a, link.b);
-  if (link.joins_floors()) return k;
-  if (!link.a_column.at_floor()) to_column_point<D>(x, link.a_column, k.ua, k.va, k.aa);
-  if (!link.b_column.at_floor()) to_column_point<D>(x, link.b_column, k.ub, k.vb, k.ab);
-  return k;
+[[gnu::always_inline]] inline LinkKinematics kinematics(const KinematicState& x, const LinkLike& link) {
+  // A storey joins its floors (only gap elements strike columns): no test on its hot path.
+  if constexpr (requires { typename std::decay_t<decltype(link.law)>::State; }) {
+    if constexpr (!ContactLaw<std::decay_t<decltype(link.law)>>) return kinematics<D>(x, link.a, link.b);
+  }
+  if (link.joins_floors()) [[likely]] return kinematics<D>(x, link.a, link.b);
+  if constexpr (std::is_same_v<std::decay_t<decltype(link.a_column)>, ColumnPoint>) {
+    return column_kinematics<D>(x, link.a, link.b, link.a_column, link.b_column);
+  } else {
+    return kinematics<D>(x, link.a, link.b);  // not reached: such a link joins its floors
+  }
 }
 
 }  // namespace poundsim::detail

@@ -144,8 +144,9 @@ class PoundingSystem {
   [[nodiscard]] double gap_force(const KinematicState& x, const ContactState& c, int p) const;
   /// The same for a link of the contact table, whose law is known: the loops that run at every
   /// accepted state call it with no dispatch.
-  template <class L>
-  [[nodiscard]] static double gap_force(const KinematicState& x, const ContactState& c, const TypedLink<L>& link) {
+  template <class LinkOfLaw>
+    requires requires(const LinkOfLaw& l) { l.law; l.slot; }
+  [[nodiscard]] static double gap_force(const KinematicState& x, const ContactState& c, const LinkOfLaw& link) {
     const auto p = static_cast<std::size_t>(link.element);
     const double force = link.law.force(detail::kinematics(x, link), c.config[p], c.states.at(link));
     return c.rigid[p] != 0 ? force + c.stop_reaction[p] : force;

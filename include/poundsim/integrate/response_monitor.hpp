@@ -191,6 +191,7 @@ class ResponseMonitor {
     [[nodiscard]] bool joins_floors() const { return a_column.at_floor() && b_column.at_floor(); }
   };
   std::vector<FacingPoints> facing_;
+  bool facing_at_floors_ = true;  ///< Every facing pair joins floors (no column point).
   std::vector<int> first_storey_dofs_;                 ///< The floor above each frame's first storey.
   std::vector<double> contact_start_;    ///< When each element's current contact began (NaN: none)
   std::vector<double> contact_closing_;  ///< ṡ at that contact's onset [m/s]

@@ -274,16 +274,27 @@ struct Link {
   }
 };
 
-/// A link whose law is known at compile time: the entries of a LinkTable.
-template <class L>
+/// A link whose law is known at compile time: the entries of a LinkTable. Whether an end may be
+/// a column point is known too (AtColumn): the links between floors, all but a few slabs that
+/// strike columns, then read their floors with no test on the loops of every step.
+/// The end of a link that is its floor, as a ColumnPoint of weight 1 that takes no room.
+struct FloorEnd {
+  static constexpr int below = -1;
+  static constexpr double weight = 1.0;
+  [[nodiscard]] static constexpr bool at_floor() { return true; }
+};
+
+template <class L, bool AtColumn = false>
 struct TypedLink {
+  using End = std::conditional_t<AtColumn, ColumnPoint, FloorEnd>;
   int a = 0;
   int b = -1;
   int element = -1;
   int slot = 0;
   L law;
-  ColumnPoint a_column{}, b_column{};
-  [[nodiscard]] bool joins_floors() const { return a_column.at_floor() && b_column.at_floor(); }
+  [[no_unique_address]] End a_column{};
+  [[no_unique_address]] End b_column{};
+  [[nodiscard]] constexpr bool joins_floors() const { return a_column.at_floor() && b_column.at_floor(); }
 };
 
 namespace detail {
@@ -302,8 +313,8 @@ struct LawIndex<L, std::variant<Ls...>> {
 }  // namespace detail
 
 /// The links sorted by law, one array per law of the Law variant (in its order), each in link
-/// order: loops over many links (energy, every step) call each law's functions directly, with no
-/// dispatch per link.
+/// order, and then one per law for the links with a column point: loops over many links (energy,
+/// every step) call each law's functions directly, with no dispatch per link.
 class LinkTable {
  public:
   LinkTable() = default;
@@ -312,26 +323,37 @@ class LinkTable {
       std::visit(
           [&](const auto& law) {
             using L = std::decay_t<decltype(law)>;
-            std::get<std::vector<TypedLink<L>>>(tables_).push_back(
-                {link.a, link.b, link.element, link.slot, law, link.a_column, link.b_column});
+            if (link.joins_floors()) {
+              std::get<std::vector<TypedLink<L>>>(tables_).push_back(
+                  {.a = link.a, .b = link.b, .element = link.element, .slot = link.slot, .law = law});
+            } else {
+              std::get<std::vector<TypedLink<L, true>>>(column_tables_).push_back(
+                  {link.a, link.b, link.element, link.slot, law, link.a_column, link.b_column});
+              any_column_ = true;
+            }
           },
           link.law);
     }
   }
-  /// Calls f(links) with the array of each law in turn (std::span<const TypedLink<L>>).
+  /// Calls f(links) with the array of each law in turn (std::span<const TypedLink<L>>), then
+  /// with those of the links at column points (std::span<const TypedLink<L, true>>).
   template <class F>
   void for_each_law(F&& f) const {
     std::apply([&](const auto&... table) { (f(std::span(table)), ...); }, tables_);
+    // Column links are rare: without them the loops of every step pay one test.
+    if (any_column_) std::apply([&](const auto&... table) { (f(std::span(table)), ...); }, column_tables_);
   }
 
  private:
-  template <class V>
+  template <class V, bool AtColumn>
   struct TablesOf;
-  template <class... L>
-  struct TablesOf<std::variant<L...>> {
-    using type = std::tuple<std::vector<TypedLink<L>>...>;
+  template <class... L, bool AtColumn>
+  struct TablesOf<std::variant<L...>, AtColumn> {
+    using type = std::tuple<std::vector<TypedLink<L, AtColumn>>...>;
   };
-  TablesOf<Law>::type tables_;
+  TablesOf<Law, false>::type tables_;
+  TablesOf<Law, true>::type column_tables_;
+  bool any_column_ = false;
 };
 
 /// The State of every link's law (law_traits.hpp's LawState), one array per law of Law, indexed
@@ -364,8 +386,8 @@ class LinkStates {
   [[nodiscard]] const typename L::State& at(const L& law, int slot) const {
     return of(law)[static_cast<std::size_t>(slot)];
   }
-  template <class L>
-  [[nodiscard]] const typename L::State& at(const TypedLink<L>& link) const {
+  template <class L, bool AtColumn>
+  [[nodiscard]] const typename L::State& at(const TypedLink<L, AtColumn>& link) const {
     return at(link.law, link.slot);
   }
   /// The clock restarts at `origin`: every time kept becomes relative to it.
