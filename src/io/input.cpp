@@ -1,3 +1,4 @@
+#include "poundsim/analysis/channels.hpp"
 #include "poundsim/io/input.hpp"
 
 #include <algorithm>
@@ -1026,6 +1027,26 @@ Model read_physical(TableReader& top, RunInput& run) {
   return model;
 }
 
+/// [output]: the channels of history.csv, each pattern naming at least one channel of the model.
+void read_output(TableReader& t, RunInput& run) {
+  t.declare<keys::Output>();
+  const toml::array* patterns = t.require("channels").as_array();
+  if (patterns == nullptr || patterns->empty()) {
+    t.fail("channels", "expected a non-empty array of channel names or patterns, e.g. [\"u_*\", \"drift_ratio_2_*\"]");
+  }
+  for (std::size_t k = 0; k < patterns->size(); ++k) {
+    const std::optional<std::string> pattern = (*patterns)[k].value<std::string>();
+    if (!pattern || pattern->empty()) t.fail("channels", fmt::format("item {}: expected a channel name or pattern", k + 1));
+    run.channels.push_back(*pattern);
+  }
+  try {
+    static_cast<void>(HistoryChannels(run.model, run.channels));
+  } catch (const std::invalid_argument& e) {
+    t.fail("channels", e.what());
+  }
+  t.finish();
+}
+
 void read_initial(TableReader& t, const Model& model, InitialConditions& ic) {
   t.declare<keys::Initial>();
   const auto rows = [&](const char* key, std::vector<std::vector<double>>& out) {
@@ -1468,11 +1489,15 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
     throw InputError(fmt::format("{}: {}", origin.file, e.what()));
   }
   if (auto initial = top.optional_table("initial")) read_initial(*initial, run.model, run.initial);
+  if (auto output = top.optional_table("output")) read_output(*output, run);
   TableReader analysis = top.table("analysis");
   analysis.declare<TimeHistoryOptions, AnalysisSettings>();
   read_fields(analysis, run.analysis);
   const AnalysisKind kind = run.analysis.kind;
   const std::string context = fmt::format("for kind = \"{}\"", to_string(kind));
+  if (!run.channels.empty() && kind != AnalysisKind::time_history) {
+    top.fail("output", fmt::format("only for kind = \"time_history\", whose history.csv it chooses (not {})", context));
+  }
   PointRun each = kind == AnalysisKind::frf        ? PointRun::frf
                   : kind == AnalysisKind::ensemble ? PointRun::ensemble
                                                    : PointRun::time_history;
@@ -1869,6 +1894,11 @@ std::string to_toml(const RunInput& in) {
     }
   }
   root.insert("analysis", std::move(analysis));
+  if (!in.channels.empty()) {
+    toml::array channels;
+    for (const std::string& c : in.channels) channels.push_back(c);
+    root.insert("output", toml::table{{"channels", std::move(channels)}});
+  }
   if (kind == AnalysisKind::study && in.study) root.insert("study", study_table(*in.study));
   if (kind == AnalysisKind::optimize && in.optimize) root.insert("optimize", optimize_table(*in.optimize));
   if (in.ensemble) {

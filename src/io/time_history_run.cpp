@@ -1,3 +1,4 @@
+#include "poundsim/analysis/channels.hpp"
 #include "poundsim/io/time_history_run.hpp"
 
 #include <chrono>
@@ -384,7 +385,7 @@ json to_json(const TimeHistoryResult& result) {
               {"run_time_s", result.run_time}};
 }
 
-TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem::path& out_dir) {
+TimeHistoryResult analyse_run(const RunInput& input, const TimeHistoryObserver& observer) {
   const auto start = std::chrono::steady_clock::now();
   const TimeHistoryProblem problem{.model = input.model,
                                    .excitation = input.excitation,
@@ -399,6 +400,16 @@ TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem:
                                  "analysis.max_steps = {}", input.source.string(), problem.output_dt,
                                  problem.duration, row_count, input.analysis.max_steps));
   }
+  std::optional<TimeHistoryAnalysis> analysis;
+  try {
+    analysis.emplace(analyse_time_history(problem, observer));
+  } catch (const std::invalid_argument& e) {
+    throw InputError(fmt::format("{}: {}", input.source.string(), e.what()));
+  }
+  return {std::move(*analysis), input, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()};
+}
+
+TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem::path& out_dir) {
   const Model& model = input.model;
   const DofLayout layout(model);
 
@@ -406,29 +417,12 @@ TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem:
   CsvWriter history(out.open("history.csv"));
   CsvWriter events(out.open("events.csv"));
 
-  // Columns in frame order, then floor order.
-  std::vector<int> dofs;
-  for (int f = 0; f < model.frame_count(); ++f) {
-    for (int i = 0; i < model.frames[f].storeys(); ++i) dofs.push_back(layout.dof(f, i));
-  }
+  // The channels [output] chose (the default ones without it), in the model's order.
+  const HistoryChannels channels(model, input.channels);
   history.text("t");
-  for (const char* q : {"u", "v", "a"}) {
-    for (const int d : dofs) history.text(fmt::format("{}_{}", q, dof_label(layout, d)));
-  }
-  for (int f = 0; f < model.frame_count(); ++f) history.text(fmt::format("V_{}", f + 1));
-  for (const GapElement& g : model.gaps) history.text("F_" + joint_label(g.left_frame, g.floor, g.floor_right(), g.column));
-  // The storeys of frames with an inelastic law: drift and restoring force (hysteresis loops).
-  const bool inelastic = has_inelastic_storeys(model);
-  std::vector<int> inelastic_dofs;
-  for (const int d : dofs) {
-    if (!is_default(model.frames[static_cast<std::size_t>(layout.frame_of(d))].storey_law)) inelastic_dofs.push_back(d);
-  }
-  for (const int d : inelastic_dofs) history.text(fmt::format("drift_{}", dof_label(layout, d)));
-  for (const int d : inelastic_dofs) history.text(fmt::format("Fs_{}", dof_label(layout, d)));
-  history.texts({"E_input", "E_kinetic", "E_storey_strain", "E_gap_strain", "E_storey_damping", "E_gap_damping",
-                 "E_impact"});
-  if (inelastic) history.text("E_storey_hysteretic");
-  history.text("E_residual").end_row();
+  for (const Channel& c : channels.channels()) history.text(c.name);
+  history.end_row();
+  std::vector<double> row(channels.size());
 
   // The right floor, when an element joins floors of different numbers (floor and right_floor
   // then name it, a struck column by the floor above the point).
@@ -446,31 +440,12 @@ TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem:
     events.text(to_string(e.kind)).number(e.rate_before).number(e.rate_after).number(e.impulse).end_row();
   };
   observer.on_output = [&](const Simulator& sim) {
-    const KinematicState& x = sim.state();
-    history.number(x.t);
-    for (const Eigen::VectorXd* q : {&x.u, &x.v, &x.a}) {
-      for (const int d : dofs) history.number((*q)(d));
-    }
-    for (int f = 0; f < model.frame_count(); ++f) history.number(sim.base_shear(f));
-    for (int p = 0; p < model.gap_count(); ++p) history.number(sim.gap_force(p));
-    for (const int d : inelastic_dofs) history.number(sim.storey_drift(d));
-    for (const int d : inelastic_dofs) history.number(sim.storey_force(d));
-    const EnergyBalance& e = sim.energy();
-    for (const double term : {e.input, e.kinetic, e.storey_strain, e.gap_strain, e.storey_damping,
-                              e.gap_damping, e.impact_loss}) {
-      history.number(term);
-    }
-    if (inelastic) history.number(e.storey_hysteretic);
-    history.number(e.residual()).end_row();
+    history.number(sim.state().t);
+    channels.sample(sim, row);
+    for (const double value : row) history.number(value);
+    history.end_row();
   };
-  std::optional<TimeHistoryAnalysis> analysis;
-  try {
-    analysis.emplace(analyse_time_history(problem, observer));
-  } catch (const std::invalid_argument& e) {
-    throw InputError(fmt::format("{}: {}", input.source.string(), e.what()));
-  }
-  const TimeHistoryResult result{std::move(*analysis), input,
-                                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()};
+  const TimeHistoryResult result = analyse_run(input, observer);
   out.write_json("summary.json", to_json(result));
   out.open("input.toml").text(to_toml(input));
   out.commit();

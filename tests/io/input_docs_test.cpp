@@ -226,6 +226,8 @@ TEST(InputDocs, TheOtherTablesDocumentExactlyTheirDeclaredKeys) {
   expect_documented<io::keys::GapPair>("`[gap_elements]` gives every element's law");
   expect_exactly_documented<io::keys::GapElements, io::keys::GapOverride, io::keys::GapPair>(
       "`[gap_elements]` gives every element's law");
+  expect_documented<io::keys::Output>("## `[output]`", no_default);
+  expect_exactly_documented<io::keys::Output>("## `[output]`");
   expect_documented<io::keys::Initial>("## `[initial]`", no_default);
   expect_exactly_documented<io::keys::Initial>("## `[initial]`");
   expect_documented<io::keys::Excitation>("## `[excitation]`", {.required = 1, .shown_default = 2});

@@ -114,7 +114,14 @@ struct File {
         C{"study", "a parametric study", true},
         C{"optimize", "an optimisation", true},
         C{"ensemble", "the records of an ensemble", true},
+        C{"output", "what a time history records", true},
     };
+  }
+};
+/// [output] of a time history.
+struct Output {
+  static constexpr auto fields() {
+    return std::tuple{CustomField<Output>{"channels", "the channels history.csv records, as patterns"}};
   }
 };
 /// [model] of the dimensionless form (its parameters: DimensionlessParameters).
@@ -475,6 +482,9 @@ struct RunInput {
     return analysis.kind == AnalysisKind::frf ? PointRun::frf : PointRun::time_history;
   }
   InitialConditions initial;
+  /// [output] channels: what history.csv records, as patterns of channel names
+  /// (analysis/channels.hpp); empty: the default channels.
+  std::vector<std::string> channels;
 };
 
 /// `base` read again with `settings` applied after its own (a study point, an optimiser evaluation,

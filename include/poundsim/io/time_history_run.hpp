@@ -27,6 +27,10 @@ struct TimeHistoryResult : TimeHistoryAnalysis {
   [[nodiscard]] double max_impact_impulse() const; ///< [N·s] over every gap element.
 };
 
+/// Runs `input` (analyse_time_history) with `observer`, writing nothing: what the command line
+/// and the Python module both run. Throws as run_time_history does.
+TimeHistoryResult analyse_run(const RunInput& input, const TimeHistoryObserver& observer = {});
+
 /// Runs `input` (analyse_time_history) and writes its files into `out_dir`. Returns what it
 /// found (to_json of which is the summary that was written). Throws InputError for a model the
 /// simulator rejects, SimulationError when integration fails, std::runtime_error when a file
