@@ -21,7 +21,6 @@ from poundsim_results import colour, use_matplotlib
 plt = use_matplotlib()
 
 
-
 def gap_label(column):
     """F_1_3: "gap 1, floor 3" (left frame and floor); F_1_5_4, a slab of the right frame's
     floor 4 striking the left column below floor 5: "gap 1, column below floor 5, slab 4"."""
@@ -29,6 +28,7 @@ def gap_label(column):
     if len(parts) == 3:
         return f"gap {parts[0]}, column below floor {parts[1]}, slab {parts[2]}"
     return f"gap {parts[0]}, floor {parts[1]}"
+
 
 def columns(path):
     """Every column of a CSV of numbers, by name, in the file's order."""

@@ -79,13 +79,15 @@ Eigen::MatrixXd ExactStepper::guard_rows(const Loop& loop, const ExactPhase& exa
           [] { return GuardForm{}; });
       switch (form.kind) {
         case GuardForm::Kind::inactive: break;
-        case GuardForm::Kind::affine:
+        case GuardForm::Kind::affine: {
           // d = nᵀu over the link's terms (u_l − u_r between floors).
-          for (const DofTerm& t : link_dofs(link).terms()) {
+          const LinkDofs dofs = link_dofs(link);
+          for (const DofTerm& t : dofs.terms()) {
             rows(j, g(t.dof)) += t.coefficient * form.d_coefficient;
             if (form.rate_coefficient != 0.0) rows(j, n + g(t.dof)) += t.coefficient * form.rate_coefficient;
           }
           break;
+        }
         case GuardForm::Kind::reaction: {
           Eigen::RowVectorXd f = -loop.phase().full_mass()(l) * exact.matrix().row(n + g(l));
           for (LinearPhase::SparseMatrix::InnerIterator it(c, l); it; ++it) {

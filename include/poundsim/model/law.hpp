@@ -214,7 +214,9 @@ struct DofTerm {
 struct LinkDofs {
   std::array<DofTerm, 4> term{};
   int size = 0;
-  [[nodiscard]] std::span<const DofTerm> terms() const { return std::span(term).first(static_cast<std::size_t>(size)); }
+  [[nodiscard]] std::span<const DofTerm> terms() const& { return std::span(term).first(static_cast<std::size_t>(size)); }
+  /// Not of a temporary: `for (t : link_dofs(link).terms())` would read a destroyed array.
+  std::span<const DofTerm> terms() const&& = delete;
 };
 
 /// The terms of a link's deformation, in the order a, the point below a, b, the point below b.
