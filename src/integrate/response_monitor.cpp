@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 #include <type_traits>
 #include <utility>
 
@@ -50,11 +51,7 @@ ResponseMonitor::ResponseMonitor(const Model& model, const DofLayout& layout, st
   for (const FloorPair& p : facing_floors(model)) {
     stats_.neighbours.push_back(NeighbourResponse{p.left_frame, p.left_floor, p.right_floor, p.column});
     FacingPoints points{.a = layout_.dof(p.left_frame, p.left_floor), .b = layout_.dof(p.left_frame + 1, p.right_floor)};
-    if (p.column) {
-      const bool left = p.column->struck == Side::left;
-      (left ? points.a_column : points.b_column) = {.below = layout_.below(left ? points.a : points.b),
-                                                    .weight = p.column->weight};
-    }
+    std::tie(points.a_column, points.b_column) = column_points(p.column, points.a, points.b, layout_);
     facing_.push_back(points);
     facing_at_floors_ = facing_at_floors_ && points.joins_floors();
   }

@@ -1,4 +1,3 @@
-#include "poundsim/analysis/channels.hpp"
 #include "poundsim/io/input.hpp"
 
 #include <algorithm>
@@ -17,6 +16,7 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
+#include "poundsim/analysis/channels.hpp"
 #include "poundsim/error.hpp"
 #include "poundsim/integrate/integrator.hpp"
 #include "poundsim/io/ground_motion.hpp"

@@ -1,4 +1,3 @@
-#include "poundsim/analysis/channels.hpp"
 #include "poundsim/io/time_history_run.hpp"
 
 #include <chrono>
@@ -8,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "poundsim/analysis/channels.hpp"
 #include "poundsim/error.hpp"
 #include "poundsim/io/json_fields.hpp"
 #include "poundsim/io/output_files.hpp"
@@ -31,7 +31,6 @@ json struck_column_json(const ColumnStrike& c, int left_frame, int left_floor, i
   const int above = (left ? left_floor : right_floor) + 1;
   return {{"frame", left_frame + (left ? 1 : 2)}, {"floors", {above - 1, above}}, {"weight_of_floor_above", c.weight}};
 }
-
 
 json describe_model(const RunInput& input) {
   json frames = json::array();
@@ -285,7 +284,7 @@ json to_json(const TimeHistoryResult& result) {
       if (nb.column) entry["struck_column"] = struck_column_json(*nb.column, f, i, nb.right_floor);
       for (int p = 0; p < model.gap_count(); ++p) {
         const GapElement& g = model.gaps[static_cast<std::size_t>(p)];
-        if (g.left_frame == f && g.floor == i && g.floor_right() == nb.right_floor && g.column == nb.column) {
+        if (g.facing() == FloorPair{f, i, nb.right_floor, nb.column}) {
           const GapResponse& gr = st.gaps[static_cast<std::size_t>(p)];
           entry["gap_m"] = g.gap();
           entry["gap_over_min_gap"] = ratio(g.gap(), min_gap[k]);
@@ -330,8 +329,7 @@ json to_json(const TimeHistoryResult& result) {
     if (free != nullptr) {
       for (std::size_t k = 0; k < st.neighbours.size(); ++k) {
         const NeighbourResponse& nb = st.neighbours[k];
-        if (nb.left_frame == e.left_frame && nb.floor == e.floor && nb.right_floor == e.floor_right() &&
-            nb.column == e.column) {
+        if (e.facing() == FloorPair{nb.left_frame, nb.floor, nb.right_floor, nb.column}) {
           gaps.back()["min_gap_m"] = min_gap[k];
         }
       }

@@ -27,7 +27,7 @@ Model make_model(std::vector<Frame> frames, const GapLaw& defaults,
     std::stable_sort(model.gaps.begin(), model.gaps.end(), [](const GapElement& a, const GapElement& b) {
       return a.left_frame != b.left_frame ? a.left_frame < b.left_frame : a.floor < b.floor;
     });
-    for (const GapElement& g : model.gaps) model.facing.push_back({g.left_frame, g.floor, g.floor_right(), g.column});
+    for (const GapElement& g : model.gaps) model.facing.push_back(g.facing());
   }
   for (const GapOverride& o : overrides) {
     const auto named = [&](const GapElement& g) {
@@ -46,6 +46,15 @@ Model make_model(std::vector<Frame> frames, const GapLaw& defaults,
     it->law = o.law;
   }
   return model;
+}
+
+std::pair<ColumnPoint, ColumnPoint> column_points(const std::optional<ColumnStrike>& column, int a, int b,
+                                                const DofLayout& layout) {
+  std::pair<ColumnPoint, ColumnPoint> ends;
+  if (!column) return ends;
+  const bool left = column->struck == Side::left;
+  (left ? ends.first : ends.second) = {.below = layout.below(left ? a : b), .weight = column->weight};
+  return ends;
 }
 
 std::string joint_label(int left_frame, int left_floor, int right_floor, const std::optional<ColumnStrike>& column) {
@@ -130,10 +139,7 @@ void validate(const Model& model) {
     }
     // The monitor follows the facing pairs: an element between other floors than corresponding
     // ones, or at a column, must be one of them.
-    if (std::none_of(facing.begin(), facing.end(), [&](const FloorPair& p) {
-          return p.left_frame == g.left_frame && p.left_floor == g.floor && p.right_floor == g.floor_right() &&
-                 p.column == g.column;
-        })) {
+    if (std::find(facing.begin(), facing.end(), g.facing()) == facing.end()) {
       throw std::invalid_argument(what + ": not among the model's facing floors (Model::facing)");
     }
     std::visit([&](const auto& law) { validate_fields(law.parameters, what); }, g.law);
@@ -239,11 +245,7 @@ std::vector<Link> make_links(const Model& model, const DofLayout& layout) {
   for (int p = 0; p < model.gap_count(); ++p) {
     const GapElement& g = model.gaps[static_cast<std::size_t>(p)];
     const int a = layout.gap_left(p), b = layout.gap_right(p);
-    ColumnPoint a_column, b_column;
-    if (g.column) {
-      const int struck = g.column->struck == Side::left ? a : b;
-      (g.column->struck == Side::left ? a_column : b_column) = {.below = layout.below(struck), .weight = g.column->weight};
-    }
+    const auto [a_column, b_column] = column_points(g.column, a, b, layout);
     links.push_back({.a = a,
                      .b = b,
                      .law = std::visit(

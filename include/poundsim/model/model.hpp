@@ -21,6 +21,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "poundsim/model/frame.hpp"
@@ -50,6 +51,8 @@ struct FloorPair {
   int left_floor = 0;
   int right_floor = 0;
   std::optional<ColumnStrike> column{};
+  /// The same joint: frames, floors and struck column.
+  [[nodiscard]] bool operator==(const FloorPair&) const = default;
 };
 
 /// One gap element between a floor of a frame and a floor of its right neighbour. 0-based.
@@ -65,6 +68,8 @@ struct GapElement {
 
   /// The floor of frame L+1 it joins.
   [[nodiscard]] int floor_right() const { return right_floor < 0 ? floor : right_floor; }
+  /// The floors (or slab and column) it joins, as a facing pair.
+  [[nodiscard]] FloorPair facing() const { return {left_frame, floor, floor_right(), column}; }
 
   /// δ [m]: the clear distance at rest, whatever the law.
   [[nodiscard]] double gap() const {
@@ -127,6 +132,7 @@ std::vector<FloorPair> floors_at_equal_heights(const std::vector<Frame>& frames)
 /// The floors facing each other across the joints (Model::facing, or the corresponding floors).
 std::vector<FloorPair> facing_floors(const Model& model);
 
+
 /// Throws std::invalid_argument naming the frame, element and field of the first problem.
 void validate(const Model& model);
 
@@ -171,6 +177,11 @@ class DofLayout {
 /// as in Model::gaps, then the storeys whose law is tracked, numbered from gap_count() up in DOF
 /// order.
 std::vector<Link> make_links(const Model& model, const DofLayout& layout);
+
+/// The ends of a link between the DOFs a (left) and b (right) of a facing pair: at the floors, or
+/// the struck side's at the column point below its floor (`column`).
+[[nodiscard]] std::pair<ColumnPoint, ColumnPoint> column_points(const std::optional<ColumnStrike>& column, int a, int b,
+                                                                const DofLayout& layout);
 
 /// The link as messages name it, from its floors and its law: "storey 2 of frame 1 (linear
 /// storey)", "the paper's gap element between frames 1 and 2 at floor 3". Frames and floors from 1.
