@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <stdexcept>
+#include <tuple>
 
 #include <fmt/format.h>
 
@@ -245,7 +246,9 @@ std::vector<Link> make_links(const Model& model, const DofLayout& layout) {
   for (int p = 0; p < model.gap_count(); ++p) {
     const GapElement& g = model.gaps[static_cast<std::size_t>(p)];
     const int a = layout.gap_left(p), b = layout.gap_right(p);
-    const auto [a_column, b_column] = column_points(g.column, a, b, layout);
+    // Not a structured binding: clang 14 (the fuzz build) cannot capture one in the lambda below.
+    ColumnPoint a_column, b_column;
+    std::tie(a_column, b_column) = column_points(g.column, a, b, layout);
     links.push_back({.a = a,
                      .b = b,
                      .law = std::visit(
