@@ -3,19 +3,22 @@
 one per law, e.g. examples/contact_laws/): for each, the peak pounding force, the peak base shear
 of each frame (÷ the weight of frame 1, the paper's V/W), the energy the gap elements dissipated
 (their damping and the impacts' losses) and the restitution they achieved. Prints the table (GitHub
-Markdown) and draws it as bars into OUT.
+Markdown) and draws it as bars into OUT (poundsim.plot.compare_runs).
 
     compare_contact_laws.py DIR [DIR ...] --out OUT.png
 """
 
 import argparse
-import json
 import os
 import sys
 
-from poundsim_results import colour, use_matplotlib
+from poundsim_results import use_matplotlib
 
 plt = use_matplotlib()
+
+# After use_matplotlib(): the package needs NumPy, which a python3 without Matplotlib may lack.
+import poundsim  # noqa: E402
+from poundsim import plot  # noqa: E402
 
 
 def fail(message):
@@ -35,16 +38,19 @@ def main():
     parser.add_argument("dirs", nargs="+")
     parser.add_argument("--out", required=True)
     args = parser.parse_args()
-    runs = []
+    histories, runs = [], []
     for d in args.dirs:
         path = os.path.join(d, "summary.json")
         if not os.path.isfile(path):
             fail(f"{path}: no such file (a time-history result folder?)")
-        with open(path) as f:
-            s = json.load(f)
-        if s["analysis"]["kind"] != "time_history":
+        if not os.path.isfile(os.path.join(d, "history.csv")):
             fail(f"{path}: not a time history")
+        th = poundsim.read(d)
+        if not isinstance(th, poundsim.TimeHistory):
+            fail(f"{path}: not a time history")
+        s = th.summary.to_dict()
         restitution = [g["effective_restitution"]["mean"] for g in s["gap_elements"] if g["effective_restitution"]]
+        histories.append(th)
         runs.append({
             "law": law_of(s),
             "force": s["max_gap_force_N"],
@@ -63,24 +69,9 @@ def main():
         print(f"| {r['law']} | {r['force']:.4g} | {r['impulse']:.4g} | " +
               " | ".join(f"{v:.4f}" for v in r["shear"]) + f" | {r['dissipated']:.4g} | {e} | {r['residual']:.1e} |")
 
-    fig, axes = plt.subplots(1, 3, figsize=(12, 4), dpi=130)
-    labels = [r["law"] for r in runs]
-    x = range(len(runs))
-    axes[0].bar(x, [r["force"] for r in runs], color=[colour(i) for i in x])
-    axes[0].set_title("peak pounding force [N]", fontsize=9)
-    width = 0.8 / frames
-    for f in range(frames):
-        axes[1].bar([i + (f - (frames - 1) / 2) * width for i in x], [r["shear"][f] for r in runs], width,
-                    label=f"frame {f + 1}")
-    axes[1].set_title("peak base shear V/W", fontsize=9)
-    axes[1].legend(fontsize=7)
-    axes[2].bar(x, [r["dissipated"] for r in runs], color=[colour(i) for i in x])
-    axes[2].set_title("energy dissipated by the gap elements [J]", fontsize=9)
-    for ax in axes:
-        ax.set_xticks(list(x), labels, fontsize=7, rotation=20)
-        ax.grid(alpha=0.3, axis="y")
-    fig.tight_layout()
+    fig = plot.compare_runs(histories, labels=[r["law"] for r in runs], size=(plot.PAGE_WIDTH, 2.8))
     fig.savefig(args.out)
+    plt.close(fig)
     print(f"wrote {args.out}")
 
 

@@ -3,54 +3,51 @@
 ω̄/ω₁ for every frame, interacting frames solid and free frames dashed. A two-way sweep
 (sweep = "both") is drawn over it as markers, ▲ sweeping up and ▼ down, so that coexisting
 branches and jumps show; responses that are not periodic (periodicity 0) are marked ×.
+FRF may also be a result folder (poundsim run … --out DIR). Drawn by poundsim.plot.frf.
 
     plot_frf.py FRF.csv OUT.png [--sweep SWEEP.csv] [--compare OTHER.csv LABEL] [--title TEXT]
     plot_frf.py --figure FRF.csv OUT.png SWEEP.csv TITLE [--figure ...]   (several at once)
 """
 
 import argparse
+import json
+import os
+import sys
 
-from poundsim_results import colour, read_frf, use_matplotlib
+from poundsim_results import use_matplotlib
 
 plt = use_matplotlib()
 
+# After use_matplotlib(): the package needs NumPy, which a python3 without Matplotlib may lack.
+import poundsim  # noqa: E402
+from poundsim import plot  # noqa: E402
 
-def column(rows, key):
-    return [r[key] for r in rows]
+
+def response(path):
+    """The frequency response in `path`: a result folder, or a CSV table (with the summary.json
+    beside a file named frf.csv, for the frames' names)."""
+    if os.path.isdir(path):
+        result = poundsim.read(path)
+        if not isinstance(result, poundsim.FrequencyResponse):
+            sys.exit(f"{path}: not a frequency response ({type(result).__name__})")
+        table, summary = result.table, result.summary
+    else:
+        table = poundsim.Table.read_csv(path)
+        beside = os.path.join(os.path.dirname(path), "summary.json")
+        summary = {}
+        if os.path.basename(path) == "frf.csv" and os.path.isfile(beside):
+            with open(beside) as f:
+                summary = json.load(f)
+    if not len(table):
+        sys.exit(f"{path}: no rows")
+    return poundsim.FrequencyResponse(table, summary)
 
 
 def draw(frf, png, sweep=None, title="", compare=None):
-    rows, frames = read_frf(frf)
-    ratio = column(rows, "ratio")
-    fig, ax = plt.subplots(figsize=(7.0, 4.6), dpi=130)
-    chaotic = [r for r in rows if r["periodicity"] == 0]
-    for i, f in enumerate(frames):
-        ax.plot(ratio, column(rows, f"V{f}_W"), "-", color=colour(i), lw=1.6, label=f"frame {f}, interacting")
-        ax.plot(ratio, column(rows, f"V{f}_free_W"), "--", color=colour(i), lw=1.2, label=f"frame {f}, free")
-        if chaotic:
-            ax.plot(column(chaotic, "ratio"), column(chaotic, f"V{f}_W"), "x", color=colour(i), ms=5,
-                    label="not periodic" if i == 0 else None)
-    if compare:
-        other, _ = read_frf(compare[0])
-        for i, f in enumerate(frames):
-            ax.plot(column(other, "ratio"), column(other, f"V{f}_W"), ":", color=colour(i), lw=1.4,
-                    label=f"frame {f}, {compare[1]}")
-    if sweep:
-        swept, _ = read_frf(sweep)
-        for branch, marker, name in (("up", "^", "sweep up"), ("down", "v", "sweep down")):
-            points = [r for r in swept if r["branch"] == branch]
-            for i, f in enumerate(frames):
-                ax.plot(column(points, "ratio"), column(points, f"V{f}_W"), marker, ms=3.2, mfc="none",
-                        mew=0.7, color=colour(i), label=name if i == 0 else None)
-    ax.set_xlabel("ω̄ / ω₁")
-    ax.set_ylabel("V / W")
-    ax.set_xlim(min(ratio), max(ratio))
-    ax.set_ylim(bottom=0)
-    ax.grid(alpha=0.3)
-    if title:
-        ax.set_title(title, fontsize=9)
-    ax.legend(fontsize=7, ncol=2)
-    fig.tight_layout()
+    fig = plot.frf(response(frf), sweep=response(sweep) if sweep else None,
+                   compare=response(compare[0]) if compare else None,
+                   compare_label=compare[1] if compare else "compared", title=title or None,
+                   size=(plot.COLUMN_WIDTH * 1.4, 3.4))
     fig.savefig(png)
     plt.close(fig)
 

@@ -6,16 +6,52 @@ bare pounding over the gap-element spring η and dashpot μ.
     plot_study.py study.sqlite X_KEY Y_KEY METRIC OUT.png [--fix KEY=VALUE ...] [--title TEXT]
 
 Points must lie on a grid in X and Y; other varied parameters must be fixed with --fix. Each cell
-shows its value; the lowest is outlined.
+shows its value; the lowest is outlined. Drawn by poundsim.plot.study_map from the study as
+poundsim.read reads its folder (study.csv), or from the database's finished points when the CSV
+beside it is missing or holds another count of them (a study stopped before it wrote the CSV).
 """
 
 import argparse
 import json
+import os
 import sys
 
 from poundsim_results import finished_points, use_matplotlib
 
 plt = use_matplotlib()
+
+# After use_matplotlib(): the package needs NumPy, which a python3 without Matplotlib may lack.
+import numpy as np  # noqa: E402
+
+import poundsim  # noqa: E402
+from poundsim import plot  # noqa: E402
+
+
+def from_database(database, points):
+    """A Study of the database's finished points (parameters and metrics as columns)."""
+    rows = [(json.loads(p), json.loads(m)) for p, m in points]
+    keys = list(dict.fromkeys(k for p, _ in rows for k in p)) + list(dict.fromkeys(k for _, m in rows for k in m))
+    columns = {"status": np.array(["done"] * len(rows))}
+    for key in keys:
+        values = [p.get(key, m.get(key)) for p, m in rows]
+        if all(isinstance(v, (int, float)) and not isinstance(v, bool) or v is None for v in values):
+            columns[key] = np.array([np.nan if v is None else float(v) for v in values])
+        else:
+            columns[key] = np.array([str(v) for v in values])
+    return poundsim.Study(poundsim.Table(columns), {"analysis": {"kind": "study"}}, database)
+
+
+def load(database):
+    points = finished_points(database)
+    folder = os.path.dirname(os.path.abspath(database))
+    stem = os.path.splitext(os.path.basename(database))[0]
+    if os.path.isfile(os.path.join(folder, f"{stem}.csv")):
+        study = poundsim.read(folder)
+        if isinstance(study, poundsim.Study) and study.database and \
+                os.path.samefile(study.database, database) and \
+                int(np.count_nonzero(np.asarray(study["status"]).astype(str) == "done")) == len(points):
+            return study
+    return from_database(database, points)
 
 
 def main():
@@ -34,44 +70,18 @@ def main():
         key, _, value = item.partition("=")
         fixed[key] = json.loads(value) if value else None
 
-    cells = {}
-    for parameters, metrics in finished_points(args.database):
-        p, m = json.loads(parameters), json.loads(metrics)
-        if args.metric not in m:
-            continue
-        if any(p.get(k) != v for k, v in fixed.items()):
-            continue
-        if args.x not in p or args.y not in p:
-            sys.exit(f"{args.database}: the points do not vary {args.x} and {args.y}")
-        key = (p[args.x], p[args.y])
-        if key in cells:
-            sys.exit(f"{args.database}: several points at {args.x} = {key[0]}, {args.y} = {key[1]}; fix the other parameters with --fix")
-        cells[key] = m[args.metric]
-    if not cells:
+    study = load(args.database)
+    if args.x not in study.table or args.y not in study.table:
+        sys.exit(f"{args.database}: the points do not vary {args.x} and {args.y}")
+    if args.metric not in study.table:
         sys.exit(f"{args.database}: no finished point with metric {args.metric}")
-    xs = sorted({k[0] for k in cells})
-    ys = sorted({k[1] for k in cells})
-    grid = [[cells.get((x, y), float("nan")) for x in xs] for y in ys]
-
-    fig, ax = plt.subplots(figsize=(6.4, 4.8), dpi=130)
-    image = ax.imshow(grid, origin="lower", cmap="viridis_r", aspect="auto")
-    ax.set_xticks(range(len(xs)), [f"{x:g}" for x in xs])
-    ax.set_yticks(range(len(ys)), [f"{y:g}" for y in ys])
-    ax.set_xlabel(args.x)
-    ax.set_ylabel(args.y)
-    best = min(cells, key=cells.get)
-    for j, y in enumerate(ys):
-        for i, x in enumerate(xs):
-            value = grid[j][i]
-            if value == value:
-                ax.text(i, j, f"{value:.2f}", ha="center", va="center", fontsize=8,
-                        color="white" if value > (max(cells.values()) + min(cells.values())) / 2 else "black",
-                        fontweight="bold" if (x, y) == best else "normal")
-    ax.add_patch(plt.Rectangle((xs.index(best[0]) - 0.5, ys.index(best[1]) - 0.5), 1, 1, fill=False, lw=2, ec="red"))
-    fig.colorbar(image, ax=ax, label=args.metric)
-    ax.set_title(args.title or args.metric, fontsize=9)
-    fig.tight_layout()
+    try:
+        fig = plot.study_map(study, args.x, args.y, args.metric, fix=fixed, title=args.title or args.metric,
+                             size=(plot.COLUMN_WIDTH * 1.4, 3.6))
+    except ValueError as e:
+        sys.exit(f"{args.database}: {e}")
     fig.savefig(args.png)
+    plt.close(fig)
 
 
 if __name__ == "__main__":

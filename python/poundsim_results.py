@@ -1,18 +1,13 @@
-"""Reading poundsim's result files; shared by the plotting and report scripts beside it."""
+"""What the scripts beside it share before they may import the package poundsim (which needs
+NumPy): finding a python3 with Matplotlib (`use_matplotlib`), and, with Python's standard library
+only, reading frf.csv for paper_report.py and a study database's finished points for
+plot_study.py. The figures themselves are poundsim.plot's."""
 
 import csv
 import os
 import sqlite3
 import subprocess
 import sys
-
-COLOURS = ["tab:blue", "tab:red", "tab:green", "tab:purple", "tab:orange"]
-
-
-def colour(i):
-    """The colour of the i-th curve (0-based), cycling."""
-    return COLOURS[i % len(COLOURS)]
-
 
 def read_frf(path):
     """The rows of an frf.csv sorted by ω̄/ω₁, every field a float but `branch`, and the numbers of

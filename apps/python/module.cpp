@@ -13,9 +13,14 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstdint>
+#include <exception>
+#include <mutex>
 #include <optional>
+#include <thread>
 #include <span>
 #include <string>
 #include <vector>
@@ -25,8 +30,13 @@
 
 #include "poundsim/analysis/channels.hpp"
 #include "poundsim/error.hpp"
+#include "poundsim/io/frequency_response_run.hpp"
 #include "poundsim/io/input.hpp"
+#include "poundsim/io/output_files.hpp"
+#include "poundsim/io/study_run.hpp"
+#include "poundsim/io/table.hpp"
 #include "poundsim/io/time_history_run.hpp"
+#include "poundsim/optimize/optimize_run.hpp"
 
 namespace py = pybind11;
 
@@ -177,6 +187,221 @@ TimeHistoryRun run_time_history(const io::RunInput& input, const std::optional<s
   return run;
 }
 
+/// A Python value of a model document as JSON: dicts (str keys), lists and tuples, NumPy arrays
+/// and scalars, bool, int, float, str and paths; `path` names it in messages.
+nlohmann::json to_document(const py::handle& value, const std::string& path) {
+  const auto where = [&] { return path.empty() ? std::string("the model") : path; };
+  if (py::isinstance<py::dict>(value)) {
+    nlohmann::json object = nlohmann::json::object();
+    for (const auto& [key, item] : py::reinterpret_borrow<py::dict>(value)) {
+      if (!py::isinstance<py::str>(key)) {
+        throw py::type_error(fmt::format("{}: the key {} is not a str", where(), py::repr(key).cast<std::string>()));
+      }
+      const auto name = key.cast<std::string>();
+      object[name] = to_document(item, path.empty() ? name : path + "." + name);
+    }
+    return object;
+  }
+  if (py::isinstance<py::array>(value) || py::hasattr(value, "tolist")) return to_document(value.attr("tolist")(), path);
+  if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
+    nlohmann::json items = nlohmann::json::array();
+    std::size_t k = 0;
+    for (const py::handle item : value) items.push_back(to_document(item, fmt::format("{}[{}]", where(), ++k)));
+    return items;
+  }
+  if (py::isinstance<py::bool_>(value)) return value.cast<bool>();
+  if (py::isinstance<py::int_>(value)) {
+    try {
+      return value.cast<std::int64_t>();
+    } catch (const py::cast_error&) {
+      throw py::value_error(fmt::format("{}: the integer {} does not fit in 64 bits", where(),
+                                        py::repr(value).cast<std::string>()));
+    }
+  }
+  if (py::isinstance<py::float_>(value)) return value.cast<double>();
+  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  if (py::hasattr(value, "__fspath__")) return py::str(value.attr("__fspath__")()).cast<std::string>();
+  throw py::type_error(fmt::format("{}: {} ({}) is not a value of a model file (dict, list, number, bool or str)",
+                                   where(), py::repr(value).cast<std::string>(),
+                                   py::str(value.get_type().attr("__name__")).cast<std::string>()));
+}
+
+/// A 1-D NumPy array that owns `values`: no copy.
+template <typename T>
+py::array_t<T> owning_vector(std::vector<T>&& values) {
+  auto* owner = new std::vector<T>(std::move(values));
+  const py::capsule base(owner, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  return py::array_t<T>(static_cast<py::ssize_t>(owner->size()), owner->data(), base);
+}
+
+/// A table's columns (name → NumPy array: float64, int64 or str) and units (name → unit), in order.
+py::tuple table_to_python(io::Table&& table) {
+  py::dict columns, units;
+  const py::module_ np = py::module_::import("numpy");
+  for (io::TableColumn& c : table.columns()) {
+    py::object array = std::visit(
+        [&](auto& values) -> py::object {
+          using V = std::decay_t<decltype(values)>;
+          if constexpr (std::is_same_v<V, io::TableColumn::Texts>) {
+            return np.attr("array")(py::cast(values), py::arg("dtype") = "str");
+          } else {
+            return owning_vector(std::move(values));
+          }
+        },
+        c.values);
+    columns[py::str(c.name)] = array;
+    units[py::str(c.name)] = py::str(c.unit);
+  }
+  return py::make_tuple(columns, units);
+}
+
+/// Runs `work(progress)` on a thread of its own while this (Python's main) thread waits with the
+/// GIL released, waking at most every `interval` seconds to check for Ctrl-C and to call
+/// `progress(done, total)` with the latest counts. Ctrl-C (or an exception of the callback) asks
+/// the run to stop: the progress the work reports then throws RunStopped, so the run unwinds as
+/// from any error (its output transaction commits nothing; a study's database is closed whole),
+/// and the Python error is raised here. Signals reach Python's main thread only, hence the thread.
+template <typename Work>
+auto run_stoppable(const Work& work, const py::object& progress, double interval) {
+  using Result = decltype(work(std::function<void(int, int)>{}, std::function<bool()>{}));
+  std::atomic<bool> stop{false};
+  std::atomic<int> done{0}, total{0};
+  const std::function<bool()> stop_requested = [&] { return stop.load(); };
+  const std::function<void(int, int)> report = [&](int d, int t) {
+    done = d;
+    total = t;
+    if (stop) throw RunStopped();
+  };
+  std::optional<Result> result;
+  std::exception_ptr error;
+  std::mutex mutex;
+  std::condition_variable finished_cv;
+  bool finished = false;
+  bool python_error = false;
+  {
+    const py::gil_scoped_release release;
+    std::thread worker([&] {
+      try {
+        result.emplace(work(report, stop_requested));
+      } catch (...) {
+        error = std::current_exception();
+      }
+      const std::lock_guard lock(mutex);
+      finished = true;
+      finished_cv.notify_all();
+    });
+    const auto wait = std::chrono::duration<double>(std::max(interval, 0.01));
+    std::unique_lock lock(mutex);
+    while (!finished_cv.wait_for(lock, wait, [&] { return finished; })) {
+      lock.unlock();
+      if (!python_error) {
+        const py::gil_scoped_acquire gil;
+        if (PyErr_CheckSignals() != 0) {
+          python_error = true;
+        } else if (!progress.is_none()) {
+          try {
+            progress(done.load(), total.load());
+          } catch (py::error_already_set& e) {
+            e.restore();
+            python_error = true;
+          }
+        }
+        if (python_error) stop = true;
+      }
+      lock.lock();
+    }
+    lock.unlock();
+    worker.join();
+  }
+  if (python_error) throw py::error_already_set();
+  if (error) std::rethrow_exception(error);
+  if (!progress.is_none()) progress(total.load(), total.load());
+  return std::move(*result);
+}
+
+/// What a frequency response returns to Python.
+struct FrequencyResponseRun {
+  py::dict table, units, summary;
+};
+
+FrequencyResponseRun run_frequency_response(const io::RunInput& input, const py::object& progress, double interval) {
+  if (input.analysis.kind != io::AnalysisKind::frf) {
+    throw py::value_error(fmt::format("{}: analysis.kind: \"{}\" is not a frequency response", input.source.string(),
+                                      to_string(input.analysis.kind)));
+  }
+  io::FrequencyResponseResult result = run_stoppable(
+      [&](const std::function<void(int, int)>& report, const std::function<bool()>&) {
+        return io::analyse_frequency_response(input, report);
+      },
+      progress, interval);
+  FrequencyResponseRun run;
+  run.summary = to_python(io::to_json(result));
+  const py::tuple table = table_to_python(io::frf_table(input.model, result.points));
+  run.table = table[0];
+  run.units = table[1];
+  return run;
+}
+
+/// What a study or an ensemble returns to Python.
+struct StudyRun {
+  py::dict table, units, summary;
+  std::string database;
+};
+
+StudyRun run_study(const io::RunInput& input, const std::filesystem::path& out_dir, long max_points,
+                   const py::object& progress, double interval) {
+  const io::AnalysisKind kind = input.analysis.kind;
+  if (kind != io::AnalysisKind::study && kind != io::AnalysisKind::ensemble) {
+    throw py::value_error(fmt::format("{}: analysis.kind: \"{}\" is not a study or an ensemble", input.source.string(),
+                                      to_string(kind)));
+  }
+  if (max_points < 0) throw py::value_error(fmt::format("max_points: {} is negative", max_points));
+  io::StudyResult result = run_stoppable(
+      [&](const std::function<void(int, int)>& report, const std::function<bool()>& stop_requested) {
+        io::StudyRunOptions options;
+        if (max_points > 0) options.max_points = max_points;
+        options.progress = report;
+        options.stop_requested = stop_requested;
+        return kind == io::AnalysisKind::ensemble ? io::run_ensemble(input, out_dir, options)
+                                                  : io::run_study(input, out_dir, options);
+      },
+      progress, interval);
+  StudyRun run;
+  run.summary = to_python(io::to_json(result));
+  const py::tuple table = table_to_python(io::study_table(result.parameters, result.rows));
+  run.table = table[0];
+  run.units = table[1];
+  run.database = result.database.string();
+  return run;
+}
+
+/// What an optimisation returns to Python.
+struct OptimizationRun {
+  py::dict summary, evaluations, evaluation_units;
+  py::object optimum_frf, bare_frf;  ///< (columns, units), or None
+};
+
+OptimizationRun run_optimization(const io::RunInput& input, const std::filesystem::path& out_dir,
+                                 const py::object& progress, double interval) {
+  if (input.analysis.kind != io::AnalysisKind::optimize) {
+    throw py::value_error(fmt::format("{}: analysis.kind: \"{}\" is not an optimisation", input.source.string(),
+                                      to_string(input.analysis.kind)));
+  }
+  optimize::OptimizationResult result = run_stoppable(
+      [&](const std::function<void(int, int)>& report, const std::function<bool()>&) {
+        return optimize::run_optimization(input, out_dir, report);
+      },
+      progress, interval);
+  OptimizationRun run;
+  run.summary = to_python(optimize::to_json(result));
+  const py::tuple evaluations = table_to_python(std::move(result.evaluation_table));
+  run.evaluations = evaluations[0];
+  run.evaluation_units = evaluations[1];
+  run.optimum_frf = result.optimum_frf ? py::object(table_to_python(std::move(*result.optimum_frf))) : py::none();
+  run.bare_frf = result.bare_frf ? py::object(table_to_python(std::move(*result.bare_frf))) : py::none();
+  return run;
+}
+
 std::vector<io::Setting> settings_of(const std::vector<std::string>& texts, const std::string& file) {
   std::vector<io::Setting> settings;
   for (const std::string& text : texts) settings.push_back(io::parse_setting(text, file));
@@ -218,6 +443,17 @@ PYBIND11_MODULE(_core, m) {
           },
           "Every channel the model offers, as (name, unit), in the model's order.")
       .def("to_toml", &io::to_toml, "The input as TOML, as the command line's input.toml writes it.")
+      .def("to_dict", [](const io::RunInput& in) { return to_python(io::input_document(in)); },
+           "The model file as written (its settings applied, paths absolute) as dicts and lists: "
+           "poundsim.from_dict of it reads the same input.")
+      .def(
+          "save",
+          [](const io::RunInput& in, const std::filesystem::path& file) {
+            io::OutputTransaction out(io::folder_of(file));  // whole or not at all
+            out.open(file.filename().string()).text(io::to_toml_as_written(in));
+            out.commit();
+          },
+          py::arg("file"), "Writes the model file as written (TOML) that `poundsim run FILE` runs.")
       .def(
           "with_settings",
           [](const io::RunInput& in, const std::vector<std::string>& settings) {
@@ -241,6 +477,44 @@ PYBIND11_MODULE(_core, m) {
       py::arg("settings") = std::vector<std::string>{},
       "Reads and checks a model given as TOML text; `name` names it in messages, relative record paths start "
       "from `base_dir`.");
+
+  m.def(
+      "from_dict",
+      [](const py::dict& document, const std::string& name, const std::filesystem::path& base_dir,
+         const std::vector<std::string>& settings) {
+        return io::read_input_document(to_document(document, ""), name, base_dir, settings);
+      },
+      py::arg("document"), py::arg("name") = "model", py::arg("base_dir") = ".",
+      py::arg("settings") = std::vector<std::string>{},
+      "Reads and checks a model given as the model file's tables (dicts, lists, numbers, str; NumPy arrays): "
+      "the keys, rules and messages of a file, `name` in place of the file's.");
+
+  py::class_<FrequencyResponseRun>(m, "FrequencyResponseRun", "What a frequency response found: frf.csv's table.")
+      .def_readonly("table", &FrequencyResponseRun::table, "column → NumPy array (frf.csv's columns)")
+      .def_readonly("units", &FrequencyResponseRun::units, "column → unit")
+      .def_readonly("summary", &FrequencyResponseRun::summary, "summary.json's content");
+  m.def("run_frequency_response", &run_frequency_response, py::arg("input"), py::arg("progress") = py::none(),
+        py::arg("progress_interval") = 0.1,
+        "Runs a frequency-response input; `progress(points done, points)` at most every `progress_interval` s.");
+
+  py::class_<StudyRun>(m, "StudyRun", "What a study or an ensemble found: study.csv's (ensemble.csv's) table.")
+      .def_readonly("table", &StudyRun::table, "column → NumPy array")
+      .def_readonly("units", &StudyRun::units, "column → unit")
+      .def_readonly("summary", &StudyRun::summary, "summary.json's content")
+      .def_readonly("database", &StudyRun::database, "the SQLite database the points are kept in");
+  m.def("run_study", &run_study, py::arg("input"), py::arg("out"), py::arg("max_points") = 0,
+        py::arg("progress") = py::none(), py::arg("progress_interval") = 0.1,
+        "Runs a study or an ensemble into the folder `out` (its database, table, summary), as the command line "
+        "does; at most `max_points` new points when > 0.");
+
+  py::class_<OptimizationRun>(m, "OptimizationRun", "What an optimisation found.")
+      .def_readonly("summary", &OptimizationRun::summary, "optimize.json's content")
+      .def_readonly("evaluations", &OptimizationRun::evaluations, "evaluations.csv's columns")
+      .def_readonly("evaluation_units", &OptimizationRun::evaluation_units)
+      .def_readonly("optimum_frf", &OptimizationRun::optimum_frf, "(columns, units) of optimum_frf.csv, or None")
+      .def_readonly("bare_frf", &OptimizationRun::bare_frf, "(columns, units) of bare_frf.csv, or None");
+  m.def("run_optimization", &run_optimization, py::arg("input"), py::arg("out"), py::arg("progress") = py::none(),
+        py::arg("progress_interval") = 0.1, "Runs an optimisation into the folder `out`, as the command line does.");
 
   py::class_<TimeHistoryRun>(m, "TimeHistoryRun", "What a time history found: its history, events and summary.")
       .def_readonly("data", &TimeHistoryRun::data, "rows × (1 + channels): t [s], then each channel")

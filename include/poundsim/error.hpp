@@ -41,4 +41,12 @@ class SimulationError : public std::runtime_error {
   StopReason reason_;
 };
 
+/// A run stopped because its caller asked it to (Ctrl-C in Python, docs/python.md): thrown by a
+/// progress callback or a stop check, it unwinds the run as any error does, so no output file is
+/// committed and a study's database stays whole with every point finished so far.
+class RunStopped : public std::runtime_error {
+ public:
+  RunStopped() : std::runtime_error("the run was stopped") {}
+};
+
 }  // namespace poundsim

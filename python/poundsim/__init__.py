@@ -11,123 +11,92 @@ expects (docs/python.md)::
     th.summary.energy.input_J   # summary.json as attributes
     th.to_pandas()              # a DataFrame indexed by time (pandas, when installed)
 
-Inputs are the command line's TOML files (`load`, `loads`, `Input.to_toml`): one truth. Bad input
-raises ValueError (poundsim.InputError) with the command line's message, naming the file, the key
-and the rule; a failed integration raises poundsim.SimulationError (a RuntimeError). Runs release
-the GIL; Ctrl-C stops them and raises KeyboardInterrupt.
+    frf = poundsim.run(poundsim.load("examples/paper/fig2c.toml"))   # any kind of analysis
+    frf["ratio"], frf["V1_W"]
+
+    model = poundsim.Model(title="two frames")          # or built in Python
+    model.frame(mass=4e5, stiffness=[3e8] * 10, damping_ratio=0.05, storey_height=3.2)
+
+Inputs are the command line's TOML (`load`, `loads`, `Model`, `Input.to_toml`, `Input.save`): one
+truth. Bad input raises ValueError (poundsim.InputError) with the command line's message, naming
+the file, the key and the rule; a failed integration raises poundsim.SimulationError (a
+RuntimeError). Runs release the GIL; Ctrl-C stops them and raises KeyboardInterrupt.
+
+`poundsim.results` and `poundsim.plot` import without the C++ extension: `poundsim.read(DIR)`
+reads what the command line wrote, and the plots draw either.
 """
 
 from __future__ import annotations
 
+import os
+import pkgutil
 import sys
-from typing import Any, Callable, Iterable, Optional, Sequence
+import tempfile
+from typing import Any, Callable, Optional, Sequence
 
-import numpy as np
+# A package imported from a source tree (python/ beside the plotting scripts) finds the extension
+# where it is installed: every poundsim folder on sys.path is part of the package.
+__path__ = pkgutil.extend_path(__path__, __name__)
 
-from ._core import Input, InputError, SimulationError, __version__, load, loads
-from . import _core
+from .results import FrequencyResponse, Optimization, Study, Summary, Table, TimeHistory, read  # noqa: E402
+from .model import Model, harmonic, record  # noqa: E402
 
-__all__ = ["Input", "InputError", "SimulationError", "Summary", "TimeHistory", "__version__", "load", "loads", "run"]
+try:
+    from . import _core
+    from ._core import Input, InputError, SimulationError, __version__  # noqa: F401
+except ImportError as missing:  # the results and plots still work
+    _core = None
+    _missing = missing
+    __version__ = "unknown"
 
+    class InputError(ValueError):  # type: ignore[no-redef]
+        """Bad input (the C++ extension raises its own; this one stands in when it is missing)."""
 
-class Summary:
-    """summary.json as nested attributes (`summary.energy.input_J`), lists kept as lists;
-    `to_dict()` gives the plain dicts back."""
+    class SimulationError(RuntimeError):  # type: ignore[no-redef]
+        """The integration failed."""
 
-    def __init__(self, values: dict):
-        self._values = values
-
-    def __getattr__(self, name: str) -> Any:
-        try:
-            return _wrap(self._values[name])
-        except KeyError:
-            raise AttributeError(f"the summary has no {name!r} (it has {', '.join(self._values)})") from None
-
-    def __getitem__(self, name: str) -> Any:
-        return _wrap(self._values[name])
-
-    def __dir__(self) -> Iterable[str]:
-        return list(self._values)
-
-    def __repr__(self) -> str:
-        return f"Summary({', '.join(self._values)})"
-
-    def to_dict(self) -> dict:
-        return self._values
+__all__ = ["FrequencyResponse", "Input", "InputError", "Model", "Optimization", "SimulationError", "Study",
+           "Summary", "Table", "TimeHistory", "__version__", "from_dict", "harmonic", "load", "loads", "read",
+           "record", "run"]
 
 
-def _wrap(value: Any) -> Any:
-    if isinstance(value, dict):
-        return Summary(value)
-    if isinstance(value, list):
-        return [_wrap(v) for v in value]
-    return value
+def _extension():
+    if _core is None:
+        raise ImportError(f"poundsim's C++ extension (poundsim._core) is not built or installed: {_missing}; "
+                          "build it (cmake --build --preset release) and install it (cmake --install "
+                          "build/release --prefix ~/.local), or set PYTHONPATH=BUILD/python") from _missing
+    return _core
 
 
-class TimeHistory:
-    """A time history's results: the recorded channels as NumPy arrays (views of one buffer the
-    run filled, no copy), the events as a structured array, the summary."""
-
-    def __init__(self, run: "_core.TimeHistoryRun"):
-        self._run = run
-        self.data: np.ndarray = run.data
-        """rows × (1 + channels): time [s], then each channel."""
-        self.channels: list[str] = list(run.channels)
-        self.units: list[str] = list(run.units)
-        self.events: np.ndarray = run.events
-        """One record per event: t, frame_left, frame_right, floor, right_floor, kind,
-        relative_velocity_before, relative_velocity_after, impulse (events.csv's columns)."""
-        self._index = {name: k for k, name in enumerate(self.channels)}
-        self._summary: Optional[Summary] = None
-
-    @property
-    def time(self) -> np.ndarray:
-        """The output instants [s] (a view)."""
-        return self.data[:, 0]
-
-    @property
-    def values(self) -> np.ndarray:
-        """time × channel (a view), in the order of `channels`."""
-        return self.data[:, 1:]
-
-    def __getitem__(self, channel: str) -> np.ndarray:
-        """One channel's history (a view)."""
-        try:
-            return self.data[:, 1 + self._index[channel]]
-        except KeyError:
-            raise KeyError(f"no channel {channel!r} was recorded (choose it with channels=[...])") from None
-
-    def __contains__(self, channel: str) -> bool:
-        return channel in self._index
-
-    def unit(self, channel: str) -> str:
-        return self.units[self._index[channel]]
-
-    @property
-    def summary(self) -> Summary:
-        """summary.json's content (peaks, amplifications, energy, separation rules)."""
-        if self._summary is None:
-            self._summary = Summary(self._run.summary())
-        return self._summary
-
-    def to_pandas(self):
-        """The history as a pandas DataFrame indexed by time (needs pandas)."""
-        import pandas as pd
-
-        return pd.DataFrame(self.values, index=pd.Index(self.time, name="t"), columns=self.channels)
-
-    def __repr__(self) -> str:
-        return f"TimeHistory({self.data.shape[0]} instants × {len(self.channels)} channels, {len(self.events)} events)"
+def load(file: str | os.PathLike, settings: Sequence[str] = ()) -> "Input":
+    """Reads and checks a model file, with `key=value` settings applied as --set applies them."""
+    return _extension().load(file, list(settings))
 
 
-def _console_progress() -> Callable[[float, float], None]:
+def loads(text: str, name: str = "model.toml", base_dir: str | os.PathLike = ".",
+          settings: Sequence[str] = ()) -> "Input":
+    """Reads and checks a model given as TOML text; `name` names it in messages, relative record
+    paths start from `base_dir`."""
+    return _extension().loads(text, name, base_dir, list(settings))
+
+
+def from_dict(document: dict, name: str = "model", base_dir: str | os.PathLike = ".",
+              settings: Sequence[str] = ()) -> "Input":
+    """Reads and checks a model given as the TOML document's tables (dicts, lists, numbers, str;
+    NumPy arrays as lists): the keys and rules of docs/input.md, the same messages, with `name`
+    in place of the file. `Input.to_dict()` gives such a document back."""
+    return _extension().from_dict(document, name, base_dir, list(settings))
+
+
+def _console_progress(unit: str) -> Callable[[float, float], None]:
     """A one-line progress bar on stderr."""
 
-    def show(t: float, duration: float) -> None:
-        done = 1.0 if duration <= 0 else min(1.0, t / duration)
-        bar = "#" * int(30 * done)
-        sys.stderr.write(f"\rpoundsim [{bar:<30}] {100 * done:5.1f} %  t = {t:.3f} s")
-        if done >= 1.0:
+    def show(done: float, total: float) -> None:
+        fraction = 1.0 if total <= 0 else min(1.0, done / total)
+        bar = "#" * int(30 * fraction)
+        where = f"t = {done:.3f} s" if unit == "s" else f"{int(done)}/{int(total)} {unit}"
+        sys.stderr.write(f"\rpoundsim [{bar:<30}] {100 * fraction:5.1f} %  {where}")
+        if fraction >= 1.0:
             sys.stderr.write("\n")
         sys.stderr.flush()
 
@@ -135,26 +104,58 @@ def _console_progress() -> Callable[[float, float], None]:
 
 
 def run(
-    input: Input,
+    input: "Input | Model",
     channels: Optional[Sequence[str]] = None,
+    out: Optional[str | os.PathLike] = None,
+    max_points: Optional[int] = None,
     progress: Optional[Callable[[float, float], None]] | bool = None,
     progress_interval: float = 0.1,
-) -> TimeHistory:
-    """Runs an input and returns its results.
+):
+    """Runs an input (or a Model) and returns its results, by its analysis.kind:
 
-    channels: patterns of the channels to record (`["u_*_8", "drift_ratio_*"]`, docs/input.md
-        [output]); default: the input's [output] channels, or history.csv's default ones.
-    progress: a callable progress(t, duration), True for a progress bar on stderr, False for
-        none; by default a bar when stderr is a terminal. It is called at most every
-        `progress_interval` seconds of wall time (0: at every output instant), and at the end.
+    - "time_history": a TimeHistory (channels: patterns of the channels to record, `["u_*_8",
+      "drift_ratio_*"]`; default: the input's [output] channels, or history.csv's);
+    - "frf": a FrequencyResponse;
+    - "study", "ensemble": a Study; its database (study.sqlite, ensemble.sqlite) is kept in `out`
+      (a run stopped there goes on from where it stopped when run again; `max_points` runs at
+      most that many new points), or in a temporary folder removed afterwards;
+    - "optimize": an Optimization (files in `out` when given, as the command line writes them).
+
+    progress: a callable progress(done, total) — the time reached and the duration [s] of a
+        time history, the points (records, evaluations) done and to do of the others — True for a
+        progress bar on stderr, False for none; by default a bar when stderr is a terminal. It is
+        called at most every `progress_interval` seconds of wall time (0: whenever there is news).
+    Ctrl-C stops the run and raises KeyboardInterrupt; a study's database stays whole.
     """
+    core = _extension()
+    if isinstance(input, Model):
+        input = input.build()
+    kind = input.kind
     if progress is None:
         progress = sys.stderr.isatty()
     if progress is True:
-        progress = _console_progress()
+        progress = _console_progress({"time_history": "s", "optimize": "evaluations",
+                                      "ensemble": "records"}.get(kind, "points"))
     elif progress is False:
         progress = None
-    if input.kind != "time_history":
-        raise ValueError(f"{input.source}: analysis.kind: {input.kind!r}: poundsim.run runs time histories")
-    return TimeHistory(
-        _core.run_time_history(input, None if channels is None else list(channels), progress, progress_interval))
+    if channels is not None and kind != "time_history":
+        raise ValueError(f"{input.source}: channels are for time histories, not analysis.kind = {kind!r}")
+    if max_points is not None and kind not in ("study", "ensemble"):
+        raise ValueError(f"max_points is for studies and ensembles, not analysis.kind = {kind!r}")
+    if kind == "time_history":
+        r = core.run_time_history(input, None if channels is None else list(channels), progress, progress_interval)
+        return TimeHistory(r.data, r.channels, r.units, r.events, r.summary)
+    if kind == "frf":
+        r = core.run_frequency_response(input, progress, progress_interval)
+        return FrequencyResponse(Table(r.table, r.units), r.summary)
+    with tempfile.TemporaryDirectory(prefix="poundsim_") as scratch:
+        folder = os.fspath(out) if out is not None else scratch
+        if kind in ("study", "ensemble"):
+            r = core.run_study(input, folder, max_points or 0, progress, progress_interval)
+            return Study(Table(r.table, r.units), r.summary, r.database if out is not None else None)
+        if kind == "optimize":
+            r = core.run_optimization(input, folder, progress, progress_interval)
+            frf = {name: Table(*getattr(r, name)) if getattr(r, name) is not None else None
+                   for name in ("optimum_frf", "bare_frf")}
+            return Optimization(r.summary, Table(r.evaluations, r.evaluation_units), **frf)
+    raise ValueError(f"{input.source}: analysis.kind = {kind!r} cannot be run")

@@ -121,8 +121,10 @@ def test_bad_input_raises_value_error_with_the_command_lines_message(tmp_path):
     with pytest.raises(ValueError, match=r'output\.channels: "s_9_\*" names no channel'):
         poundsim.run(model, channels=["u_*", "s_9_*"], progress=False)
     frf = poundsim.load(EXAMPLES / "paper" / "fig2c.toml")
-    with pytest.raises(ValueError, match="poundsim.run runs time histories"):
-        poundsim.run(frf)
+    with pytest.raises(ValueError, match="channels are for time histories"):
+        poundsim.run(frf, channels=["u_*"])
+    with pytest.raises(ValueError, match='analysis.kind: "frf" is not a time history'):
+        poundsim._core.run_time_history(frf)
 
 
 def test_inputs_are_the_command_lines_toml():

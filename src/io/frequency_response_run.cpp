@@ -25,36 +25,38 @@ FrequencyResponseOptions frequency_response_options(const RunInput& input) {
   return o;
 }
 
-void write_frf_table(OutputFile& out, const Model& model, const std::vector<FrfPoint>& points) {
-  const int frames = model.frame_count();
+Table frf_table(const Model& model, const std::vector<FrfPoint>& points) {
+  const auto frames = static_cast<std::size_t>(model.frame_count());
   const double w1 = reference_weight(model);
-  CsvWriter csv(out);
-  const auto per_frame = [&](std::string_view pattern) {
-    for (int f = 1; f <= frames; ++f) csv.text(fmt::format(fmt::runtime(pattern), f));
+  Table table;
+  // Per frame f (from 1): the column `pattern` of f holds values(point)[f − 1] ÷ scale.
+  const auto per_frame = [&](std::string_view pattern, std::string_view unit, double scale, const auto& values) {
+    for (std::size_t f = 0; f < frames; ++f) {
+      auto& column = table.numbers(fmt::format(fmt::runtime(pattern), f + 1), std::string(unit));
+      for (const FrfPoint& p : points) column.push_back(values(p)[f] / scale);
+    }
   };
-  csv.text("ratio");
-  per_frame("V{}_W");
-  per_frame("V{}_free_W");
-  csv.texts({"periodicity", "branch", "transient_periods", "omega_rad_s"});
-  per_frame("S{}_W");
-  per_frame("S{}_free_W");
-  per_frame("top{}_m");
-  per_frame("top{}_free_m");
-  csv.texts({"events", "impacts"}).end_row();
-  const auto row = [&](const std::vector<double>& values, double scale) {
-    for (const double v : values) csv.number(v / scale);
+  const auto each = [&](auto& column, const auto& value) {
+    for (const FrfPoint& p : points) column.push_back(value(p));
   };
-  for (const FrfPoint& p : points) {
-    csv.number(p.ratio);
-    row(p.interacting.base_shear, w1);
-    row(p.free.base_shear, w1);
-    csv.integer(p.periodicity).text(to_string(p.branch)).integer(p.transient_periods).number(p.omega);
-    row(p.interacting.storey_shear, w1);
-    row(p.free.storey_shear, w1);
-    row(p.interacting.top_displacement, 1.0);
-    row(p.free.top_displacement, 1.0);
-    csv.integer(p.events).integer(p.impacts).end_row();
-  }
+  each(table.numbers("ratio", "1"), [](const FrfPoint& p) { return p.ratio; });
+  per_frame("V{}_W", "1", w1, [](const FrfPoint& p) -> const auto& { return p.interacting.base_shear; });
+  per_frame("V{}_free_W", "1", w1, [](const FrfPoint& p) -> const auto& { return p.free.base_shear; });
+  each(table.integers("periodicity"), [](const FrfPoint& p) { return static_cast<std::int64_t>(p.periodicity); });
+  each(table.texts("branch"), [](const FrfPoint& p) { return std::string(to_string(p.branch)); });
+  each(table.integers("transient_periods"), [](const FrfPoint& p) { return static_cast<std::int64_t>(p.transient_periods); });
+  each(table.numbers("omega_rad_s", "rad/s"), [](const FrfPoint& p) { return p.omega; });
+  per_frame("S{}_W", "1", w1, [](const FrfPoint& p) -> const auto& { return p.interacting.storey_shear; });
+  per_frame("S{}_free_W", "1", w1, [](const FrfPoint& p) -> const auto& { return p.free.storey_shear; });
+  per_frame("top{}_m", "m", 1.0, [](const FrfPoint& p) -> const auto& { return p.interacting.top_displacement; });
+  per_frame("top{}_free_m", "m", 1.0, [](const FrfPoint& p) -> const auto& { return p.free.top_displacement; });
+  each(table.integers("events"), [](const FrfPoint& p) { return static_cast<std::int64_t>(p.events); });
+  each(table.integers("impacts"), [](const FrfPoint& p) { return static_cast<std::int64_t>(p.impacts); });
+  return table;
+}
+
+void write_frf_table(OutputFile& out, const Model& model, const std::vector<FrfPoint>& points) {
+  write_csv(out, frf_table(model, points));
 }
 
 FrequencyResponseResult frequency_response_result(const RunInput& input, std::vector<FrfPoint> points,
@@ -152,8 +154,8 @@ nlohmann::json to_json(const FrequencyResponseResult& result) {
   return summary;
 }
 
-FrequencyResponseResult run_frequency_response(const RunInput& input, const std::filesystem::path& out_dir,
-                                               const std::function<void(int, int)>& progress) {
+FrequencyResponseResult analyse_frequency_response(const RunInput& input,
+                                                   const std::function<void(int, int)>& progress) {
   const auto start = std::chrono::steady_clock::now();
   FrequencyResponseOptions options = frequency_response_options(input);
   options.progress = progress;
@@ -165,7 +167,12 @@ FrequencyResponseResult run_frequency_response(const RunInput& input, const std:
   }
   const double run_time =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  FrequencyResponseResult result = frequency_response_result(input, std::move(points), run_time);
+  return frequency_response_result(input, std::move(points), run_time);
+}
+
+FrequencyResponseResult run_frequency_response(const RunInput& input, const std::filesystem::path& out_dir,
+                                               const std::function<void(int, int)>& progress) {
+  FrequencyResponseResult result = analyse_frequency_response(input, progress);
   OutputTransaction out(out_dir);
   write_frf_table(out.open("frf.csv"), input.model, result.points);
   out.write_json("summary.json", to_json(result));

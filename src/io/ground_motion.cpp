@@ -601,6 +601,8 @@ void check(const RecordOptions& o, const fs::path& file) {
   if (o.column < 2) fail(fmt::format("column {}: the acceleration column is 2 or more (column 1 is time)", o.column));
 }
 
+void scale_record(GroundMotionRecord& r, const RecordOptions& o, const std::filesystem::path& file);
+
 }  // namespace
 
 double units_to_si(const std::string& units, double gravity) {
@@ -617,7 +619,6 @@ GroundMotionRecord read_ground_motion(const std::filesystem::path& file, const R
 
 GroundMotionRecord parse_ground_motion(std::string content, const std::filesystem::path& file, const RecordOptions& o) {
   check(o, file);
-  const auto fail = [&](const std::string& message) { fail_file(file, message); };
   const Lines lines = split_lines(std::move(content), file);
   RecordFormat format = o.format == RecordFormat::automatic ? detect(file, lines) : o.format;
   std::size_t units_line = 0;  // column files carry no units
@@ -634,6 +635,15 @@ GroundMotionRecord parse_ground_motion(std::string content, const std::filesyste
     lines.fail(units_line,
                fmt::format("the file says its accelerations are in {}, the input says {}", r.file_units, o.units));
   }
+  scale_record(r, o, file);
+  return r;
+}
+
+namespace {
+
+/// Converts `r` (in r.file_units) to m/s², scaled by o.scale or to o.target_pga_g.
+void scale_record(GroundMotionRecord& r, const RecordOptions& o, const std::filesystem::path& file) {
+  const auto fail = [&](const std::string& message) { fail_file(file, message); };
   const double to_si = units_to_si(r.file_units, o.gravity);
   r.pga_file_g = pga(r.excitation.acceleration) * to_si / o.gravity;
   if (!std::isfinite(r.pga_file_g)) {
@@ -667,6 +677,32 @@ GroundMotionRecord parse_ground_motion(std::string content, const std::filesyste
   r.pga_g = pga(r.excitation.acceleration) / o.gravity;
   r.duration = r.excitation.time.back();
   r.excitation.source = file.string();
+}
+
+}  // namespace
+
+GroundMotionRecord record_from_samples(std::vector<double> acceleration, const RecordOptions& o,
+                                       const std::filesystem::path& name) {
+  check(o, name);
+  const auto fail = [&](const std::string& message) { fail_file(name, message); };
+  if (!(std::isfinite(o.dt) && o.dt > 0)) fail(fmt::format("the samples need their dt (a finite number > 0), not {}", o.dt));
+  if (o.units.empty()) fail("the units of the accelerations are not given: units = \"g\", \"m/s2\" or \"cm/s2\"");
+  if (acceleration.size() < 2) fail(fmt::format("a record needs at least two samples, found {}", acceleration.size()));
+  for (std::size_t k = 0; k < acceleration.size(); ++k) {
+    if (!std::isfinite(acceleration[k])) fail(fmt::format("sample {} is {}, not a finite number", k + 1, acceleration[k]));
+  }
+  if (!std::isfinite(static_cast<double>(acceleration.size() - 1) * o.dt)) {
+    fail(fmt::format("{} samples of {} s overflow the time", acceleration.size(), o.dt));
+  }
+  GroundMotionRecord r;
+  r.format = "samples";
+  r.file_units = o.units;
+  r.points = static_cast<int>(std::min<std::size_t>(acceleration.size(), std::numeric_limits<int>::max()));
+  if (static_cast<std::size_t>(r.points) != acceleration.size()) fail(fmt::format("{} samples are too many", acceleration.size()));
+  r.dt = o.dt;
+  r.excitation.time = uniform_times(acceleration.size(), o.dt);
+  r.excitation.acceleration = std::move(acceleration);
+  scale_record(r, o, name);
   return r;
 }
 

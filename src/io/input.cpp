@@ -14,6 +14,7 @@
 #include <unordered_map>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
 #include "poundsim/analysis/channels.hpp"
@@ -1100,6 +1101,38 @@ void read_excitation(TableReader& t, const Model& model, const std::filesystem::
       o.scale = *scale;
     }
     if (auto target = t.optional_number("target_pga_g")) o.target_pga_g = t.positive("target_pga_g", *target);
+    if (t.has("acceleration")) {
+      // Samples given in the input (the Python module's arrays): no file, its format or column.
+      for (const char* key : {"file", "format", "column"}) {
+        if (t.has(key)) t.fail(key, "not with acceleration (the samples are the record)");
+      }
+      if (run.ensemble) t.fail("acceleration", "an ensemble takes its records from [ensemble]");
+      if (!t.has("units")) t.fail_table("missing key: units (of the acceleration samples: \"g\", \"m/s2\" or \"cm/s2\")");
+      if (!t.has("dt")) t.fail_table("missing key: dt (the interval of the acceleration samples)");
+      o.dt = t.positive("dt", t.number("dt"));
+      const toml::node& samples = t.require("acceleration");
+      if (!samples.is_array() || samples.as_array()->size() < 2) {
+        t.fail("acceleration", "expected an array of at least two accelerations");
+      }
+      info.record_options = o;
+      info.record_samples = t.numbers("acceleration");
+      try {
+        const GroundMotionRecord r = record_from_samples(info.record_samples, o, "samples");
+        run.excitation = r.excitation;
+        info.record_scale = r.scale;
+        info.record_units = r.file_units;
+        info.record_format = r.format;
+        info.record_points = r.points;
+        info.record_dt = r.dt;
+        info.record_pga_file_g = r.pga_file_g;
+        info.record_pga_g = r.pga_g;
+        info.record_duration = r.duration;
+      } catch (const InputError& e) {
+        t.fail(t.has("target_pga_g") ? "target_pga_g" : t.has("scale") ? "scale" : "acceleration", e.what());
+      }
+      t.finish(context);
+      return;
+    }
     if (t.has("dt")) {
       if (format != "single") t.fail("dt", "only for format = \"single\" (the other formats carry their times)");
       o.dt = t.positive("dt", t.number("dt"));
@@ -1814,6 +1847,12 @@ toml::table excitation_table(const RunInput& in) {
     } else {
       e.insert("scale", o.scale);
     }
+    if (!info.record_samples.empty()) {
+      e.erase("format");
+      e.insert("dt", o.dt);
+      e.insert("acceleration", number_array(info.record_samples));
+      return e;
+    }
     if (o.format == RecordFormat::single) e.insert("dt", o.dt);
     if (o.column != RecordOptions{}.column) e.insert("column", o.column);
     if (!in.ensemble) e.insert("file", std::filesystem::absolute(info.record_file).lexically_normal().string());
@@ -1923,7 +1962,10 @@ struct ParsedInput {
   toml::table root;
 };
 
-std::string to_toml_as_written(const RunInput& in) {
+namespace {
+
+/// The file as parsed, with its settings applied and its paths absolute (to_toml_as_written).
+toml::table as_written(const RunInput& in) {
   toml::table root = in.parsed->root;
   Origin origin{in.source.string(), {}, {}};
   for (const Setting& setting : in.settings) apply_setting(root, setting, origin);
@@ -1962,13 +2004,81 @@ std::string to_toml_as_written(const RunInput& in) {
       }
     }
   }
+  return root;
+}
+
+/// A TOML value as JSON: tables are objects, arrays arrays; dates and times as their TOML text.
+nlohmann::json to_json(const toml::node& node) {
+  if (const toml::table* table = node.as_table()) {
+    nlohmann::json object = nlohmann::json::object();
+    for (const auto& [key, value] : *table) object[std::string(key.str())] = to_json(value);
+    return object;
+  }
+  if (const toml::array* array = node.as_array()) {
+    nlohmann::json items = nlohmann::json::array();
+    for (const toml::node& item : *array) items.push_back(to_json(item));
+    return items;
+  }
+  if (const auto* v = node.as_string()) return v->get();
+  if (const auto* v = node.as_integer()) return v->get();
+  if (const auto* v = node.as_floating_point()) return v->get();
+  if (const auto* v = node.as_boolean()) return v->get();
+  std::ostringstream text;
+  node.visit([&](const auto& value) { text << value; });
+  return text.str();
+}
+
+/// A JSON value as TOML (a model built in Python); `path` names it in messages.
+std::unique_ptr<toml::node> to_toml_node(const nlohmann::json& value, const std::string& name, const std::string& path) {
+  using T = nlohmann::json::value_t;
+  const auto refuse = [&](std::string_view what) {
+    throw InputError(fmt::format("{}: {}: {} is not a value of a model file", name, path.empty() ? "(top)" : path, what));
+  };
+  switch (value.type()) {
+    case T::object: {
+      auto table = std::make_unique<toml::table>();
+      for (const auto& [key, item] : value.items()) {
+        table->insert(key, std::move(*to_toml_node(item, name, path.empty() ? key : path + "." + key)));
+      }
+      return table;
+    }
+    case T::array: {
+      auto array = std::make_unique<toml::array>();
+      std::size_t k = 0;
+      for (const nlohmann::json& item : value) {
+        array->push_back(std::move(*to_toml_node(item, name, fmt::format("{}[{}]", path, ++k))));
+      }
+      return array;
+    }
+    case T::string: return std::make_unique<toml::value<std::string>>(value.get<std::string>());
+    case T::boolean: return std::make_unique<toml::value<bool>>(value.get<bool>());
+    case T::number_integer: return std::make_unique<toml::value<std::int64_t>>(value.get<std::int64_t>());
+    case T::number_unsigned: {
+      const auto n = value.get<std::uint64_t>();
+      if (n > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) {
+        refuse(fmt::format("the integer {} (more than 2^63 − 1)", n));
+      }
+      return std::make_unique<toml::value<std::int64_t>>(static_cast<std::int64_t>(n));
+    }
+    case T::number_float: return std::make_unique<toml::value<double>>(value.get<double>());
+    case T::null: refuse("None (null)"); break;
+    default: refuse("a binary value"); break;
+  }
+  return nullptr;  // not reached
+}
+
+}  // namespace
+
+std::string to_toml_as_written(const RunInput& in) {
   std::ostringstream out;
   out << "# The input as poundsim " POUNDSIM_VERSION " ran it: the file as written, with its --set\n"
          "# settings applied and its paths absolute (docs/output.md). Run it again with\n"
          "# poundsim run input.toml --out DIR\n\n"
-      << root << '\n';
+      << as_written(in) << '\n';
   return out.str();
 }
+
+nlohmann::json input_document(const RunInput& input) { return to_json(as_written(input)); }
 
 namespace {
 
@@ -2020,6 +2130,21 @@ RunInput read_input_string(std::string_view text, const std::string& name,
   std::vector<Setting> settings;
   for (const std::string& o : overrides) settings.push_back(parse_setting(o, name));
   return read_parsed(std::move(parsed), text, name, base_dir, std::move(settings));
+}
+
+RunInput read_input_document(const nlohmann::json& document, const std::string& name,
+                             const std::filesystem::path& base_dir, std::span<const std::string> overrides) {
+  if (!document.is_object()) {
+    throw InputError(fmt::format("{}: a model is a table of tables (a dict), not {}", name, document.type_name()));
+  }
+  auto parsed = std::make_shared<ParsedInput>();
+  parsed->root = std::move(*to_toml_node(document, name, "")->as_table());
+  // Its TOML text identifies the run in a study database (fingerprint), as a file's does.
+  std::ostringstream text;
+  text << parsed->root;
+  std::vector<Setting> settings;
+  for (const std::string& o : overrides) settings.push_back(parse_setting(o, name));
+  return read_parsed(std::move(parsed), text.str(), name, base_dir, std::move(settings));
 }
 
 RunInput with_settings(const RunInput& base, std::span<const Setting> settings) {

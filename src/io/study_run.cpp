@@ -97,6 +97,8 @@ json describe_analysis(const RunInput& in) {
     const ExcitationInfo& e = in.excitation_info;
     a["excitation"] = {{"kind", e.kind}, {"amplitude_g", e.amplitude_g}, {"omega", e.omega},
                        {"file", e.record_file.string()}, {"scale", e.record_scale}, {"units", e.record_units}};
+    // A record given as samples is its samples (appended only then: other fingerprints stay).
+    if (!e.record_samples.empty()) a["excitation"]["samples"] = {e.record_samples, e.record_options.dt};
   }
   return a;
 }
@@ -114,20 +116,6 @@ json to_json(const SettingValue& v) {
         }
       },
       v.value);
-}
-
-/// A parameter's or metric's value as one CSV field: a number, text, an array as its JSON, or
-/// nothing.
-void csv_value(CsvWriter& csv, const json& v) {
-  if (v.is_number()) {
-    csv.number(v.get<double>());
-  } else if (v.is_string()) {
-    csv.text(v.get<std::string>());
-  } else if (!v.is_null()) {
-    csv.text(v.dump());
-  } else {
-    csv.empty();
-  }
 }
 
 }  // namespace
@@ -416,23 +404,27 @@ std::string report(const StudyResult& r, const std::filesystem::path& out_dir) {
 
 namespace {
 
-/// The points of a study as CSV: id, status, parameters, metrics, run time, error.
-void write_study_csv(OutputFile& f, const std::vector<std::string>& parameters,
-                     const std::vector<StudyDatabase::Row>& rows) {
-  std::set<std::string> metric_keys;
-  for (const auto& r : rows) {
-    for (const auto& [k, v] : r.metrics.items()) metric_keys.insert(k);
-  }
-  CsvWriter csv(f);
-  csv.texts({"id", "status"});
-  for (const std::string& p : parameters) csv.text(p);
-  for (const std::string& k : metric_keys) csv.text(k);
-  csv.texts({"run_time_s", "error"}).end_row();
-  for (const auto& r : rows) {
-    csv.integer(r.id + 1).text(r.status);
-    for (const std::string& p : parameters) csv_value(csv, r.parameters.value(p, json()));
-    for (const std::string& k : metric_keys) csv_value(csv, r.metrics.value(k, json()));
-    csv.number(r.run_time).text(r.error).end_row();
+/// A column of JSON values as a table column: whole numbers, numbers (null → NaN, a missing
+/// value) or, when any is neither, text (a number as the shortest form that reads back, null
+/// empty, a string as it is, anything else as JSON).
+void add_json_column(Table& table, std::string name, const std::vector<const json*>& values) {
+  const bool numbers = std::all_of(values.begin(), values.end(), [](const json* v) { return v->is_number() || v->is_null(); });
+  const bool integers = std::all_of(values.begin(), values.end(), [](const json* v) { return v->is_number_integer(); });
+  if (integers) {
+    auto& column = table.integers(std::move(name));
+    for (const json* v : values) column.push_back(v->get<std::int64_t>());
+  } else if (numbers) {
+    const std::string unit = column_unit(name);
+    auto& column = table.numbers(std::move(name), unit);
+    for (const json* v : values) column.push_back(v->is_null() ? std::nan("") : v->get<double>());
+  } else {
+    auto& column = table.texts(std::move(name));
+    for (const json* v : values) {
+      column.push_back(v->is_number()   ? fmt::format("{}", v->get<double>())
+                       : v->is_string() ? v->get<std::string>()
+                       : v->is_null()   ? std::string()
+                                        : v->dump());
+    }
   }
 }
 
@@ -498,7 +490,11 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
     }
   }
   std::mutex baseline_mutex;
+  const auto check_stop = [&] {
+    if (options.stop_requested && options.stop_requested()) throw RunStopped();
+  };
   parallel_for(static_cast<int>(missing.size()), study.threads, [&](int k) {
+    check_stop();
     const Todo& t = *missing[static_cast<std::size_t>(k)];
     const json m = io::to_json(baseline_figures(t.input, 1));
     db.record_baseline(t.baseline, m);
@@ -510,6 +506,7 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
   std::atomic<int> failed{0};
   const int total = static_cast<int>(todo.size());
   parallel_for(total, study.threads, [&](int k) {
+    check_stop();
     const Todo& t = todo[static_cast<std::size_t>(k)];
     const auto point_start = std::chrono::steady_clock::now();
     json parameters = json::object();
@@ -568,19 +565,61 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
   // A study's axes name keys of the file's own form (a dimensionless key, excitation.ratio, an
   // inherited gap-element key), which to_toml rewrites: it echoes the file as written.
   out.open("input.toml").text(kind == AnalysisKind::ensemble ? to_toml(input) : to_toml_as_written(input));
-  write_study_csv(out.open(stem + ".csv"), parameter_keys, result.rows);
+  write_csv(out.open(stem + ".csv"), study_table(parameter_keys, result.rows));
   out.commit();
   return result;
 }
 
 }  // namespace
 
+std::string column_unit(std::string_view name) {
+  for (const auto& [suffix, unit] : std::initializer_list<std::pair<std::string_view, std::string_view>>{
+           {"_rad_s", "rad/s"}, {"_m", "m"}, {"_s", "s"}, {"_N", "N"}, {"_Ns", "N·s"}, {"_J", "J"}, {"_g", "g"},
+           {"_W", "1"}}) {
+    if (name.ends_with(suffix)) return std::string(unit);
+  }
+  return name.find("ratio") != std::string_view::npos ? "1" : "";
+}
+
+Table study_table(const std::vector<std::string>& parameters, const std::vector<StudyDatabase::Row>& rows) {
+  std::set<std::string> metric_keys;
+  for (const auto& r : rows) {
+    for (const auto& [k, v] : r.metrics.items()) metric_keys.insert(k);
+  }
+  Table table;
+  auto& ids = table.integers("id");
+  auto& status = table.texts("status");
+  for (const auto& r : rows) {
+    ids.push_back(r.id + 1);
+    status.push_back(r.status);
+  }
+  const json missing;
+  const auto add = [&](const std::string& key, const auto& of_row) {
+    std::vector<const json*> values;
+    for (const auto& r : rows) {
+      const json& object = of_row(r);
+      const auto it = object.find(key);
+      values.push_back(it == object.end() ? &missing : &*it);
+    }
+    add_json_column(table, key, values);
+  };
+  for (const std::string& p : parameters) add(p, [](const StudyDatabase::Row& r) -> const json& { return r.parameters; });
+  for (const std::string& k : metric_keys) add(k, [](const StudyDatabase::Row& r) -> const json& { return r.metrics; });
+  auto& run_time = table.numbers("run_time_s", "s");
+  auto& error = table.texts("error");
+  for (const auto& r : rows) {
+    run_time.push_back(r.run_time);
+    error.push_back(r.error);
+  }
+  return table;
+}
+
 void export_study(const std::filesystem::path& database, const std::filesystem::path& csv) {
   const StudyDatabase db(database);
   std::vector<std::string> parameters;
   for (const auto& p : db.definition().value("parameters", json::array())) parameters.push_back(p.get<std::string>());
   OutputTransaction out(folder_of(csv));
-  write_study_csv(out.open(csv.filename().string()), parameters, db.rows());
+  write_csv(out.open(csv.filename().string()), study_table(parameters, db.rows()));
   out.commit();
 }
 

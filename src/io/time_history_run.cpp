@@ -87,7 +87,7 @@ json describe_excitation(const ExcitationInfo& info) {
     e["frequency_hz"] = info.omega / (2 * std::numbers::pi);
     e["ratio"] = info.omega / info.omega1;
   } else if (info.kind == "record") {
-    e["file"] = info.record_file.string();
+    e["file"] = info.record_samples.empty() ? json(info.record_file.string()) : json();  // null: samples
     e["format"] = info.record_format;
     e["description"] = info.record_description;
     e["units"] = info.record_units;

@@ -111,11 +111,19 @@ class Problem {
 struct Stage {
   Problem* problem;
   std::string name;
+  bool stopped = false;  ///< The caller asked the run to stop (RunStopped from its progress).
 };
 
 double objective(const std::vector<double>& x, std::vector<double>& /*gradient*/, void* data) {
   auto* stage = static_cast<Stage*>(data);
-  return (*stage->problem)(x, stage->name);
+  try {
+    return (*stage->problem)(x, stage->name);
+  } catch (const RunStopped&) {
+    // NLopt's C++ wrapper turns any other exception into a generic failure: forced_stop ends the
+    // stage, and run_stage stops the run.
+    stage->stopped = true;
+    throw nlopt::forced_stop();
+  }
 }
 
 /// Runs one NLopt stage from x; returns NLopt's outcome as text.
@@ -129,6 +137,7 @@ std::string run_stage(nlopt::opt& opt, Problem& problem, const std::string& name
   } catch (const nlopt::roundoff_limited&) {
     return "ROUNDOFF_LIMITED";
   } catch (const nlopt::forced_stop&) {
+    if (stage.stopped) throw RunStopped();
     return "FORCED_STOP";
   } catch (const std::invalid_argument& e) {
     throw SimulationError(fmt::format("NLopt rejected the {} stage: {}", name, e.what()));
@@ -205,36 +214,43 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
   const Evaluation* best = problem.best();
   if (best == nullptr) throw SimulationError("optimize: no evaluation succeeded");
 
-  OutputTransaction out(out_dir);
   // The optimum's response against bare pounding and the free frames.
   const RunInput best_point = with_settings(input, point_values(s, best->x));
   PointFigures bare_figures;
+  std::optional<io::Table> optimum_frf, bare_frf;
   if (s.each == PointRun::frf) {
     // Both responses are written out, so the bare one's metrics come from the same sweep.
     FrequencyResponseOptions o = frequency_response_options(best_point);
     o.threads = s.threads;
-    write_frf_table(out.open("optimum_frf.csv"), best_point.model, frequency_response(best_point.model, o));
+    optimum_frf = io::frf_table(best_point.model, frequency_response(best_point.model, o));
     const Model bare = bare_pounding_model(best_point);
     const std::vector<FrfPoint> bare_response = frequency_response(bare, o);
-    write_frf_table(out.open("bare_frf.csv"), bare, bare_response);
+    bare_frf = io::frf_table(bare, bare_response);
     bare_figures.response = frf_figures(bare, bare_response, s.band_min, s.band_max);
   } else {
     bare_figures = baseline_figures(best_point, s.threads);
   }
-  CsvWriter csv(out.open("evaluations.csv"));
-  csv.texts({"evaluation", "stage"});
-  for (const OptimizeVariable& v : s.variables) csv.text(v.key);
-  csv.texts({"objective", "status", "error"}).end_row();
-  for (std::size_t k = 0; k < problem.evaluations().size(); ++k) {
-    const Evaluation& e = problem.evaluations()[k];
-    csv.integer(static_cast<std::int64_t>(k + 1)).text(e.stage);
-    for (const double xi : e.x) csv.number(xi);
-    if (e.status == "done") {
-      csv.number(e.objective);
-    } else {
-      csv.empty();
+  io::Table table;
+  {
+    const std::vector<Evaluation>& all = problem.evaluations();
+    auto& number = table.integers("evaluation");
+    auto& stage = table.texts("stage");
+    for (std::size_t k = 0; k < all.size(); ++k) {
+      number.push_back(static_cast<std::int64_t>(k + 1));
+      stage.push_back(all[k].stage);
     }
-    csv.text(e.status).text(e.error).end_row();
+    for (std::size_t i = 0; i < s.variables.size(); ++i) {
+      auto& values = table.numbers(s.variables[i].key, io::column_unit(s.variables[i].key));
+      for (const Evaluation& e : all) values.push_back(e.x[i]);
+    }
+    auto& objective = table.numbers("objective", io::column_unit(objective_metric(s.objective).first));
+    auto& status = table.texts("status");
+    auto& error = table.texts("error");
+    for (const Evaluation& e : all) {
+      objective.push_back(e.status == "done" ? e.objective : std::nan(""));  // none: an empty field
+      status.push_back(e.status);
+      error.push_back(e.error);
+    }
   }
   const double run_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const auto [metric, meaning] = objective_metric(s.objective);
@@ -249,7 +265,14 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
                             .meaning = meaning,
                             .stages = std::move(stages),
                             .evaluations = static_cast<long>(problem.evaluations().size()),
-                            .run_time = run_time};
+                            .run_time = run_time,
+                            .evaluation_table = std::move(table),
+                            .optimum_frf = std::move(optimum_frf),
+                            .bare_frf = std::move(bare_frf)};
+  OutputTransaction out(out_dir);
+  if (result.optimum_frf) write_csv(out.open("optimum_frf.csv"), *result.optimum_frf);
+  if (result.bare_frf) write_csv(out.open("bare_frf.csv"), *result.bare_frf);
+  write_csv(out.open("evaluations.csv"), result.evaluation_table);
   out.write_json("optimize.json", to_json(result));
   // Its variables name keys of the file's own form: the file as written (to_toml_as_written).
   out.open("input.toml").text(to_toml_as_written(input));

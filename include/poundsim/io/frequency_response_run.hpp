@@ -14,6 +14,7 @@
 #include "poundsim/analysis/frequency_response.hpp"
 #include "poundsim/io/input.hpp"
 #include "poundsim/io/output_files.hpp"
+#include "poundsim/io/table.hpp"
 
 namespace poundsim::io {
 
@@ -41,6 +42,12 @@ struct FrequencyResponseResult {
   double run_time = 0;             ///< [s] wall clock, reported as is.
 };
 
+/// Runs the [frf] analysis of `input`, writing nothing (what the command line and the Python module
+/// both run); `progress` (may be empty) is called after every point and may stop the run by
+/// throwing (RunStopped).
+FrequencyResponseResult analyse_frequency_response(const RunInput& input,
+                                                   const std::function<void(int, int)>& progress = {});
+
 /// Runs the [frf] analysis of `input` and writes its files into `out_dir`; `progress` (may be
 /// empty) is called after every point. Returns what it found.
 FrequencyResponseResult run_frequency_response(const RunInput& input, const std::filesystem::path& out_dir,
@@ -59,7 +66,11 @@ std::string report(const FrequencyResponseResult& result, const std::filesystem:
 /// The options of the library call that `input` describes.
 FrequencyResponseOptions frequency_response_options(const RunInput& input);
 
-/// Writes the frf.csv table: ratio, V<f>_W…, V<f>_free_W…, periodicity, then the rest.
+/// The frf.csv table: ratio, V<f>_W…, V<f>_free_W…, periodicity, branch, transient_periods,
+/// omega_rad_s, S<f>_W…, S<f>_free_W…, top<f>_m…, top<f>_free_m…, events, impacts (docs/output.md).
+[[nodiscard]] Table frf_table(const Model& model, const std::vector<FrfPoint>& points);
+
+/// Writes frf_table as CSV.
 void write_frf_table(OutputFile& out, const Model& model, const std::vector<FrfPoint>& points);
 
 }  // namespace poundsim::io

@@ -23,6 +23,7 @@
 #include <string>
 #include <string_view>
 #include <utility>
+#include <vector>
 
 #include "poundsim/error.hpp"
 #include "poundsim/model/excitation.hpp"
@@ -80,6 +81,13 @@ GroundMotionRecord read_ground_motion(const std::filesystem::path& file, const R
 /// extension, chooses the format as read_ground_motion does (for tests and fuzzing).
 GroundMotionRecord parse_ground_motion(std::string content, const std::filesystem::path& file,
                                        const RecordOptions& options);
+
+/// A record given as its samples (the Python module's arrays, excitation.acceleration):
+/// `acceleration` in `options.units` every `options.dt` seconds from t = 0, scaled as a file's
+/// would be. Throws InputError naming `name` for a missing dt or units, fewer than two samples or
+/// one that is not finite.
+GroundMotionRecord record_from_samples(std::vector<double> acceleration, const RecordOptions& options,
+                                       const std::filesystem::path& name);
 
 /// "g" → gravity, "m/s2" → 1, "cm/s2" → 0.01; throws InputError for anything else.
 double units_to_si(const std::string& units, double gravity);

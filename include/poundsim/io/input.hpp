@@ -17,6 +17,8 @@
 #include <variant>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "poundsim/fields.hpp"
 #include "poundsim/model/dimensionless.hpp"
 #include "poundsim/model/excitation.hpp"
@@ -218,8 +220,9 @@ struct Excitation {
         C{"units", "the record's units"},
         C{"scale", "a factor on the accelerations"},
         C{"target_pga_g", "the peak to scale the record to [g]"},
-        C{"dt", "the sampling interval of a one-column file [s]"},
+        C{"dt", "the sampling interval of a one-column file or of acceleration [s]"},
         C{"column", "the acceleration column"},
+        C{"acceleration", "the record's samples, every dt seconds (instead of a file)"},
     };
   }
 };
@@ -258,6 +261,8 @@ struct ExcitationInfo {
   double record_pga_g = 0.0;          ///< Record: PGA applied, in g.
   double record_duration = 0.0;       ///< Record: last sample time [s].
   RecordOptions record_options;       ///< Record: the keys that read it (format, units, scale, …).
+  /// Record given as samples (excitation.acceleration) instead of a file: them, unscaled.
+  std::vector<double> record_samples;
 };
 
 /// [ensemble]: the records one model is run against.
@@ -514,6 +519,16 @@ RunInput read_input(const std::filesystem::path& file, std::span<const std::stri
 /// keys of the file's own form (model.dimensionless.eta, excitation.ratio, a key gap-element
 /// overrides inherit), which to_toml would rewrite.
 [[nodiscard]] std::string to_toml_as_written(const RunInput& input);
+
+/// Like read_input, from the model file's document as JSON (objects for tables, arrays, numbers
+/// — an integer stays one — strings, booleans): a model built in Python (docs/python.md). The
+/// same keys, rules and messages as a file, with `name` for the file; `base_dir` resolves paths.
+RunInput read_input_document(const nlohmann::json& document, const std::string& name,
+                             const std::filesystem::path& base_dir, std::span<const std::string> overrides = {});
+
+/// The input as written (to_toml_as_written) as such a JSON document: read_input_document of it
+/// reads the same input.
+[[nodiscard]] nlohmann::json input_document(const RunInput& input);
 
 /// Like read_input, from TOML text; `name` is used in messages and `base_dir` resolves paths.
 RunInput read_input_string(std::string_view text, const std::string& name,

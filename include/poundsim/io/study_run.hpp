@@ -17,6 +17,7 @@
 #include "poundsim/analysis/figures_of_merit.hpp"
 #include "poundsim/io/input.hpp"
 #include "poundsim/io/study_database.hpp"
+#include "poundsim/io/table.hpp"
 
 namespace poundsim::io {
 
@@ -56,6 +57,9 @@ PointFigures baseline_figures(const RunInput& point, int threads);
 struct StudyRunOptions {
   std::optional<long> max_points;               ///< Run at most this many new points, then stop.
   std::function<void(int, int)> progress;       ///< (done, to do) after every point.
+  /// Asked before every point (and bare-pounding reference) starts: true stops the run with
+  /// RunStopped once the points running have finished and are stored (may be empty).
+  std::function<bool()> stop_requested;
 };
 
 /// The finished point with the lowest max_peak_V_W.
@@ -107,6 +111,14 @@ nlohmann::json to_json(const StudyResult& result);
 /// The console report: points run, the best point (a study) or the per-frame means and maxima
 /// (an ensemble), the files written into `out_dir`.
 std::string report(const StudyResult& result, const std::filesystem::path& out_dir);
+
+/// The points of a study as a table (study.csv, ensemble.csv; docs/studies.md): id (from 1),
+/// status, the parameters, the figures of merit (by name), run_time_s, error.
+[[nodiscard]] Table study_table(const std::vector<std::string>& parameters, const std::vector<StudyDatabase::Row>& rows);
+
+/// The unit of a study or optimisation column from its name's SI suffix (_m, _s, _N, _Ns, _J,
+/// _g, _rad_s; _W and names with "ratio": "1"), "" otherwise.
+[[nodiscard]] std::string column_unit(std::string_view name);
 
 /// Writes the points of a study database as CSV: id, status, parameters, metrics, error, run time.
 void export_study(const std::filesystem::path& database, const std::filesystem::path& csv);

@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,7 @@
 
 #include "poundsim/analysis/figures_of_merit.hpp"
 #include "poundsim/io/input.hpp"
+#include "poundsim/io/table.hpp"
 
 namespace poundsim::optimize {
 
@@ -50,6 +52,11 @@ struct OptimizationResult {
   std::vector<OptimizationStage> stages;
   long evaluations = 0;
   double run_time = 0;              ///< [s] wall clock, reported as is.
+  /// evaluations.csv: evaluation (from 1), stage, each variable, objective (empty unless done),
+  /// status, error.
+  io::Table evaluation_table;
+  /// optimum_frf.csv and bare_frf.csv, for a frequency-response objective.
+  std::optional<io::Table> optimum_frf, bare_frf;
 
   /// The minimised figure of bare pounding, to compare with `objective`.
   [[nodiscard]] double bare_objective() const {

@@ -1,0 +1,356 @@
+"""poundsim's results as Python objects: what `poundsim.run` returns, and what `read` makes of a
+folder the command line wrote (`poundsim run MODEL.toml --out DIR`). Pure Python and NumPy: it
+imports without the C++ extension, so plots of the command line's outputs need no build.
+
+- `Table`: named columns of one length (NumPy arrays), each with its unit; frf.csv, study.csv,
+  ensemble.csv and evaluations.csv are tables, declared once in C++ (io/table.hpp) and handed to
+  NumPy column by column.
+- `Summary`: a summary (summary.json, optimize.json) as nested attributes, `.to_dict()`.
+- `TimeHistory`, `FrequencyResponse`, `Study`, `Optimization`: one per kind of analysis.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+import re
+from typing import Any, Iterable, Iterator, Mapping, Optional
+
+import numpy as np
+
+__all__ = ["Table", "Summary", "TimeHistory", "FrequencyResponse", "Study", "Optimization", "read",
+           "channel_unit"]
+
+
+class Table:
+    """A results table: named columns of one length, each a NumPy array (float64 with NaN for a
+    missing number, int64, or str), with its unit ("" for text, "1" for a ratio)."""
+
+    def __init__(self, columns: Mapping[str, np.ndarray], units: Optional[Mapping[str, str]] = None):
+        self._columns = {name: np.asarray(values) for name, values in columns.items()}
+        lengths = {len(v) for v in self._columns.values()}
+        if len(lengths) > 1:
+            raise ValueError(f"the columns of a table have one length, not {sorted(lengths)}")
+        self._units = {name: (units or {}).get(name, column_unit(name)) for name in self._columns}
+
+    @property
+    def names(self) -> list[str]:
+        """The columns, in order."""
+        return list(self._columns)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        try:
+            return self._columns[name]
+        except KeyError:
+            raise KeyError(f"no column {name!r} (the table has {', '.join(self._columns)})") from None
+
+    def __contains__(self, name: str) -> bool:
+        return name in self._columns
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._columns)
+
+    def __len__(self) -> int:
+        """The number of rows."""
+        return len(next(iter(self._columns.values()))) if self._columns else 0
+
+    def unit(self, name: str) -> str:
+        return self._units[name]
+
+    @property
+    def units(self) -> dict[str, str]:
+        return dict(self._units)
+
+    def to_records(self) -> np.ndarray:
+        """The rows as one NumPy structured array (a copy)."""
+        return np.rec.fromarrays(list(self._columns.values()), names=self.names)
+
+    def to_pandas(self):
+        """The table as a pandas DataFrame (needs pandas)."""
+        import pandas as pd
+
+        return pd.DataFrame(self._columns)
+
+    def __repr__(self) -> str:
+        return f"Table({len(self)} rows: {', '.join(self._columns)})"
+
+    @classmethod
+    def read_csv(cls, path: str | os.PathLike) -> "Table":
+        """A CSV table poundsim wrote: a column of whole numbers is int64, of numbers (an empty
+        field is a missing one) float64, any other str."""
+        with open(path, newline="") as f:
+            rows = list(csv.reader(f))
+        if not rows:
+            raise ValueError(f"{path}: empty, not a poundsim table")
+        header, body = rows[0], rows[1:]
+        columns = {}
+        for k, name in enumerate(header):
+            columns[name] = _typed([r[k] for r in body])
+        return cls(columns)
+
+
+def _typed(fields: list[str]) -> np.ndarray:
+    if fields and all(f == "" for f in fields):
+        return np.array(fields, dtype=str)  # nothing to tell: text, as an error column with no error
+    if fields and all(re.fullmatch(r"-?\d+", f) for f in fields):
+        return np.array([int(f) for f in fields], dtype=np.int64)
+    try:
+        return np.array([float(f) if f != "" else np.nan for f in fields], dtype=np.float64)
+    except ValueError:
+        return np.array(fields, dtype=str)
+
+
+# The units of history channels and table columns, from their names (analysis/channels.hpp,
+# docs/output.md); the module's own units are checked against these by python/tests.
+_CHANNEL_UNITS = [
+    (r"t", "s"), (r"u_\d+_\d+", "m"), (r"v_\d+_\d+", "m/s"), (r"a_(abs_)?\d+_\d+", "m/s2"),
+    (r"V_\d+", "N"), (r"F_\d+(_\w+)?", "N"), (r"s_\d+(_\w+)?", "m"), (r"drift_ratio_\d+_\d+", "1"),
+    (r"drift_\d+_\d+", "m"), (r"Fs_\d+_\d+", "N"), (r"E_\w+", "J"),
+]
+
+
+def channel_unit(name: str) -> str:
+    """The unit of a history channel (or of time, "t") from its name."""
+    for pattern, unit in _CHANNEL_UNITS:
+        if re.fullmatch(pattern, name):
+            return unit
+    raise KeyError(f"{name!r} is not a poundsim channel")
+
+
+def column_unit(name: str) -> str:
+    """The unit of a table column from its name: SI suffixes (_m, _s, _N, _J, _rad_s, _g), "1" for
+    ratios (V1_W, …_ratio…), "" otherwise."""
+    for suffix, unit in (("_rad_s", "rad/s"), ("_m", "m"), ("_s", "s"), ("_N", "N"), ("_J", "J"), ("_g", "g"),
+                         ("_W", "1")):
+        if name.endswith(suffix):
+            return unit
+    return "1" if "ratio" in name else ""
+
+
+class Summary:
+    """A summary (summary.json, optimize.json) as nested attributes (`summary.energy.input_J`);
+    lists stay lists; `to_dict()` gives the plain dicts back."""
+
+    def __init__(self, values: dict):
+        self._values = values
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("_"):
+            raise AttributeError(name)
+        try:
+            return _wrap(self._values[name])
+        except KeyError:
+            raise AttributeError(f"the summary has no {name!r} (it has {', '.join(self._values)})") from None
+
+    def __getitem__(self, name: str) -> Any:
+        return _wrap(self._values[name])
+
+    def __contains__(self, name: str) -> bool:
+        return name in self._values
+
+    def __dir__(self) -> Iterable[str]:
+        return list(self._values)
+
+    def __repr__(self) -> str:
+        return f"Summary({', '.join(self._values)})"
+
+    def to_dict(self) -> dict:
+        return self._values
+
+
+def _wrap(value: Any) -> Any:
+    if isinstance(value, dict):
+        return Summary(value)
+    if isinstance(value, list):
+        return [_wrap(v) for v in value]
+    return value
+
+
+class _WithSummary:
+    _summary_source: Any
+
+    @property
+    def summary(self) -> Summary:
+        """The run's summary (summary.json, or optimize.json) as attributes."""
+        if not isinstance(self._summary_source, Summary):
+            source = self._summary_source
+            self._summary_source = Summary(source() if callable(source) else source)
+        return self._summary_source
+
+    @property
+    def title(self) -> str:
+        return self.summary.to_dict().get("title", "")
+
+
+class TimeHistory(_WithSummary):
+    """A time history: the recorded channels as one array (time × (1 + channels), of which every
+    accessor is a view), the events as a structured array and the summary.
+
+    Summary sections (summary.json, docs/output.md): `peaks`, `amplification`, `energy`,
+    `separation` (the separation check: minimum gaps and the code rules per pair of floors),
+    `gap_elements`, `events`."""
+
+    def __init__(self, data: np.ndarray, channels: list[str], units: list[str], events: np.ndarray, summary: Any,
+                 frame_names: Optional[list[str]] = None):
+        self.data = data
+        """rows × (1 + channels): time [s], then each channel."""
+        self.channels = list(channels)
+        self.units = list(units)
+        self.events = events
+        """One record per event: t, frame_left, frame_right, floor, right_floor, kind,
+        relative_velocity_before, relative_velocity_after, impulse (events.csv's columns)."""
+        self._summary_source = summary
+        self._index = {name: k for k, name in enumerate(self.channels)}
+        self._frame_names = frame_names
+
+    @property
+    def time(self) -> np.ndarray:
+        """The output instants [s] (a view)."""
+        return self.data[:, 0]
+
+    @property
+    def values(self) -> np.ndarray:
+        """time × channel (a view), in the order of `channels`."""
+        return self.data[:, 1:]
+
+    def __getitem__(self, channel: str) -> np.ndarray:
+        """One channel's history (a view)."""
+        try:
+            return self.data[:, 1 + self._index[channel]]
+        except KeyError:
+            raise KeyError(f"no channel {channel!r} was recorded (choose it with channels=[...])") from None
+
+    def __contains__(self, channel: str) -> bool:
+        return channel in self._index
+
+    def unit(self, channel: str) -> str:
+        return self.units[self._index[channel]]
+
+    @property
+    def frame_names(self) -> list[str]:
+        """The frames' names ("frame 1", … where the input gives none)."""
+        if self._frame_names is None:
+            summary = self.summary.to_dict()
+            frames = summary.get("model", {}).get("frames") or summary.get("frames", [])
+            self._frame_names = [f.get("name") or f"frame {k + 1}" for k, f in enumerate(frames)]
+        return self._frame_names
+
+    def to_pandas(self):
+        """The history as a pandas DataFrame indexed by time (needs pandas)."""
+        import pandas as pd
+
+        return pd.DataFrame(self.values, index=pd.Index(self.time, name="t"), columns=self.channels)
+
+    def __repr__(self) -> str:
+        return f"TimeHistory({self.data.shape[0]} instants × {len(self.channels)} channels, {len(self.events)} events)"
+
+
+class FrequencyResponse(_WithSummary):
+    """A frequency response: frf.csv's table (one row per point: ratio ω̄/ω₁, V<f>_W, V<f>_free_W,
+    periodicity, branch, …, docs/output.md) and the summary (the peaks per branch and frame)."""
+
+    def __init__(self, table: Table, summary: Any):
+        self.table = table
+        self._summary_source = summary
+
+    def __getitem__(self, column: str) -> np.ndarray:
+        return self.table[column]
+
+    @property
+    def frames(self) -> int:
+        return sum(1 for n in self.table.names if re.fullmatch(r"V\d+_W", n))
+
+    def __repr__(self) -> str:
+        return f"FrequencyResponse({len(self.table)} points, {self.frames} frames)"
+
+
+class Study(_WithSummary):
+    """A study or an ensemble: its table (study.csv or ensemble.csv: id, status, the parameters,
+    the figures of merit, run_time_s, error), its summary and the database it is kept in."""
+
+    def __init__(self, table: Table, summary: Any, database: Optional[str] = None):
+        self.table = table
+        self._summary_source = summary
+        self.database = database
+        """The SQLite database (study.sqlite, ensemble.sqlite), when it was kept."""
+
+    def __getitem__(self, column: str) -> np.ndarray:
+        return self.table[column]
+
+    @property
+    def kind(self) -> str:
+        return self.summary.to_dict()["analysis"]["kind"]
+
+    @property
+    def parameters(self) -> list[str]:
+        """The keys varied (for an ensemble: the record file)."""
+        return list(self.summary.to_dict().get("parameters", []))
+
+    @property
+    def complete(self) -> bool:
+        return bool(self.summary.to_dict()["complete"])
+
+    def __repr__(self) -> str:
+        return f"Study({self.kind}, {len(self.table)} points)"
+
+
+class Optimization(_WithSummary):
+    """An optimisation: optimize.json (the optimum, its figures against bare pounding, the stages),
+    every evaluation (evaluations.csv) and, for a frequency-response objective, the optimum's and
+    bare pounding's responses (optimum_frf.csv, bare_frf.csv)."""
+
+    def __init__(self, summary: Any, evaluations: Table, optimum_frf: Optional[Table] = None,
+                 bare_frf: Optional[Table] = None):
+        self._summary_source = summary
+        self.evaluations = evaluations
+        self.optimum_frf = optimum_frf
+        self.bare_frf = bare_frf
+
+    @property
+    def optimum(self) -> dict[str, float]:
+        """Design variable key → its value at the optimum."""
+        return dict(self.summary.to_dict()["optimum"])
+
+    def __repr__(self) -> str:
+        return f"Optimization({len(self.evaluations)} evaluations, optimum {self.optimum})"
+
+
+def read(folder: str | os.PathLike):
+    """The results the command line wrote into `folder`: a TimeHistory (history.csv), a
+    FrequencyResponse (frf.csv), a Study (study.csv or ensemble.csv) or an Optimization
+    (optimize.json)."""
+    folder = os.fspath(folder)
+
+    def path(name: str) -> str:
+        return os.path.join(folder, name)
+
+    def summary(name: str = "summary.json") -> dict:
+        with open(path(name)) as f:
+            return json.load(f)
+
+    if os.path.exists(path("optimize.json")):
+        frf = {n: Table.read_csv(path(f"{n}.csv")) if os.path.exists(path(f"{n}.csv")) else None
+               for n in ("optimum_frf", "bare_frf")}
+        return Optimization(summary("optimize.json"), Table.read_csv(path("evaluations.csv")), **frf)
+    if os.path.exists(path("history.csv")):
+        with open(path("history.csv"), newline="") as f:
+            header = next(csv.reader(f))
+        data = np.loadtxt(path("history.csv"), delimiter=",", skiprows=1, ndmin=2)
+        events = Table.read_csv(path("events.csv")) if os.path.exists(path("events.csv")) else None
+        return TimeHistory(data, header[1:], [channel_unit(c) for c in header[1:]],
+                           events.to_records() if events is not None and len(events) else _no_events(), summary())
+    if os.path.exists(path("frf.csv")):
+        return FrequencyResponse(Table.read_csv(path("frf.csv")), summary())
+    for stem in ("study", "ensemble"):
+        if os.path.exists(path(f"{stem}.csv")):
+            db = path(f"{stem}.sqlite")
+            return Study(Table.read_csv(path(f"{stem}.csv")), summary(), db if os.path.exists(db) else None)
+    raise ValueError(f"{folder}: no poundsim results (history.csv, frf.csv, study.csv, ensemble.csv or "
+                     "optimize.json)")
+
+
+def _no_events() -> np.ndarray:
+    return np.zeros(0, dtype=[("t", "<f8"), ("frame_left", "<i4"), ("frame_right", "<i4"), ("floor", "<i4"),
+                              ("right_floor", "<i4"), ("kind", "<U10"), ("relative_velocity_before", "<f8"),
+                              ("relative_velocity_after", "<f8"), ("impulse", "<f8")])
