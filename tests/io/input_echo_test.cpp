@@ -5,11 +5,14 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
+#include "poundsim/io/ground_motion.hpp"
 #include "poundsim/io/input.hpp"
 #include "poundsim/io/study_run.hpp"
 #include "poundsim/io/time_history_run.hpp"
@@ -179,6 +182,110 @@ TEST(InputEcho, AStudyAxisOverAFolderIsEchoedAbsolute) {
   }
   EXPECT_EQ(with_settings(again, points[1]).ensemble->records.size(), 1U);  // examples/records/
   fs::remove_all(elsewhere);
+}
+
+// A model given as a document (the Python module's dicts, docs/python.md): every example's file
+// as written, as JSON, reads to the same input — its echo is the file's echo, to the bit.
+TEST(InputDocument, EveryExampleReadsFromItsDocument) {
+  for (const fs::path& file : example_files()) {
+    const RunInput in = read_input(file);
+    const nlohmann::json document = input_document(in);
+    RunInput again;
+    try {
+      again = read_input_document(document, "document", file.parent_path());
+    } catch (const InputError& e) {
+      ADD_FAILURE() << file << ": the document does not read back: " << e.what() << "\n" << document.dump(2);
+      continue;
+    }
+    EXPECT_EQ(to_toml(again), to_toml(in)) << file;
+    expect_same_model(in.model, again.model, file.string());
+    EXPECT_EQ(input_document(again), document) << file;
+  }
+}
+
+// The document's errors are a file's, naming the key (and `name` for the file); JSON values
+// that are no TOML value are refused naming their path; an integer stays an integer.
+TEST(InputDocument, ErrorsNameTheKeyAsForAFile) {
+  nlohmann::json document = input_document(read_input(fs::path(POUNDSIM_SOURCE_DIR) / "examples/fig2c_ratio0.8.toml"));
+  const auto message = [&](const nlohmann::json& d) {
+    try {
+      static_cast<void>(read_input_document(d, "built in Python", "."));
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  nlohmann::json bad = document;
+  bad["analysis"]["dt"] = -0.001;
+  EXPECT_NE(message(bad).find("built in Python: analysis.dt: must be > 0"), std::string::npos) << message(bad);
+  bad = document;
+  bad["analysis"]["dtt"] = 0.1;
+  EXPECT_NE(message(bad).find("analysis.dtt"), std::string::npos) << message(bad);
+  bad = document;
+  bad["analysis"]["duration"] = nullptr;
+  EXPECT_NE(message(bad).find("built in Python: analysis.duration: None (null) is not a value of a model file"),
+            std::string::npos) << message(bad);
+  EXPECT_NE(message(nlohmann::json::array()).find("a model is a table of tables"), std::string::npos);
+  bad = document;
+  bad["model"]["storeys"] = {1.0, 1};  // a float where a count goes, as in a file
+  EXPECT_NE(message(bad).find("model.storeys"), std::string::npos) << message(bad);
+}
+
+// A record given as samples (excitation.acceleration with dt and units) is the record of a file
+// of the same numbers: the same accelerations and scale; its echo writes the samples back.
+TEST(InputDocument, ARecordAsSamplesIsTheFilesRecord) {
+  const fs::path file = fs::path(POUNDSIM_SOURCE_DIR) / "examples/three_buildings_el_centro.toml";
+  const RunInput from_file = read_input(file);
+  const auto& recorded = std::get<RecordExcitation>(from_file.excitation);
+  nlohmann::json document = input_document(from_file);
+  nlohmann::json& e = document["excitation"];
+  e.erase("file");
+  e["dt"] = 0.01;
+  // The file's own numbers (in g), which the reader scales as it scales the file's.
+  e["acceleration"] = nlohmann::json::array();
+  std::ifstream in(from_file.excitation_info.record_file);
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream fields(line);
+    double t = 0, a = 0;
+    fields >> t >> a;
+    e["acceleration"].push_back(a);
+  }
+  const RunInput samples = read_input_document(document, "samples", ".");
+  const auto& given = std::get<RecordExcitation>(samples.excitation);
+  ASSERT_EQ(given.acceleration.size(), recorded.acceleration.size());
+  EXPECT_EQ(given.acceleration, recorded.acceleration);  // the same numbers, scaled alike, to the bit
+  for (std::size_t k = 0; k < given.time.size(); ++k) EXPECT_NEAR(given.time[k], recorded.time[k], 1e-12);
+  EXPECT_EQ(samples.excitation_info.record_scale, from_file.excitation_info.record_scale);
+  EXPECT_EQ(samples.excitation_info.record_pga_g, from_file.excitation_info.record_pga_g);
+  EXPECT_EQ(samples.excitation_info.record_format, "samples");
+  const RunInput echoed = read_input_string(to_toml(samples), "input.toml", ".");
+  EXPECT_EQ(std::get<RecordExcitation>(echoed.excitation).acceleration, given.acceleration);
+
+  const auto message = [](const nlohmann::json& d) {
+    try {
+      static_cast<void>(read_input_document(d, "m", "."));
+    } catch (const InputError& err) {
+      return std::string(err.what());
+    }
+    return std::string("no error");
+  };
+  nlohmann::json bad = document;
+  bad["excitation"]["file"] = "x.txt";
+  EXPECT_NE(message(bad).find("excitation.file: not with acceleration"), std::string::npos) << message(bad);
+  bad = document;
+  bad["excitation"].erase("units");
+  EXPECT_NE(message(bad).find("missing key: units"), std::string::npos) << message(bad);
+  bad = document;
+  bad["excitation"].erase("dt");
+  EXPECT_NE(message(bad).find("missing key: dt"), std::string::npos) << message(bad);
+  bad = document;
+  bad["excitation"]["acceleration"] = {0.1};
+  EXPECT_NE(message(bad).find("excitation.acceleration: expected an array of at least two"), std::string::npos)
+      << message(bad);
+  bad = document;
+  bad["excitation"]["acceleration"][3] = "x";
+  EXPECT_NE(message(bad).find("excitation.acceleration: item 4 must be a number"), std::string::npos) << message(bad);
 }
 
 }  // namespace

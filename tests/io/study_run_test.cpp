@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <csignal>
 #include <filesystem>
@@ -175,6 +176,77 @@ TEST(StudyRun, ResumesWithoutLosingOrRepeatingPoints) {
   EXPECT_LT(best, 0.9);
   fs::remove_all(whole);
   fs::remove_all(parts);
+}
+
+// A caller that asks a threaded study to stop (Ctrl-C in Python) gets RunStopped once the points
+// running have finished: the database is whole (no -wal or -shm), holds those points, no table or
+// summary is committed, and running again finishes the study with the uninterrupted one's numbers.
+TEST(StudyRun, AStopRequestKeepsTheDatabaseWholeAndResumable) {
+  const RunInput in = read(kStudy);
+  const fs::path whole = fresh("stop_whole"), parts = fresh("stop_parts");
+  static_cast<void>(run_study(in, whole));
+  std::atomic<int> done{0};
+  StudyRunOptions options;
+  options.progress = [&](int count, int) { done = count; };
+  options.stop_requested = [&] { return done >= 3; };  // no point starts once three are done
+  EXPECT_THROW(static_cast<void>(run_study(in, parts, options)), RunStopped);
+  EXPECT_FALSE(fs::exists(parts / "study.sqlite-wal"));
+  EXPECT_FALSE(fs::exists(parts / "study.sqlite-shm"));
+  EXPECT_FALSE(fs::exists(parts / "study.csv"));
+  EXPECT_FALSE(fs::exists(parts / "summary.json"));
+  std::size_t files = 0;
+  for ([[maybe_unused]] const auto& entry : fs::directory_iterator(parts)) ++files;
+  EXPECT_EQ(files, 1u);  // the database alone: no temporary left
+  std::size_t stored = 0;
+  {
+    const StudyDatabase stopped(parts / "study.sqlite");
+    stored = stopped.rows().size();  // three, or four when the other thread had started one
+  }
+  EXPECT_GE(stored, 3u);
+  EXPECT_LE(stored, 4u);
+  const StudyResult rest = run_study(in, parts);
+  EXPECT_EQ(rest.skipped_as_finished, static_cast<long>(stored));
+  EXPECT_TRUE(rest.complete());
+  const StudyDatabase a(whole / "study.sqlite"), b(parts / "study.sqlite");
+  const auto ra = a.rows(), rb = b.rows();
+  ASSERT_EQ(rb.size(), ra.size());
+  for (std::size_t i = 0; i < ra.size(); ++i) EXPECT_EQ(ra[i].metrics, rb[i].metrics);
+  // A progress callback that throws RunStopped stops it the same way.
+  const fs::path again = fresh("stop_progress");
+  StudyRunOptions by_progress;
+  by_progress.progress = [](int count, int) {
+    if (count >= 2) throw RunStopped();
+  };
+  EXPECT_THROW(static_cast<void>(run_study(in, again, by_progress)), RunStopped);
+  EXPECT_GE(StudyDatabase(again / "study.sqlite").rows().size(), 2u);
+  EXPECT_FALSE(fs::exists(again / "study.sqlite-wal"));
+  for (const fs::path& d : {whole, parts, again}) fs::remove_all(d);
+}
+
+// The study table is study.csv column for column: whole numbers as int64, numbers (NaN where a
+// point has none), text; units from the names.
+TEST(StudyRun, TheStudyTableIsTheCsvTyped) {
+  const RunInput in = read(kStudy);
+  const fs::path dir = fresh("table");
+  const StudyResult r = run_study(in, dir);
+  const Table table = study_table(r.parameters, r.rows);
+  ASSERT_EQ(table.rows(), 9u);
+  const auto column = [&](const std::string& name) -> const TableColumn& {
+    for (const TableColumn& c : table.columns()) {
+      if (c.name == name) return c;
+    }
+    throw std::logic_error(name);
+  };
+  EXPECT_EQ(std::get<TableColumn::Integers>(column("id").values).back(), 9);
+  EXPECT_EQ(std::get<TableColumn::Numbers>(column("model.dimensionless.mu").values)[1], 1.25);
+  EXPECT_EQ(column("max_peak_V_W").unit, "1");
+  EXPECT_EQ(column("run_time_s").unit, "s");
+  EXPECT_EQ(std::get<TableColumn::Texts>(column("status").values)[0], "done");
+  // The CSV written from it is the file the study wrote.
+  const fs::path again = dir / "again.csv";
+  export_study(dir / "study.sqlite", again);
+  EXPECT_EQ(slurp(again), slurp(dir / "study.csv"));
+  fs::remove_all(dir);
 }
 
 TEST(StudyRun, PointsKeepTheOverridesOfTheirStudy) {

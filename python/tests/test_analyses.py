@@ -1,0 +1,253 @@
+"""Every analysis from Python against the command line (frequency response, study, ensemble,
+optimisation: the same numbers, bit for bit), Ctrl-C in a threaded study, and models built in
+Python (dicts, the Model builder, the paper's dimensionless form, NumPy records, initial
+conditions) against the TOML files and closed forms (docs/python.md)."""
+
+import csv
+import json
+import math
+import os
+import pathlib
+import signal
+import sqlite3
+import subprocess
+import sys
+import textwrap
+import time
+
+import numpy as np
+import pytest
+
+import poundsim
+
+SOURCE = pathlib.Path(os.environ.get("POUNDSIM_SOURCE_DIR", pathlib.Path(__file__).resolve().parents[2]))
+CLI = os.environ.get("POUNDSIM_CLI", str(SOURCE / "build" / "ci" / "poundsim"))
+EXAMPLES = SOURCE / "examples"
+
+
+def cli_run(model, out, *settings):
+    args = [CLI, "run", str(model), "--out", str(out), "--quiet"]
+    for s in settings:
+        args += ["--set", s]
+    subprocess.run(args, check=True)
+    return out
+
+
+def assert_table_is_csv(table: poundsim.Table, path, skip=("run_time_s",)):
+    """Every field of the CSV is the table's value, to the bit (a number's shortest form reads back
+    to the same double), in the same columns."""
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    header, body = rows[0], rows[1:]
+    assert table.names == header
+    assert len(table) == len(body)
+    for k, name in enumerate(header):
+        if name in skip:
+            continue
+        column = table[name]
+        for r, row in enumerate(body):
+            field, value = row[k], column[r]
+            if column.dtype.kind == "f":
+                assert (field == "" and math.isnan(value)) or float(field) == value, (name, r, field, value)
+            elif column.dtype.kind == "i":
+                assert int(field) == value, (name, r)
+            else:
+                assert field == value, (name, r)
+
+
+def same_summary(a: dict, b: dict, skip=("run_time_s", "database")):
+    return {k: v for k, v in a.items() if k not in skip} == {k: v for k, v in b.items() if k not in skip}
+
+
+def test_frequency_response_is_the_command_lines(tmp_path):
+    settings = ["frf.points=12", "frf.sweep=both"]
+    out = cli_run(EXAMPLES / "paper" / "fig2c.toml", tmp_path / "cli", *settings)
+    calls = []
+    fr = poundsim.run(poundsim.load(EXAMPLES / "paper" / "fig2c.toml", settings=settings),
+                      progress=lambda done, total: calls.append((done, total)), progress_interval=0)
+    assert isinstance(fr, poundsim.FrequencyResponse)
+    assert_table_is_csv(fr.table, out / "frf.csv")
+    assert same_summary(fr.summary.to_dict(), json.load(open(out / "summary.json")))
+    assert fr.table["V1_W"].dtype == np.float64 and fr.table["periodicity"].dtype == np.int64
+    assert fr.table.unit("top1_m") == "m" and fr.table.unit("V1_W") == "1" and fr.table.unit("omega_rad_s") == "rad/s"
+    assert set(fr["branch"]) == {"up", "down"}
+    assert calls[-1] == (24, 24)  # both sweeps' 12 points, reported at the end
+    # The columns are NumPy's own memory, not a copy of Python objects.
+    assert fr["V1_W"].flags.c_contiguous and fr.frames == 2
+
+
+def test_study_is_the_command_lines(tmp_path):
+    settings = ["frf.points=7", "study.parameter[1].values=[0.0, 0.125]", "study.parameter[2].values=[0.5, 1.0]"]
+    model = EXAMPLES / "study_eta_mu.toml"
+    out = cli_run(model, tmp_path / "cli", *settings)
+    study = poundsim.run(poundsim.load(model, settings=settings), out=tmp_path / "py", progress=False)
+    assert isinstance(study, poundsim.Study) and study.complete and study.kind == "study"
+    assert_table_is_csv(study.table, out / "study.csv")
+    assert (tmp_path / "py" / "study.csv").read_text().splitlines()[0] == (out / "study.csv").read_text().splitlines()[0]
+    assert same_summary(study.summary.to_dict(), json.load(open(out / "summary.json")))
+    assert study.database == str(tmp_path / "py" / "study.sqlite")
+    assert study.parameters == ["model.dimensionless.eta", "model.dimensionless.mu"]
+    assert list(study["id"]) == [1, 2, 3, 4] and study["max_peak_V_W"].dtype == np.float64
+    # In a temporary folder by default: nothing is kept.
+    again = poundsim.run(poundsim.load(model, settings=settings), progress=False)
+    assert again.database is None
+    np.testing.assert_array_equal(again["max_peak_V_W"], study["max_peak_V_W"])
+
+
+def test_ensemble_is_the_command_lines(tmp_path):
+    model = EXAMPLES / "ensemble_fig2_frames.toml"
+    out = cli_run(model, tmp_path / "cli")
+    ensemble = poundsim.run(poundsim.load(model), out=tmp_path / "py", progress=False)
+    assert ensemble.kind == "ensemble" and len(ensemble.table) == 4
+    assert_table_is_csv(ensemble.table, out / "ensemble.csv")
+    assert same_summary(ensemble.summary.to_dict(), json.load(open(out / "summary.json")))
+    assert ensemble.summary.mean.ratio_to_free_1 == json.load(open(out / "summary.json"))["mean"]["ratio_to_free_1"]
+
+
+def test_optimization_is_the_command_lines(tmp_path):
+    settings = ["frf.points=9", "optimize.global_evaluations=5", "optimize.local_evaluations=4"]
+    model = EXAMPLES / "optimize_gap_elements.toml"
+    out = cli_run(model, tmp_path / "cli", *settings)
+    opt = poundsim.run(poundsim.load(model, settings=settings), progress=False)
+    assert isinstance(opt, poundsim.Optimization)
+    assert_table_is_csv(opt.evaluations, out / "evaluations.csv")
+    assert_table_is_csv(opt.optimum_frf, out / "optimum_frf.csv")
+    assert_table_is_csv(opt.bare_frf, out / "bare_frf.csv")
+    assert same_summary(opt.summary.to_dict(), json.load(open(out / "optimize.json")))
+    best = np.nanmin(opt.evaluations["objective"])
+    assert opt.summary.objective == best < opt.summary.comparison.objective.bare_pounding
+    assert set(opt.optimum) == {"model.dimensionless.eta", "model.dimensionless.mu", "model.dimensionless.epsilon"}
+
+
+STOPPED_STUDY = textwrap.dedent("""
+    import sys, poundsim
+    model = poundsim.load(sys.argv[1], settings=["study.threads=2", "frf.points=30",
+        "study.parameter[1].values=[0.0, 0.0625, 0.125, 0.25, 0.5, 0.75]"])
+    seen = []
+    try:
+        poundsim.run(model, out=sys.argv[2], progress=lambda d, t: d and (seen.append(d) or print(d, flush=True)),
+                     progress_interval=0.05)
+        print("finished")
+    except KeyboardInterrupt:
+        print("interrupted after", max(seen or [0]), flush=True)
+""")
+
+
+def test_ctrl_c_stops_a_threaded_study_and_keeps_its_database_whole(tmp_path):
+    model = EXAMPLES / "study_eta_mu.toml"
+    out = tmp_path / "stopped"
+    child = subprocess.Popen([sys.executable, "-c", STOPPED_STUDY, str(model), str(out)], stdout=subprocess.PIPE,
+                             text=True, env=dict(os.environ))
+    first = child.stdout.readline()  # a point is done: the study is under way
+    assert first.strip().isdigit(), first
+    child.send_signal(signal.SIGINT)
+    started = time.monotonic()
+    rest, _ = child.communicate(timeout=60)
+    assert "interrupted after" in rest, rest
+    assert time.monotonic() - started < 30
+    assert sorted(p.name for p in out.iterdir()) == ["study.sqlite"]  # no -wal, -shm, temporary, csv
+    db = sqlite3.connect(f"file:{out / 'study.sqlite'}?mode=rw", uri=True)
+    stored = db.execute("SELECT COUNT(*) FROM points").fetchone()[0]
+    assert db.execute("PRAGMA integrity_check").fetchone()[0] == "ok"
+    db.close()
+    assert 1 <= stored < 24
+    # Run again: it goes on from there and ends with the numbers of an uninterrupted run.
+    settings = ["study.threads=2", "frf.points=30", "study.parameter[1].values=[0.0, 0.0625, 0.125, 0.25, 0.5, 0.75]"]
+    resumed = poundsim.run(poundsim.load(model, settings=settings), out=out, progress=False)
+    assert resumed.summary.skipped_as_finished == stored and resumed.complete
+    whole = poundsim.run(poundsim.load(model, settings=settings), progress=False)
+    for name in whole.table.names:
+        if name != "run_time_s":
+            np.testing.assert_array_equal(resumed[name], whole[name])
+
+
+def fig2c_model() -> poundsim.Model:
+    """examples/fig2c_ratio0.8.toml, built in Python."""
+    m = poundsim.Model(title="Fig. 2c system at ω̄/ω₁ = 0.8")
+    m.dimensionless(storeys=[1, 1], lambda2=200.0, alpha=0.25, beta=1.0, gamma=0.5, xi=0.05, delta=0.25, eta=0.125,
+                    mu=1.0, epsilon=0.5, restitution=0.75)
+    m.excitation(**poundsim.harmonic(0.2, ratio=0.8))
+    m.analysis(kind="time_history", duration=20.0, dt=0.001, output_dt=0.01)
+    return m
+
+
+def test_a_model_built_in_python_runs_as_its_file(tmp_path):
+    from_file = poundsim.run(poundsim.load(EXAMPLES / "fig2c_ratio0.8.toml"), progress=False)
+    built = poundsim.run(fig2c_model(), progress=False)
+    np.testing.assert_array_equal(built.data, from_file.data)
+    assert built.channels == from_file.channels
+    assert built.summary.peaks.to_dict() == from_file.summary.peaks.to_dict()
+    # Saved, it is a model file the command line runs to the same history.
+    fig2c_model().save(tmp_path / "built.toml")
+    out = cli_run(tmp_path / "built.toml", tmp_path / "cli")
+    np.testing.assert_array_equal(np.loadtxt(out / "history.csv", delimiter=",", skiprows=1), built.data)
+    # And the input reads back from its document: to_dict and from_dict are one truth.
+    loaded = poundsim.load(EXAMPLES / "three_buildings_el_centro.toml")
+    again = poundsim.from_dict(loaded.to_dict(), name="again")
+    assert again.to_toml() == loaded.to_toml()
+
+
+def test_frames_gap_elements_and_a_numpy_record(tmp_path):
+    """Three buildings under El Centro given as a NumPy array: the file's run, to rounding of the
+    record's times (k·dt here, the file's printed times there)."""
+    from_file = poundsim.load(EXAMPLES / "three_buildings_el_centro.toml", settings=["analysis.duration=6.0"])
+    samples = np.loadtxt(EXAMPLES / "records" / "elcentro_1940_elc180_g.txt")[:, 1]
+    m = poundsim.Model(title="three buildings")
+    m.frame(name="8-storey frame", mass=4.0e5, stiffness=np.array([3.2e8, 3.0e8, 2.8e8, 2.6e8, 2.4e8, 2.2e8, 2.0e8, 1.8e8]),
+            damping_ratio=0.05, storey_height=3.2)
+    m.frame(name="4-storey block", storeys=4, mass=5.0e5, stiffness=6.0e8, damping_ratio=0.05, storey_height=3.2)
+    m.frame(name="annex", storeys=2, mass=2.0e5, stiffness=2.0e8, damping=4.0e5, storey_height=3.2)
+    m.gap_elements(gap=0.03, restitution=0.65)
+    m.gap_override(frames=[2, 3], floor=2, joint_width=0.03, gap=0.02, stiffness=5.0e7, damping=2.0e5,
+                   shortening=0.01, restitution=0.65)
+    m.excitation(**poundsim.record(samples, dt=0.01, units="g", target_pga_g=0.5))
+    m.analysis(kind="time_history", dt=0.002, output_dt=0.01, separation="force", duration=6.0)
+    built = m.build(name="three buildings")
+    a = poundsim.run(built, progress=False)
+    b = poundsim.run(from_file, progress=False)
+    assert a.channels == b.channels
+    for name in b.channels:
+        # Each channel to 1e-8 of its peak; the energy residual is round-off itself (1e-8 J).
+        scale = 1e6 if name == "E_residual" else np.abs(b[name]).max()
+        assert np.abs(a[name] - b[name]).max() <= 1e-8 * scale, name
+    assert a.summary.excitation.format == "samples" and a.summary.excitation.file is None
+    assert a.summary.excitation.pga_g == pytest.approx(0.5, rel=1e-12)
+    assert len(a.events) == len(b.events) > 0
+
+
+def test_initial_conditions_give_the_free_vibration_of_the_closed_form():
+    """One undamped storey released from u₀: u = u₀ cos ωt with ω = √(k/m), by the exact integrator."""
+    k, mass, u0 = 4.0e6, 1.0e4, 0.01
+    m = poundsim.Model()
+    m.frame(mass=mass, stiffness=k, storeys=1, damping=0.0)
+    m.frame(mass=mass, stiffness=k, storeys=1, damping=0.0)
+    m.gap_elements(gap=1.0, restitution=1.0)  # wide: never closes
+    m.initial(displacement=np.array([[u0], [0.0]]), velocity=[[0.0], [0.0]])
+    m.excitation(kind="none")
+    m.analysis(kind="time_history", integrator="exact", duration=1.0, dt=0.01, output_dt=0.01)
+    th = poundsim.run(m, channels=["u_*"], progress=False)
+    omega = math.sqrt(k / mass)
+    np.testing.assert_allclose(th["u_1_1"], u0 * np.cos(omega * th.time), rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(th["u_2_1"], 0.0)
+
+
+def test_models_built_in_python_get_the_command_lines_errors():
+    m = fig2c_model()
+    m.analysis(dt=-0.001)
+    with pytest.raises(poundsim.InputError, match=r"^mine: analysis\.dt: must be > 0"):
+        m.build(name="mine")
+    m = fig2c_model()
+    m.analysis(dtt=0.1)
+    with pytest.raises(ValueError, match=r"analysis\.dtt"):
+        m.build()
+    with pytest.raises(TypeError, match=r"analysis\.duration: None \(NoneType\) is not a value of a model file"):
+        poundsim.from_dict({**fig2c_model().to_dict(), "analysis": {"kind": "time_history", "duration": None}})
+    with pytest.raises(TypeError, match=r"excitation\.amplitude_g: .* is not a value of a model file"):
+        poundsim.from_dict({**fig2c_model().to_dict(), "excitation": {"kind": "harmonic", "amplitude_g": object()}})
+    m = fig2c_model()
+    m.excitation(**poundsim.record([0.1, 0.2, float("nan")], dt=0.01, units="g"))
+    with pytest.raises(ValueError, match=r"excitation\.acceleration"):
+        m.build()
+    m.excitation(**poundsim.record([0.1, 0.2], dt=0.01, units="g", file="x.txt"))
+    with pytest.raises(ValueError, match=r"excitation\.file: not with acceleration"):
+        m.build()
