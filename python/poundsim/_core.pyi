@@ -43,12 +43,47 @@ class Input:
         """The input as TOML, as the command line's input.toml writes it."""
     def with_settings(self, settings: Sequence[str]) -> Input:
         """The same file read again with these `key=value` settings after its own."""
+    def to_dict(self) -> dict:
+        """The model file as written (settings applied, paths absolute) as dicts and lists."""
+    def save(self, file: str | os.PathLike[str]) -> None:
+        """Writes the model file as written (TOML), whole or not at all."""
 
 def load(file: str | os.PathLike[str], settings: Sequence[str] = ...) -> Input:
     """Reads and checks a model file, with `key=value` settings applied as --set applies them."""
 
 def loads(text: str, name: str = ..., base_dir: str | os.PathLike[str] = ..., settings: Sequence[str] = ...) -> Input:
     """Reads and checks a model given as TOML text."""
+
+def from_dict(document: dict, name: str = ..., base_dir: str | os.PathLike[str] = ...,
+              settings: Sequence[str] = ...) -> Input:
+    """Reads and checks a model given as the model file's tables (dicts, lists, numbers, str, NumPy arrays)."""
+
+class FrequencyResponseRun:
+    table: dict[str, np.ndarray]
+    units: dict[str, str]
+    summary: dict
+
+def run_frequency_response(input: Input, progress: Optional[Callable[[int, int], None]] = ...,
+                           progress_interval: float = ...) -> FrequencyResponseRun: ...
+
+class StudyRun:
+    table: dict[str, np.ndarray]
+    units: dict[str, str]
+    summary: dict
+    database: str
+
+def run_study(input: Input, out: str | os.PathLike[str], max_points: int = ...,
+              progress: Optional[Callable[[int, int], None]] = ..., progress_interval: float = ...) -> StudyRun: ...
+
+class OptimizationRun:
+    summary: dict
+    evaluations: dict[str, np.ndarray]
+    evaluation_units: dict[str, str]
+    optimum_frf: Optional[tuple[dict[str, np.ndarray], dict[str, str]]]
+    bare_frf: Optional[tuple[dict[str, np.ndarray], dict[str, str]]]
+
+def run_optimization(input: Input, out: str | os.PathLike[str], progress: Optional[Callable[[int, int], None]] = ...,
+                     progress_interval: float = ...) -> OptimizationRun: ...
 
 class TimeHistoryRun:
     data: npt.NDArray[np.float64]

@@ -72,6 +72,21 @@ class Table:
 
         return pd.DataFrame(self._columns)
 
+    def to_dict(self) -> dict[str, list]:
+        """Column name → its values as a list."""
+        return {name: values.tolist() for name, values in self._columns.items()}
+
+    @classmethod
+    def from_records(cls, records: list[dict]) -> "Table":
+        """A table of JSON-like records (a summary's list of floors, joints or elements): nested
+        objects become dotted columns ("displacement_m.value", "rules.srss_m"), lists of values
+        indexed ones ("frames[1]"); a value a record lacks is missing (NaN, or "")."""
+        flat = [_flatten(r) for r in records]
+        names: dict[str, None] = {}
+        for row in flat:
+            names.update(dict.fromkeys(row))
+        return cls({name: _column([row.get(name) for row in flat]) for name in names})
+
     def __repr__(self) -> str:
         return f"Table({len(self)} rows: {', '.join(self._columns)})"
 
@@ -101,6 +116,31 @@ def _typed(fields: list[str]) -> np.ndarray:
         return np.array(fields, dtype=str)
 
 
+def _flatten(record: Any, prefix: str = "") -> dict:
+    if isinstance(record, dict):
+        out = {}
+        for key, value in record.items():
+            out.update(_flatten(value, f"{prefix}.{key}" if prefix else key))
+        return out
+    if isinstance(record, list):
+        out = {}
+        for k, value in enumerate(record, start=1):
+            out.update(_flatten(value, f"{prefix}[{k}]"))
+        return out
+    return {prefix: record}
+
+
+def _column(values: list) -> np.ndarray:
+    present = [v for v in values if v is not None]
+    if present and all(isinstance(v, bool) for v in present) and len(present) == len(values):
+        return np.array(values, dtype=bool)
+    if present and all(isinstance(v, int) and not isinstance(v, bool) for v in present) and len(present) == len(values):
+        return np.array(values, dtype=np.int64)
+    if all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in present):
+        return np.array([np.nan if v is None else float(v) for v in values], dtype=np.float64)
+    return np.array(["" if v is None else str(v) for v in values], dtype=str)
+
+
 # The units of history channels and table columns, from their names (analysis/channels.hpp,
 # docs/output.md); the module's own units are checked against these by python/tests.
 _CHANNEL_UNITS = [
@@ -120,12 +160,21 @@ def channel_unit(name: str) -> str:
 
 def column_unit(name: str) -> str:
     """The unit of a table column from its name: SI suffixes (_m, _s, _N, _J, _rad_s, _g), "1" for
-    ratios (V1_W, …_ratio…), "" otherwise."""
-    for suffix, unit in (("_rad_s", "rad/s"), ("_m", "m"), ("_s", "s"), ("_N", "N"), ("_J", "J"), ("_g", "g"),
-                         ("_W", "1")):
+    ratios (V1_W, max_ratio_to_free, gap_over_min_gap), "" otherwise; a summary's {value, time} pair flattened
+    ("displacement_m.value", "displacement_m.time") has the value's unit and seconds."""
+    name = re.sub(r"\[\d+\]$", "", name)
+    if name.endswith(".time"):
+        return "s"
+    if name.endswith(".value"):
+        name = name[: -len(".value")]
+    if re.match(r"(amplification|rule_over_min_gap)\.", name):
+        return "1"
+    name = name.rsplit(".", 1)[-1]
+    for suffix, unit in (("_rad_s", "rad/s"), ("_m_s2", "m/s2"), ("_m_s", "m/s"), ("_m", "m"), ("_s", "s"),
+                         ("_Ns", "N·s"), ("_N", "N"), ("_J", "J"), ("_g", "g"), ("_W", "1")):
         if name.endswith(suffix):
             return unit
-    return "1" if "ratio" in name else ""
+    return "1" if re.search(r"(^|_)(ratio|over|amplification)(_|$)", name) else ""
 
 
 class Summary:
@@ -226,6 +275,39 @@ class TimeHistory(_WithSummary):
 
     def unit(self, channel: str) -> str:
         return self.units[self._index[channel]]
+
+    # The summary's typed views (docs/output.md#summaryjson): one row per item, NumPy columns.
+    @property
+    def floor_peaks(self) -> Table:
+        """Per floor of every frame: frame, floor, the peaks (displacement_m.value and .time,
+        velocity, accelerations, interstorey drift and its ratio), the free frame's (free.…) and
+        the amplifications pounding ÷ free (amplification.…)."""
+        return Table.from_records(self.summary.to_dict()["peaks"]["floors"])
+
+    @property
+    def base_shear_peaks(self) -> Table:
+        """Per frame: value_N, time, over_own_weight, over_frame1_weight, free_value_N, amplification."""
+        return Table.from_records(self.summary.to_dict()["peaks"]["base_shear"])
+
+    @property
+    def separation(self) -> Table:
+        """The separation check, per pair of facing floors: min_gap_m (the smallest gap that avoids
+        contact, from the free frames) and when, the free peaks, the code rules (rules.absolute_sum_m,
+        rules.srss_m, rules.srss_same_floor_levels_m, rules.ddc_m) and each ÷ the minimum gap, the
+        element's gap_m and whether there was contact."""
+        return Table.from_records(self.summary.to_dict()["separation"])
+
+    @property
+    def gap_element_results(self) -> Table:
+        """Per gap element: contacts, impacts, peak force, impulse and shortening, contact time,
+        effective restitution, dissipated energy, min_gap_m (summary.json's gap_elements)."""
+        return Table.from_records(self.summary.to_dict()["gap_elements"])
+
+    @property
+    def energy(self) -> Summary:
+        """The energy balance at the end [J]: input_J, kinetic_J, storey and gap strain, damping,
+        impact_loss_J, residual_J and the relative residual."""
+        return self.summary.energy
 
     @property
     def frame_names(self) -> list[str]:

@@ -251,3 +251,35 @@ def test_models_built_in_python_get_the_command_lines_errors():
     m.excitation(**poundsim.record([0.1, 0.2], dt=0.01, units="g", file="x.txt"))
     with pytest.raises(ValueError, match=r"excitation\.file: not with acceleration"):
         m.build()
+
+
+def test_summaries_as_typed_tables():
+    """The summary's lists as tables of NumPy columns: the values of summary.json, the separation
+    rules their closed forms of the free peaks, the peaks at least the sampled history's."""
+    th = poundsim.run(poundsim.load(EXAMPLES / "three_buildings_el_centro.toml", settings=["analysis.duration=5.0"]),
+                      channels=["u_*"], progress=False)
+    summary = th.summary.to_dict()
+    floors = th.floor_peaks
+    assert floors["frame"].dtype == np.int64 and len(floors) == 8 + 4 + 2
+    assert floors.unit("displacement_m.value") == "m" and floors.unit("displacement_m.time") == "s"
+    assert floors.unit("amplification.displacement") == "1"
+    np.testing.assert_array_equal(floors["displacement_m.value"],
+                                  [f["displacement_m"]["value"] for f in summary["peaks"]["floors"]])
+    for frame, floor, peak in zip(floors["frame"], floors["floor"], floors["displacement_m.value"]):
+        assert peak >= np.abs(th[f"u_{frame}_{floor}"]).max()  # located between output instants
+    np.testing.assert_array_equal(floors["amplification.displacement"],
+                                  floors["displacement_m.value"] / floors["free.displacement_m"])
+    rules = th.separation
+    assert rules["contact"].dtype == bool and rules.unit("rules.srss_m") == "m"
+    a, b = rules["free_peak_displacement_m[1]"], rules["free_peak_displacement_m[2]"]
+    np.testing.assert_allclose(rules["rules.absolute_sum_m"], a + b, rtol=1e-15)
+    np.testing.assert_allclose(rules["rules.srss_m"], np.hypot(a, b), rtol=1e-15)
+    np.testing.assert_allclose(rules["rule_over_min_gap.srss"], rules["rules.srss_m"] / rules["min_gap_m"], rtol=1e-15)
+    shear = th.base_shear_peaks
+    np.testing.assert_array_equal(shear["value_N"], [s["value_N"] for s in summary["peaks"]["base_shear"]])
+    assert th.gap_element_results["impacts"].sum() == summary["impacts"]
+    assert th.energy.input_J == summary["energy"]["input_J"]
+    assert th.frame_names == ["8-storey frame", "4-storey block", "annex"]
+    flat = poundsim.Table.from_records([{"a": 1, "b": {"c": 2.5}, "d": [1, 2]}, {"a": 2, "d": [3, 4]}])
+    assert flat.names == ["a", "b.c", "d[1]", "d[2]"] and flat["a"].dtype == np.int64
+    assert flat["b.c"][0] == 2.5 and math.isnan(flat["b.c"][1]) and list(flat["d[2]"]) == [2, 4]

@@ -578,7 +578,14 @@ std::string column_unit(std::string_view name) {
            {"_W", "1"}}) {
     if (name.ends_with(suffix)) return std::string(unit);
   }
-  return name.find("ratio") != std::string_view::npos ? "1" : "";
+  // A ratio: a word of the name (max_ratio_to_free, ratio_to_bare_1), not "acceleration"'s letters.
+  for (const std::string_view word : {"ratio", "over", "amplification"}) {
+    for (std::size_t at = name.find(word); at != std::string_view::npos; at = name.find(word, at + 1)) {
+      const std::size_t end = at + word.size();
+      if ((at == 0 || name[at - 1] == '_') && (end == name.size() || name[end] == '_')) return "1";
+    }
+  }
+  return "";
 }
 
 Table study_table(const std::vector<std::string>& parameters, const std::vector<StudyDatabase::Row>& rows) {

@@ -117,7 +117,7 @@ std::string report(const StudyResult& result, const std::filesystem::path& out_d
 [[nodiscard]] Table study_table(const std::vector<std::string>& parameters, const std::vector<StudyDatabase::Row>& rows);
 
 /// The unit of a study or optimisation column from its name's SI suffix (_m, _s, _N, _Ns, _J,
-/// _g, _rad_s; _W and names with "ratio": "1"), "" otherwise.
+/// _g, _rad_s; _W and names with the word "ratio", "over" or "amplification": "1"), "" otherwise.
 [[nodiscard]] std::string column_unit(std::string_view name);
 
 /// Writes the points of a study database as CSV: id, status, parameters, metrics, error, run time.
