@@ -283,3 +283,39 @@ def test_summaries_as_typed_tables():
     flat = poundsim.Table.from_records([{"a": 1, "b": {"c": 2.5}, "d": [1, 2]}, {"a": 2, "d": [3, 4]}])
     assert flat.names == ["a", "b.c", "d[1]", "d[2]"] and flat["a"].dtype == np.int64
     assert flat["b.c"][0] == 2.5 and math.isnan(flat["b.c"][1]) and list(flat["d[2]"]) == [2, 4]
+
+
+def test_a_numpy_record_is_the_at2_files_record_to_the_bit(tmp_path):
+    """The El Centro samples as a NumPy array and PEER's AT2 file of them (poundsim.record(file=…)):
+    both sampled at k·dt, the same accelerations, so the same run to the bit."""
+    at2 = SOURCE / "data" / "ground_motions" / "RSN6_IMPVALL.I_I-ELC180.AT2"
+    samples = np.loadtxt(EXAMPLES / "records" / "elcentro_1940_elc180_g.txt")[:, 1]
+
+    def three_buildings(excitation):
+        m = poundsim.Model(document=poundsim.load(EXAMPLES / "three_buildings_el_centro.toml").to_dict())
+        m.excitation(**excitation)
+        m.analysis(duration=4.0)
+        return poundsim.run(m, progress=False)
+
+    from_file = three_buildings(poundsim.record(file=at2, target_pga_g=0.5))
+    from_array = three_buildings(poundsim.record(samples, dt=0.01, units="g", target_pga_g=0.5))
+    np.testing.assert_array_equal(from_array.data, from_file.data)
+    assert from_file.summary.excitation.format == "at2" and from_array.summary.excitation.points == len(samples)
+
+
+def test_ctrl_c_stops_a_frequency_response(tmp_path):
+    script = textwrap.dedent("""
+        import sys, poundsim
+        model = poundsim.load(sys.argv[1], settings=["frf.points=400", "frf.threads=2"])
+        try:
+            poundsim.run(model, progress=lambda d, t: d and print(d, flush=True), progress_interval=0.05)
+            print("finished")
+        except KeyboardInterrupt:
+            print("interrupted", flush=True)
+    """)
+    child = subprocess.Popen([sys.executable, "-c", script, str(EXAMPLES / "paper" / "fig2c.toml")],
+                             stdout=subprocess.PIPE, text=True)
+    assert child.stdout.readline().strip().isdigit()
+    child.send_signal(signal.SIGINT)
+    rest, _ = child.communicate(timeout=60)
+    assert rest.splitlines()[-1] == "interrupted", rest
