@@ -13,8 +13,10 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <condition_variable>
 #include <cstdint>
 #include <exception>
@@ -111,8 +113,17 @@ py::object events_array(const std::vector<EventRow>& rows) {
   return np.attr("array")(records, py::arg("dtype") = np.attr("dtype")(fields));
 }
 
+/// The wall-clock interval between progress calls: finite and ≥ 0.
+double checked_interval(double seconds) {
+  if (!(std::isfinite(seconds) && seconds >= 0)) {
+    throw py::value_error(fmt::format("progress_interval: {} s must be a finite number ≥ 0", seconds));
+  }
+  return seconds;
+}
+
 TimeHistoryRun run_time_history(const io::RunInput& input, const std::optional<std::vector<std::string>>& patterns,
                                 const py::object& progress, double progress_interval) {
+  checked_interval(progress_interval);
   if (input.analysis.kind != io::AnalysisKind::time_history) {
     throw py::value_error(fmt::format("{}: analysis.kind: \"{}\" is not a time history", input.source.string(),
                                       to_string(input.analysis.kind)));
@@ -189,8 +200,16 @@ TimeHistoryRun run_time_history(const io::RunInput& input, const std::optional<s
 
 /// A Python value of a model document as JSON: dicts (str keys), lists and tuples, NumPy arrays
 /// and scalars, bool, int, float, str and paths; `path` names it in messages.
-nlohmann::json to_document(const py::handle& value, const std::string& path) {
+nlohmann::json to_document(const py::handle& value, const std::string& path, int depth = 0) {
   const auto where = [&] { return path.empty() ? std::string("the model") : path; };
+  // A model file nests a few tables deep; deeper is a container that holds itself.
+  if (depth > 32) throw py::type_error(fmt::format("{}: nested more than 32 deep (a container that holds itself?)", where()));
+  const py::module_ np = py::module_::import("numpy");
+  if (py::isinstance(value, np.attr("ndarray")) || py::isinstance(value, np.attr("generic"))) {
+    const py::object plain = value.attr("tolist")();  // Python numbers and lists
+    // A NumPy number with no Python equivalent (long double, complex) stays itself: refused below.
+    if (!py::isinstance(plain, np.attr("generic"))) return to_document(plain, path, depth + 1);
+  }
   if (py::isinstance<py::dict>(value)) {
     nlohmann::json object = nlohmann::json::object();
     for (const auto& [key, item] : py::reinterpret_borrow<py::dict>(value)) {
@@ -198,15 +217,14 @@ nlohmann::json to_document(const py::handle& value, const std::string& path) {
         throw py::type_error(fmt::format("{}: the key {} is not a str", where(), py::repr(key).cast<std::string>()));
       }
       const auto name = key.cast<std::string>();
-      object[name] = to_document(item, path.empty() ? name : path + "." + name);
+      object[name] = to_document(item, path.empty() ? name : path + "." + name, depth + 1);
     }
     return object;
   }
-  if (py::isinstance<py::array>(value) || py::hasattr(value, "tolist")) return to_document(value.attr("tolist")(), path);
   if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
     nlohmann::json items = nlohmann::json::array();
     std::size_t k = 0;
-    for (const py::handle item : value) items.push_back(to_document(item, fmt::format("{}[{}]", where(), ++k)));
+    for (const py::handle item : value) items.push_back(to_document(item, fmt::format("{}[{}]", where(), ++k), depth + 1));
     return items;
   }
   if (py::isinstance<py::bool_>(value)) return value.cast<bool>();
@@ -220,7 +238,9 @@ nlohmann::json to_document(const py::handle& value, const std::string& path) {
   }
   if (py::isinstance<py::float_>(value)) return value.cast<double>();
   if (py::isinstance<py::str>(value)) return value.cast<std::string>();
-  if (py::hasattr(value, "__fspath__")) return py::str(value.attr("__fspath__")()).cast<std::string>();
+  if (py::hasattr(value, "__fspath__")) {
+    return py::module_::import("os").attr("fsdecode")(value).cast<std::string>();  // bytes paths decoded
+  }
   throw py::type_error(fmt::format("{}: {} ({}) is not a value of a model file (dict, list, number, bool or str)",
                                    where(), py::repr(value).cast<std::string>(),
                                    py::str(value.get_type().attr("__name__")).cast<std::string>()));
@@ -264,13 +284,23 @@ py::tuple table_to_python(io::Table&& table) {
 template <typename Work>
 auto run_stoppable(const Work& work, const py::object& progress, double interval) {
   using Result = decltype(work(std::function<void(int, int)>{}, std::function<bool()>{}));
+  checked_interval(interval);
   std::atomic<bool> stop{false};
-  std::atomic<int> done{0}, total{0};
+  // (done, total) in one word, so that the two are read together; done never goes back (threads
+  // report out of order).
+  std::atomic<std::uint64_t> counts{0};
+  const auto pack = [](std::uint32_t d, std::uint32_t t) { return (std::uint64_t{d} << 32) | t; };
   const std::function<bool()> stop_requested = [&] { return stop.load(); };
   const std::function<void(int, int)> report = [&](int d, int t) {
-    done = d;
-    total = t;
+    const auto done = static_cast<std::uint32_t>(std::max(d, 0)), total = static_cast<std::uint32_t>(std::max(t, 0));
+    std::uint64_t seen = counts.load();
+    while ((seen >> 32) <= done && !counts.compare_exchange_weak(seen, pack(done, total))) {
+    }
     if (stop) throw RunStopped();
+  };
+  const auto call_progress = [&] {
+    const std::uint64_t now = counts.load();
+    progress(static_cast<int>(now >> 32), static_cast<int>(now & 0xffffffffu));
   };
   std::optional<Result> result;
   std::exception_ptr error;
@@ -290,32 +320,41 @@ auto run_stoppable(const Work& work, const py::object& progress, double interval
       finished = true;
       finished_cv.notify_all();
     });
+    // Signals and the callback are looked at every `interval`, and at least every 10 ms.
     const auto wait = std::chrono::duration<double>(std::max(interval, 0.01));
-    std::unique_lock lock(mutex);
-    while (!finished_cv.wait_for(lock, wait, [&] { return finished; })) {
-      lock.unlock();
-      if (!python_error) {
-        const py::gil_scoped_acquire gil;
-        if (PyErr_CheckSignals() != 0) {
-          python_error = true;
-        } else if (!progress.is_none()) {
-          try {
-            progress(done.load(), total.load());
-          } catch (py::error_already_set& e) {
-            e.restore();
+    try {
+      std::unique_lock lock(mutex);
+      while (!finished_cv.wait_for(lock, wait, [&] { return finished; })) {
+        lock.unlock();
+        if (!python_error) {
+          const py::gil_scoped_acquire gil;
+          if (PyErr_CheckSignals() != 0) {
             python_error = true;
+          } else if (!progress.is_none()) {
+            try {
+              call_progress();
+            } catch (py::error_already_set& e) {
+              e.restore();
+              python_error = true;
+            }
           }
+          if (python_error) stop = true;
         }
-        if (python_error) stop = true;
+        lock.lock();
       }
-      lock.lock();
+    } catch (...) {  // never leave the worker running (a joinable thread's destructor aborts)
+      stop = true;
+      worker.join();
+      throw;
     }
-    lock.unlock();
     worker.join();
   }
   if (python_error) throw py::error_already_set();
   if (error) std::rethrow_exception(error);
-  if (!progress.is_none()) progress(total.load(), total.load());
+  if (!progress.is_none()) {  // done: as far as it went (an optimiser may stop short of its budget)
+    const auto done = static_cast<int>(counts.load() >> 32);
+    progress(done, done);
+  }
   return std::move(*result);
 }
 
@@ -355,7 +394,9 @@ StudyRun run_study(const io::RunInput& input, const std::filesystem::path& out_d
     throw py::value_error(fmt::format("{}: analysis.kind: \"{}\" is not a study or an ensemble", input.source.string(),
                                       to_string(kind)));
   }
-  if (max_points < 0) throw py::value_error(fmt::format("max_points: {} is negative", max_points));
+  if (max_points < 0) {
+    throw py::value_error(fmt::format("max_points: {}: expected a whole number of points from 1 (0: all)", max_points));
+  }
   io::StudyResult result = run_stoppable(
       [&](const std::function<void(int, int)>& report, const std::function<bool()>& stop_requested) {
         io::StudyRunOptions options;

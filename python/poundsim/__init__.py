@@ -28,6 +28,7 @@ reads what the command line wrote, and the plots draw either.
 
 from __future__ import annotations
 
+import math
 import os
 import pkgutil
 import sys
@@ -124,12 +125,18 @@ def run(
     progress: a callable progress(done, total) — the time reached and the duration [s] of a
         time history, the points (records, evaluations) done and to do of the others — True for a
         progress bar on stderr, False for none; by default a bar when stderr is a terminal. It is
-        called at most every `progress_interval` seconds of wall time (0: whenever there is news).
+        called at most every `progress_interval` seconds of wall time (0: at every output instant
+        of a time history; the other analyses are looked at every 10 ms at most), and at the end.
     Ctrl-C stops the run and raises KeyboardInterrupt; a study's database stays whole.
     """
     core = _extension()
     if isinstance(input, Model):
         input = input.build()
+    if not isinstance(input, core.Input):
+        raise TypeError(f"poundsim.run takes an Input (poundsim.load, loads, from_dict) or a Model, "
+                        f"not {type(input).__name__}")
+    if not (isinstance(progress_interval, (int, float)) and math.isfinite(progress_interval) and progress_interval >= 0):
+        raise ValueError(f"progress_interval: {progress_interval!r} s must be a finite number ≥ 0")
     kind = input.kind
     if progress is None:
         progress = sys.stderr.isatty()
@@ -140,8 +147,14 @@ def run(
         progress = None
     if channels is not None and kind != "time_history":
         raise ValueError(f"{input.source}: channels are for time histories, not analysis.kind = {kind!r}")
-    if max_points is not None and kind not in ("study", "ensemble"):
-        raise ValueError(f"max_points is for studies and ensembles, not analysis.kind = {kind!r}")
+    if max_points is not None:
+        if kind not in ("study", "ensemble"):
+            raise ValueError(f"max_points is for studies and ensembles, not analysis.kind = {kind!r}")
+        if isinstance(max_points, bool) or not isinstance(max_points, int) or max_points < 1:
+            raise ValueError(f"max_points: {max_points!r}: expected a whole number of points from 1")
+    if out is not None and kind in ("time_history", "frf"):
+        raise ValueError(f"out is for studies, ensembles and optimisations (their databases and files), not "
+                         f"analysis.kind = {kind!r}: save the arrays, or run the command line for its files")
     if kind == "time_history":
         r = core.run_time_history(input, None if channels is None else list(channels), progress, progress_interval)
         return TimeHistory(r.data, r.channels, r.units, r.events, r.summary)
@@ -152,7 +165,10 @@ def run(
         folder = os.fspath(out) if out is not None else scratch
         if kind in ("study", "ensemble"):
             r = core.run_study(input, folder, max_points or 0, progress, progress_interval)
-            return Study(Table(r.table, r.units), r.summary, r.database if out is not None else None)
+            summary = r.summary
+            if out is None:
+                summary["database"] = None  # it was in the temporary folder, now removed
+            return Study(Table(r.table, r.units), summary, r.database if out is not None else None)
         if kind == "optimize":
             r = core.run_optimization(input, folder, progress, progress_interval)
             frf = {name: Table(*getattr(r, name)) if getattr(r, name) is not None else None

@@ -34,7 +34,10 @@ def _plain(value: Any) -> Any:
     if isinstance(value, (list, tuple)):
         return [_plain(v) for v in value]
     if isinstance(value, dict):
-        return {str(k): _plain(v) for k, v in value.items()}
+        for key in value:
+            if not isinstance(key, str):
+                raise TypeError(f"the key {key!r} is not a str: a model file's keys are text")
+        return {k: _plain(v) for k, v in value.items()}
     if isinstance(value, os.PathLike):
         return os.fspath(value)
     return value

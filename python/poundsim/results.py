@@ -170,10 +170,13 @@ def column_unit(name: str) -> str:
     if re.match(r"(amplification|rule_over_min_gap)\.", name):
         return "1"
     name = name.rsplit(".", 1)[-1]
+    # The rules of io::column_unit (study_run.hpp), which tables from the extension carry.
     for suffix, unit in (("_rad_s", "rad/s"), ("_m_s2", "m/s2"), ("_m_s", "m/s"), ("_m", "m"), ("_s", "s"),
-                         ("_Ns", "N·s"), ("_N", "N"), ("_J", "J"), ("_g", "g"), ("_W", "1")):
+                         ("_Ns", "N·s"), ("_N", "N"), ("_J", "J"), ("_g", "g"), ("_W", "1"), ("_at", "1")):
         if name.endswith(suffix):
             return unit
+    if name.startswith("amp_"):
+        return "1"
     return "1" if re.search(r"(^|_)(ratio|over|amplification)(_|$)", name) else ""
 
 

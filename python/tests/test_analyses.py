@@ -72,6 +72,8 @@ def test_frequency_response_is_the_command_lines(tmp_path):
     assert fr.table.unit("top1_m") == "m" and fr.table.unit("V1_W") == "1" and fr.table.unit("omega_rad_s") == "rad/s"
     assert set(fr["branch"]) == {"up", "down"}
     assert calls[-1] == (24, 24)  # both sweeps' 12 points, reported at the end
+    done = [d for d, _ in calls]
+    assert done == sorted(done) and all(t == 24 for d, t in calls if d > 0)  # never back, never past
     # The columns are NumPy's own memory, not a copy of Python objects.
     assert fr["V1_W"].flags.c_contiguous and fr.frames == 2
 
@@ -119,32 +121,22 @@ def test_optimization_is_the_command_lines(tmp_path):
     assert set(opt.optimum) == {"model.dimensionless.eta", "model.dimensionless.mu", "model.dimensionless.epsilon"}
 
 
-STOPPED_STUDY = textwrap.dedent("""
-    import sys, poundsim
-    model = poundsim.load(sys.argv[1], settings=["study.threads=2", "frf.points=30",
-        "study.parameter[1].values=[0.0, 0.0625, 0.125, 0.25, 0.5, 0.75]"])
-    seen = []
-    try:
-        poundsim.run(model, out=sys.argv[2], progress=lambda d, t: d and (seen.append(d) or print(d, flush=True)),
-                     progress_interval=0.05)
-        print("finished")
-    except KeyboardInterrupt:
-        print("interrupted after", max(seen or [0]), flush=True)
-""")
+STUDY_SETTINGS = ["study.threads=2", "frf.points=30", "study.parameter[1].values=[0.0, 0.0625, 0.125, 0.25, 0.5, 0.75]"]
+
+
+def interrupt_after_first_point():
+    """A progress callback that sends this process SIGINT once a point is done, as Ctrl-C would."""
+    def progress(done, total):
+        if done >= 1:
+            os.kill(os.getpid(), signal.SIGINT)
+    return progress
 
 
 def test_ctrl_c_stops_a_threaded_study_and_keeps_its_database_whole(tmp_path):
-    model = EXAMPLES / "study_eta_mu.toml"
+    model = poundsim.load(EXAMPLES / "study_eta_mu.toml", settings=STUDY_SETTINGS)
     out = tmp_path / "stopped"
-    child = subprocess.Popen([sys.executable, "-c", STOPPED_STUDY, str(model), str(out)], stdout=subprocess.PIPE,
-                             text=True, env=dict(os.environ))
-    first = child.stdout.readline()  # a point is done: the study is under way
-    assert first.strip().isdigit(), first
-    child.send_signal(signal.SIGINT)
-    started = time.monotonic()
-    rest, _ = child.communicate(timeout=60)
-    assert "interrupted after" in rest, rest
-    assert time.monotonic() - started < 30
+    with pytest.raises(KeyboardInterrupt):
+        poundsim.run(model, out=out, progress=interrupt_after_first_point(), progress_interval=0)
     assert sorted(p.name for p in out.iterdir()) == ["study.sqlite"]  # no -wal, -shm, temporary, csv
     db = sqlite3.connect(f"file:{out / 'study.sqlite'}?mode=rw", uri=True)
     stored = db.execute("SELECT COUNT(*) FROM points").fetchone()[0]
@@ -152,10 +144,10 @@ def test_ctrl_c_stops_a_threaded_study_and_keeps_its_database_whole(tmp_path):
     db.close()
     assert 1 <= stored < 24
     # Run again: it goes on from there and ends with the numbers of an uninterrupted run.
-    settings = ["study.threads=2", "frf.points=30", "study.parameter[1].values=[0.0, 0.0625, 0.125, 0.25, 0.5, 0.75]"]
-    resumed = poundsim.run(poundsim.load(model, settings=settings), out=out, progress=False)
+    resumed = poundsim.run(model, out=out, progress=False)
     assert resumed.summary.skipped_as_finished == stored and resumed.complete
-    whole = poundsim.run(poundsim.load(model, settings=settings), progress=False)
+    whole = poundsim.run(model, progress=False)
+    assert whole.summary.database is None  # its temporary folder is gone
     for name in whole.table.names:
         if name != "run_time_s":
             np.testing.assert_array_equal(resumed[name], whole[name])
@@ -303,19 +295,49 @@ def test_a_numpy_record_is_the_at2_files_record_to_the_bit(tmp_path):
     assert from_file.summary.excitation.format == "at2" and from_array.summary.excitation.points == len(samples)
 
 
-def test_ctrl_c_stops_a_frequency_response(tmp_path):
-    script = textwrap.dedent("""
-        import sys, poundsim
-        model = poundsim.load(sys.argv[1], settings=["frf.points=400", "frf.threads=2"])
-        try:
-            poundsim.run(model, progress=lambda d, t: d and print(d, flush=True), progress_interval=0.05)
-            print("finished")
-        except KeyboardInterrupt:
-            print("interrupted", flush=True)
-    """)
-    child = subprocess.Popen([sys.executable, "-c", script, str(EXAMPLES / "paper" / "fig2c.toml")],
-                             stdout=subprocess.PIPE, text=True)
-    assert child.stdout.readline().strip().isdigit()
-    child.send_signal(signal.SIGINT)
-    rest, _ = child.communicate(timeout=60)
-    assert rest.splitlines()[-1] == "interrupted", rest
+def test_ctrl_c_stops_a_frequency_response_and_an_optimisation(tmp_path):
+    fr = poundsim.load(EXAMPLES / "paper" / "fig2c.toml", settings=["frf.points=400", "frf.threads=2"])
+    with pytest.raises(KeyboardInterrupt):
+        poundsim.run(fr, progress=interrupt_after_first_point(), progress_interval=0)
+    opt = poundsim.load(EXAMPLES / "optimize_gap_elements.toml", settings=["frf.points=9"])
+    with pytest.raises(KeyboardInterrupt):
+        poundsim.run(opt, out=tmp_path / "opt", progress=interrupt_after_first_point(), progress_interval=0)
+    assert not (tmp_path / "opt").exists() or not any((tmp_path / "opt").iterdir())  # no file written
+
+
+def test_bad_arguments_are_refused(tmp_path):
+    fr = poundsim.load(EXAMPLES / "paper" / "fig2c.toml", settings=["frf.points=5"])
+    study = poundsim.load(EXAMPLES / "study_eta_mu.toml")
+    with pytest.raises(ValueError, match="progress_interval"):
+        poundsim.run(fr, progress_interval=float("nan"))
+    with pytest.raises(ValueError, match="progress_interval"):
+        poundsim._core.run_frequency_response(fr, None, float("inf"))
+    with pytest.raises(ValueError, match="max_points: 0: expected a whole number of points from 1"):
+        poundsim.run(study, max_points=0)
+    with pytest.raises(ValueError, match="max_points"):
+        poundsim.run(study, max_points=True)
+    with pytest.raises(ValueError, match="out is for studies"):
+        poundsim.run(fr, out=tmp_path / "x")
+    with pytest.raises(TypeError, match="poundsim.run takes an Input"):
+        poundsim.run(str(EXAMPLES / "paper" / "fig2c.toml"))
+    with pytest.raises(TypeError, match=r"analysis\.dt: .* \(float128\) is not a value of a model file"):
+        poundsim.from_dict({"title": "x", "analysis": {"dt": np.longdouble(0.001)}})
+    loop: dict = {"title": "x"}
+    loop["analysis"] = loop
+    with pytest.raises(TypeError, match="nested more than 32 deep"):
+        poundsim.from_dict(loop)
+    with pytest.raises(TypeError, match="is not a str"):
+        poundsim.Model(document={"frames": [{1: 2}]})
+
+
+def test_the_units_of_the_extensions_tables_are_those_of_the_files_reader(tmp_path):
+    settings = ["frf.points=5", "study.parameter[1].values=[0.0, 0.125]", "study.parameter[2].values=[0.5]"]
+    study = poundsim.run(poundsim.load(EXAMPLES / "study_eta_mu.toml", settings=settings), progress=False)
+    from poundsim.results import column_unit
+
+    ensemble = poundsim.run(poundsim.load(EXAMPLES / "ensemble_fig2_frames.toml"), progress=False)
+    for table in (study.table, ensemble.table):
+        assert {n: table.unit(n) for n in table.names} == {n: column_unit(n) for n in table.names}
+    assert study.table.unit("peak_V1_at") == "1" and study.table.unit("max_peak_V_W") == "1"
+    assert ensemble.table.unit("peak_u_1_1_m") == "m" and ensemble.table.unit("amp_u_1_1") == "1"
+    assert ensemble.table.unit("max_impact_impulse_Ns") == "N·s" and ensemble.table.unit("pga_g") == "g"

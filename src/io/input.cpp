@@ -1127,8 +1127,10 @@ void read_excitation(TableReader& t, const Model& model, const std::filesystem::
         info.record_pga_file_g = r.pga_file_g;
         info.record_pga_g = r.pga_g;
         info.record_duration = r.duration;
+      } catch (const RecordScaleError& e) {  // the samples are fine; the factor overflows them
+        t.fail(t.has("target_pga_g") ? "target_pga_g" : "scale", e.what());
       } catch (const InputError& e) {
-        t.fail(t.has("target_pga_g") ? "target_pga_g" : t.has("scale") ? "scale" : "acceleration", e.what());
+        t.fail("acceleration", e.what());
       }
       t.finish(context);
       return;

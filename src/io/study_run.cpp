@@ -411,7 +411,8 @@ void add_json_column(Table& table, std::string name, const std::vector<const jso
   const bool numbers = std::all_of(values.begin(), values.end(), [](const json* v) { return v->is_number() || v->is_null(); });
   const bool integers = std::all_of(values.begin(), values.end(), [](const json* v) { return v->is_number_integer(); });
   if (integers) {
-    auto& column = table.integers(std::move(name));
+    const std::string unit = column_unit(name);
+    auto& column = table.integers(std::move(name), unit);
     for (const json* v : values) column.push_back(v->get<std::int64_t>());
   } else if (numbers) {
     const std::string unit = column_unit(name);
@@ -573,12 +574,14 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
 }  // namespace
 
 std::string column_unit(std::string_view name) {
+  // Longest suffix first: _m_s2 before _m_s before _m.
   for (const auto& [suffix, unit] : std::initializer_list<std::pair<std::string_view, std::string_view>>{
-           {"_rad_s", "rad/s"}, {"_m", "m"}, {"_s", "s"}, {"_N", "N"}, {"_Ns", "N·s"}, {"_J", "J"}, {"_g", "g"},
-           {"_W", "1"}}) {
+           {"_rad_s", "rad/s"}, {"_m_s2", "m/s2"}, {"_m_s", "m/s"}, {"_m", "m"}, {"_s", "s"}, {"_Ns", "N·s"},
+           {"_N", "N"}, {"_J", "J"}, {"_g", "g"}, {"_W", "1"}, {"_at", "1"}}) {
     if (name.ends_with(suffix)) return std::string(unit);
   }
-  // A ratio: a word of the name (max_ratio_to_free, ratio_to_bare_1), not "acceleration"'s letters.
+  if (name.starts_with("amp_")) return "1";
+  // A ratio: a word of the name (max_ratio_to_free, gap_over_min_gap), not "acceleration"'s letters.
   for (const std::string_view word : {"ratio", "over", "amplification"}) {
     for (std::size_t at = name.find(word); at != std::string_view::npos; at = name.find(word, at + 1)) {
       const std::size_t end = at + word.size();

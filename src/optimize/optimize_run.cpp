@@ -166,7 +166,8 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
   // Both algorithms are resolved first, so that a bad name is reported before any evaluation.
   const nlopt::algorithm global_algorithm = global ? algorithm(s.global_algorithm, input, "global") : nlopt::NUM_ALGORITHMS;
   const nlopt::algorithm local_algorithm = local ? algorithm(s.local_algorithm, input, "local") : nlopt::NUM_ALGORITHMS;
-  const int budget = (global ? s.global_evaluations : 0) + (local ? s.local_evaluations : 0);
+  // The starting point, then each stage's evaluations.
+  const int budget = 1 + (global ? s.global_evaluations : 0) + (local ? s.local_evaluations : 0);
   Problem problem(input, progress, budget);
   // The starting point is evaluated first, so that a bad key is reported before any search.
   problem(x, "start");
@@ -218,10 +219,18 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
   const RunInput best_point = with_settings(input, point_values(s, best->x));
   PointFigures bare_figures;
   std::optional<io::Table> optimum_frf, bare_frf;
+  // The responses below report as the last evaluation did, so that a caller's progress (which
+  // may stop the run: RunStopped) is still asked while they run.
+  const auto evaluations_done = static_cast<int>(problem.evaluations().size());
+  const auto still = [&](int, int) {
+    if (progress) progress(evaluations_done, budget);
+  };
+  still(0, 0);
   if (s.each == PointRun::frf) {
     // Both responses are written out, so the bare one's metrics come from the same sweep.
     FrequencyResponseOptions o = frequency_response_options(best_point);
     o.threads = s.threads;
+    o.progress = still;
     optimum_frf = io::frf_table(best_point.model, frequency_response(best_point.model, o));
     const Model bare = bare_pounding_model(best_point);
     const std::vector<FrfPoint> bare_response = frequency_response(bare, o);

@@ -187,7 +187,10 @@ TEST(StudyRun, AStopRequestKeepsTheDatabaseWholeAndResumable) {
   static_cast<void>(run_study(in, whole));
   std::atomic<int> done{0};
   StudyRunOptions options;
-  options.progress = [&](int count, int) { done = count; };
+  options.progress = [&](int count, int) {  // threads report out of order: keep the largest
+    for (int seen = done; seen < count && !done.compare_exchange_weak(seen, count);) {
+    }
+  };
   options.stop_requested = [&] { return done >= 3; };  // no point starts once three are done
   EXPECT_THROW(static_cast<void>(run_study(in, parts, options)), RunStopped);
   EXPECT_FALSE(fs::exists(parts / "study.sqlite-wal"));
