@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
+#include <unsupported/Eigen/MatrixFunctions>
 
 #include "poundsim/error.hpp"
 #include "poundsim/integrate/simulator.hpp"
@@ -63,6 +64,34 @@ TEST(ExactPhase, CriticallyDampedModeUsesTheMatrixExponential) {
     worst = std::max(worst, std::abs(sim.state().u(0) - (u0 + (v0 + w * u0) * t) * std::exp(-w * t)));
   }
   EXPECT_LT(worst, 1e-14);
+}
+
+// The propagator is the state's sensitivity to its start: e^{As} on both paths, a semigroup, and
+// (the system being linear) the difference of two trajectories from nearby starts, under forcing.
+TEST(ExactPhase, ThePropagatorIsTheSensitivityOfTheStateToItsStart) {
+  const Model model = make_model(testing::fig2('c'), {3, 3});
+  const DofLayout layout(model);
+  const LinearPhase phase(model, layout, ContactConfiguration(model.gap_count(), PaperGap::link_mode(GapMode::open)), 1e-3);
+  const ExactPhase exact(phase);
+  ASSERT_TRUE(exact.modal());
+  const double s = 0.37;
+  const Eigen::MatrixXd phi = exact.propagator(s);
+  const Eigen::MatrixXd reference = (exact.matrix() * s).exp();
+  EXPECT_LT((phi - reference).norm(), 1e-12 * reference.norm());
+  EXPECT_LT((exact.propagator(0.1) * exact.propagator(0.27) - phi).norm(), 1e-12 * phi.norm());
+  EXPECT_LT((exact.propagator(0.0) - Eigen::MatrixXd::Identity(phi.rows(), phi.cols())).norm(), 1e-13);
+  // Under harmonic forcing: x(s; x0 + δ) − x(s; x0) = Φ(s) δ.
+  const auto n = phi.rows();
+  const Eigen::VectorXd mass = Eigen::VectorXd::Ones(n / 2), load = Eigen::VectorXd::Zero(n / 2);
+  const ForcingPiece piece{.kind = ForcingPiece::Kind::harmonic, .amplitude = 2.0, .omega = 9.0};
+  Eigen::VectorXd x0 = Eigen::VectorXd::LinSpaced(n, -0.01, 0.02), delta = Eigen::VectorXd::LinSpaced(n, 1e-4, -2e-4);
+  ExactTrajectory a, b;
+  a.start(exact, mass, load, 0.3, x0, piece);
+  b.start(exact, mass, load, 0.3, x0 + delta, piece);
+  Eigen::VectorXd xa, xb, rate;
+  a.evaluate(s, xa, rate);
+  b.evaluate(s, xb, rate);
+  EXPECT_LT(((xb - xa) - phi * delta).norm(), 1e-10 * (phi * delta).norm());
 }
 
 TEST(ExactPhase, PiecewiseLinearRecordRestartsAtEverySample) {

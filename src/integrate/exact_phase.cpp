@@ -176,6 +176,13 @@ void ExactTrajectory::start(const ExactPhase& phase, const Eigen::VectorXd& mass
   product_.resize(2 * n);
 }
 
+Eigen::MatrixXd ExactPhase::propagator(double s) const {
+  if (!modal_) return (a_ * s).exp();
+  // V = D V̂ with V̂ factorised: e^{As} = V e^{Λs} V̂⁻¹ D⁻¹.
+  const Eigen::MatrixXcd right = v_lu_.solve(scale_.cwiseInverse().cast<std::complex<double>>().asDiagonal().toDenseMatrix());
+  return (v_ * (lambda_ * s).array().exp().matrix().asDiagonal() * right).real();
+}
+
 void ExactTrajectory::evaluate(double s, Eigen::VectorXd& x, Eigen::VectorXd& x_rate) const {
   using Complex = std::complex<double>;
   const ExactPhase& ph = *phase_;

@@ -74,6 +74,12 @@ class ExactPhase {
                              std::array<Eigen::VectorXd, 4>& p) const;
   /// A⁻¹ e.
   [[nodiscard]] const Eigen::VectorXd& ground_response() const { return a_inv_e_; }
+  /// Φ(s) = e^{As} = ∂x(t₀+s)/∂x(t₀): the forcing enters only the particular solution, so the
+  /// state's sensitivity to where the phase starts is the homogeneous flow. Modal path: V e^{Λs} V⁻¹
+  /// (real to round-off, its real part returned); otherwise the matrix exponential. For the
+  /// monodromy matrix of periodic orbits (issue 12: phase propagators composed with the events'
+  /// saltation matrices).
+  [[nodiscard]] Eigen::MatrixXd propagator(double s) const;
   /// h with (iωI − A) h = e. Throws SimulationError at an undamped natural frequency.
   ///
   /// Every segment of a harmonic excitation starts with the same ω, so the last h is kept and
