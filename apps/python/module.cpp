@@ -121,13 +121,18 @@ double checked_interval(double seconds) {
   return seconds;
 }
 
+/// Refuses an input whose analysis.kind is none of `kinds`, naming what the call runs.
+void require_kind(const io::RunInput& input, std::initializer_list<io::AnalysisKind> kinds, std::string_view what) {
+  if (std::find(kinds.begin(), kinds.end(), input.analysis.kind) == kinds.end()) {
+    throw py::value_error(fmt::format("{}: analysis.kind: \"{}\" is not {}", input.source.string(),
+                                      to_string(input.analysis.kind), what));
+  }
+}
+
 TimeHistoryRun run_time_history(const io::RunInput& input, const std::optional<std::vector<std::string>>& patterns,
                                 const py::object& progress, double progress_interval) {
   checked_interval(progress_interval);
-  if (input.analysis.kind != io::AnalysisKind::time_history) {
-    throw py::value_error(fmt::format("{}: analysis.kind: \"{}\" is not a time history", input.source.string(),
-                                      to_string(input.analysis.kind)));
-  }
+  require_kind(input, {io::AnalysisKind::time_history}, "a time history");
   const HistoryChannels channels = [&] {
     try {
       return HistoryChannels(input.model, patterns ? *patterns : input.channels);
@@ -204,12 +209,6 @@ nlohmann::json to_document(const py::handle& value, const std::string& path, int
   const auto where = [&] { return path.empty() ? std::string("the model") : path; };
   // A model file nests a few tables deep; deeper is a container that holds itself.
   if (depth > 32) throw py::type_error(fmt::format("{}: nested more than 32 deep (a container that holds itself?)", where()));
-  const py::module_ np = py::module_::import("numpy");
-  if (py::isinstance(value, np.attr("ndarray")) || py::isinstance(value, np.attr("generic"))) {
-    const py::object plain = value.attr("tolist")();  // Python numbers and lists
-    // A NumPy number with no Python equivalent (long double, complex) stays itself: refused below.
-    if (!py::isinstance(plain, np.attr("generic"))) return to_document(plain, path, depth + 1);
-  }
   if (py::isinstance<py::dict>(value)) {
     nlohmann::json object = nlohmann::json::object();
     for (const auto& [key, item] : py::reinterpret_borrow<py::dict>(value)) {
@@ -238,6 +237,13 @@ nlohmann::json to_document(const py::handle& value, const std::string& path, int
   }
   if (py::isinstance<py::float_>(value)) return value.cast<double>();
   if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  // NumPy arrays and numbers that are not Python's (np.float64 is a float, above): as Python's.
+  const py::module_ np = py::module_::import("numpy");
+  if (py::isinstance(value, np.attr("ndarray")) || py::isinstance(value, np.attr("generic"))) {
+    const py::object plain = value.attr("tolist")();
+    // A NumPy number with no Python equivalent (long double, complex) stays itself: refused below.
+    if (!py::isinstance(plain, np.attr("generic"))) return to_document(plain, path, depth + 1);
+  }
   if (py::hasattr(value, "__fspath__")) {
     return py::module_::import("os").attr("fsdecode")(value).cast<std::string>();  // bytes paths decoded
   }
@@ -254,9 +260,9 @@ py::array_t<T> owning_vector(std::vector<T>&& values) {
   return py::array_t<T>(static_cast<py::ssize_t>(owner->size()), owner->data(), base);
 }
 
-/// A table's columns (name → NumPy array: float64, int64 or str) and units (name → unit), in order.
-py::tuple table_to_python(io::Table&& table) {
-  py::dict columns, units;
+/// A table's columns (name → NumPy array: float64, int64 or str) and units (name → unit), in order,
+/// into `columns` and `units`.
+void table_to_python(io::Table&& table, py::dict& columns, py::dict& units) {
   const py::module_ np = py::module_::import("numpy");
   for (io::TableColumn& c : table.columns()) {
     py::object array = std::visit(
@@ -272,7 +278,6 @@ py::tuple table_to_python(io::Table&& table) {
     columns[py::str(c.name)] = array;
     units[py::str(c.name)] = py::str(c.unit);
   }
-  return py::make_tuple(columns, units);
 }
 
 /// Runs `work(progress)` on a thread of its own while this (Python's main) thread waits with the
@@ -364,10 +369,7 @@ struct FrequencyResponseRun {
 };
 
 FrequencyResponseRun run_frequency_response(const io::RunInput& input, const py::object& progress, double interval) {
-  if (input.analysis.kind != io::AnalysisKind::frf) {
-    throw py::value_error(fmt::format("{}: analysis.kind: \"{}\" is not a frequency response", input.source.string(),
-                                      to_string(input.analysis.kind)));
-  }
+  require_kind(input, {io::AnalysisKind::frf}, "a frequency response");
   io::FrequencyResponseResult result = run_stoppable(
       [&](const std::function<void(int, int)>& report, const std::function<bool()>&) {
         return io::analyse_frequency_response(input, report);
@@ -375,9 +377,7 @@ FrequencyResponseRun run_frequency_response(const io::RunInput& input, const py:
       progress, interval);
   FrequencyResponseRun run;
   run.summary = to_python(io::to_json(result));
-  const py::tuple table = table_to_python(io::frf_table(input.model, result.points));
-  run.table = table[0];
-  run.units = table[1];
+  table_to_python(io::frf_table(input.model, result.points), run.table, run.units);
   return run;
 }
 
@@ -389,11 +389,8 @@ struct StudyRun {
 
 StudyRun run_study(const io::RunInput& input, const std::filesystem::path& out_dir, long max_points,
                    const py::object& progress, double interval) {
+  require_kind(input, {io::AnalysisKind::study, io::AnalysisKind::ensemble}, "a study or an ensemble");
   const io::AnalysisKind kind = input.analysis.kind;
-  if (kind != io::AnalysisKind::study && kind != io::AnalysisKind::ensemble) {
-    throw py::value_error(fmt::format("{}: analysis.kind: \"{}\" is not a study or an ensemble", input.source.string(),
-                                      to_string(kind)));
-  }
   if (max_points < 0) {
     throw py::value_error(fmt::format("max_points: {}: expected a whole number of points from 1 (0: all)", max_points));
   }
@@ -409,9 +406,7 @@ StudyRun run_study(const io::RunInput& input, const std::filesystem::path& out_d
       progress, interval);
   StudyRun run;
   run.summary = to_python(io::to_json(result));
-  const py::tuple table = table_to_python(io::study_table(result.parameters, result.rows));
-  run.table = table[0];
-  run.units = table[1];
+  table_to_python(io::study_table(result.parameters, result.rows), run.table, run.units);
   run.database = result.database.string();
   return run;
 }
@@ -424,10 +419,7 @@ struct OptimizationRun {
 
 OptimizationRun run_optimization(const io::RunInput& input, const std::filesystem::path& out_dir,
                                  const py::object& progress, double interval) {
-  if (input.analysis.kind != io::AnalysisKind::optimize) {
-    throw py::value_error(fmt::format("{}: analysis.kind: \"{}\" is not an optimisation", input.source.string(),
-                                      to_string(input.analysis.kind)));
-  }
+  require_kind(input, {io::AnalysisKind::optimize}, "an optimisation");
   optimize::OptimizationResult result = run_stoppable(
       [&](const std::function<void(int, int)>& report, const std::function<bool()>&) {
         return optimize::run_optimization(input, out_dir, report);
@@ -435,11 +427,15 @@ OptimizationRun run_optimization(const io::RunInput& input, const std::filesyste
       progress, interval);
   OptimizationRun run;
   run.summary = to_python(optimize::to_json(result));
-  const py::tuple evaluations = table_to_python(std::move(result.evaluation_table));
-  run.evaluations = evaluations[0];
-  run.evaluation_units = evaluations[1];
-  run.optimum_frf = result.optimum_frf ? py::object(table_to_python(std::move(*result.optimum_frf))) : py::none();
-  run.bare_frf = result.bare_frf ? py::object(table_to_python(std::move(*result.bare_frf))) : py::none();
+  table_to_python(std::move(result.evaluation_table), run.evaluations, run.evaluation_units);
+  const auto pair = [](std::optional<io::Table>& table) -> py::object {  // (columns, units), or None
+    if (!table) return py::none();
+    py::dict columns, units;
+    table_to_python(std::move(*table), columns, units);
+    return py::make_tuple(columns, units);
+  };
+  run.optimum_frf = pair(result.optimum_frf);
+  run.bare_frf = pair(result.bare_frf);
   return run;
 }
 

@@ -7,30 +7,15 @@ import csv
 import json
 import math
 import os
-import pathlib
 import signal
 import sqlite3
-import subprocess
-import sys
-import textwrap
-import time
 
 import numpy as np
 import pytest
 
 import poundsim
 
-SOURCE = pathlib.Path(os.environ.get("POUNDSIM_SOURCE_DIR", pathlib.Path(__file__).resolve().parents[2]))
-CLI = os.environ.get("POUNDSIM_CLI", str(SOURCE / "build" / "ci" / "poundsim"))
-EXAMPLES = SOURCE / "examples"
-
-
-def cli_run(model, out, *settings):
-    args = [CLI, "run", str(model), "--out", str(out), "--quiet"]
-    for s in settings:
-        args += ["--set", s]
-    subprocess.run(args, check=True)
-    return out
+from support import EXAMPLES, SOURCE, cli_run
 
 
 def assert_table_is_csv(table: poundsim.Table, path, skip=("run_time_s",)):

@@ -3,12 +3,9 @@
 import contextlib
 import io
 import os
-import pathlib
 import re
 
-import pytest
-
-SOURCE = pathlib.Path(os.environ.get("POUNDSIM_SOURCE_DIR", pathlib.Path(__file__).resolve().parents[2]))
+from support import SOURCE
 
 
 def examples() -> dict[str, str]:

@@ -3,7 +3,6 @@ PNG of the journal's size, and what it draws are the results' numbers in enginee
 plotted data checked against history.csv, summary.json and the tables' CSV text. Also poundsim.read's
 tables against their CSV text, and the plotting scripts' command lines (docs/python.md)."""
 
-import csv
 import json
 import os
 import pathlib
@@ -23,26 +22,11 @@ import pytest  # noqa: E402
 import poundsim  # noqa: E402
 from poundsim import plot as pp  # noqa: E402
 
-SOURCE = pathlib.Path(os.environ.get("POUNDSIM_SOURCE_DIR", pathlib.Path(__file__).resolve().parents[2]))
-CLI = os.environ.get("POUNDSIM_CLI", str(SOURCE / "build" / "ci" / "poundsim"))
-EXAMPLES = SOURCE / "examples"
+from support import EXAMPLES, SOURCE, cli_run, read_csv  # noqa: E402
+
 SCRIPTS = SOURCE / "python"
 G = 9.81  # poundsim's standard_gravity (include/poundsim/units.hpp)
 CHANNELS = '["u_*", "v_*", "a_abs_*", "V_*", "F_*", "s_*", "drift_*", "E_*"]'  # drift_* takes drift_ratio_*
-
-
-def cli_run(model: pathlib.Path, out: pathlib.Path, *settings: str) -> pathlib.Path:
-    args = [CLI, "run", str(model), "--out", str(out), "--quiet"]
-    for s in settings:
-        args += ["--set", s]
-    subprocess.run(args, check=True)
-    return out
-
-
-def read_csv(path: pathlib.Path):
-    with open(path, newline="") as f:
-        rows = list(csv.reader(f))
-    return rows[0], rows[1:]
 
 
 def csv_column(path: pathlib.Path, name: str, rows=None) -> list[str]:

@@ -2,12 +2,9 @@
 for bit; channels, events and summaries as arrays and objects; errors, progress, Ctrl-C and the GIL
 as a Python user expects them (docs/python.md)."""
 
-import csv
 import json
 import os
-import pathlib
 import signal
-import subprocess
 import threading
 import time
 
@@ -16,23 +13,7 @@ import pytest
 
 import poundsim
 
-SOURCE = pathlib.Path(os.environ.get("POUNDSIM_SOURCE_DIR", pathlib.Path(__file__).resolve().parents[2]))
-CLI = os.environ.get("POUNDSIM_CLI", str(SOURCE / "build" / "ci" / "poundsim"))
-EXAMPLES = SOURCE / "examples"
-
-
-def cli_run(model: pathlib.Path, out: pathlib.Path, *settings: str) -> pathlib.Path:
-    args = [CLI, "run", str(model), "--out", str(out), "--quiet"]
-    for s in settings:
-        args += ["--set", s]
-    subprocess.run(args, check=True)
-    return out
-
-
-def read_csv(path: pathlib.Path):
-    with open(path, newline="") as f:
-        rows = list(csv.reader(f))
-    return rows[0], rows[1:]
+from support import EXAMPLES, cli_run, read_csv
 
 
 @pytest.fixture(scope="module")

@@ -55,10 +55,6 @@ Table frf_table(const Model& model, const std::vector<FrfPoint>& points) {
   return table;
 }
 
-void write_frf_table(OutputFile& out, const Model& model, const std::vector<FrfPoint>& points) {
-  write_csv(out, frf_table(model, points));
-}
-
 FrequencyResponseResult frequency_response_result(const RunInput& input, std::vector<FrfPoint> points,
                                                   double run_time) {
   FrequencyResponseResult result{.input = input, .points = std::move(points), .branches = {}, .run_time = run_time};
@@ -174,7 +170,7 @@ FrequencyResponseResult run_frequency_response(const RunInput& input, const std:
                                                const std::function<void(int, int)>& progress) {
   FrequencyResponseResult result = analyse_frequency_response(input, progress);
   OutputTransaction out(out_dir);
-  write_frf_table(out.open("frf.csv"), input.model, result.points);
+  write_csv(out.open("frf.csv"), frf_table(input.model, result.points));
   out.write_json("summary.json", to_json(result));
   out.open("input.toml").text(to_toml(input));
   out.commit();

@@ -184,6 +184,16 @@ TEST(InputEcho, AStudyAxisOverAFolderIsEchoedAbsolute) {
   fs::remove_all(elsewhere);
 }
 
+/// What read_input_document says of `document` named `name`: its InputError, or "no error".
+std::string document_error(const nlohmann::json& document, const std::string& name) {
+  try {
+    static_cast<void>(read_input_document(document, name, "."));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
 // A model given as a document (the Python module's dicts, docs/python.md): every example's file
 // as written, as JSON, reads to the same input — its echo is the file's echo, to the bit.
 TEST(InputDocument, EveryExampleReadsFromItsDocument) {
@@ -207,14 +217,7 @@ TEST(InputDocument, EveryExampleReadsFromItsDocument) {
 // that are no TOML value are refused naming their path; an integer stays an integer.
 TEST(InputDocument, ErrorsNameTheKeyAsForAFile) {
   nlohmann::json document = input_document(read_input(fs::path(POUNDSIM_SOURCE_DIR) / "examples/fig2c_ratio0.8.toml"));
-  const auto message = [&](const nlohmann::json& d) {
-    try {
-      static_cast<void>(read_input_document(d, "built in Python", "."));
-    } catch (const InputError& e) {
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
+  const auto message = [](const nlohmann::json& d) { return document_error(d, "built in Python"); };
   nlohmann::json bad = document;
   bad["analysis"]["dt"] = -0.001;
   EXPECT_NE(message(bad).find("built in Python: analysis.dt: must be > 0"), std::string::npos) << message(bad);
@@ -262,14 +265,7 @@ TEST(InputDocument, ARecordAsSamplesIsTheFilesRecord) {
   const RunInput echoed = read_input_string(to_toml(samples), "input.toml", ".");
   EXPECT_EQ(std::get<RecordExcitation>(echoed.excitation).acceleration, given.acceleration);
 
-  const auto message = [](const nlohmann::json& d) {
-    try {
-      static_cast<void>(read_input_document(d, "m", "."));
-    } catch (const InputError& err) {
-      return std::string(err.what());
-    }
-    return std::string("no error");
-  };
+  const auto message = [](const nlohmann::json& d) { return document_error(d, "m"); };
   nlohmann::json bad = document;
   bad["excitation"]["file"] = "x.txt";
   EXPECT_NE(message(bad).find("excitation.file: not with acceleration"), std::string::npos) << message(bad);

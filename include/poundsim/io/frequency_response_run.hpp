@@ -70,7 +70,5 @@ FrequencyResponseOptions frequency_response_options(const RunInput& input);
 /// omega_rad_s, S<f>_W…, S<f>_free_W…, top<f>_m…, top<f>_free_m…, events, impacts (docs/output.md).
 [[nodiscard]] Table frf_table(const Model& model, const std::vector<FrfPoint>& points);
 
-/// Writes frf_table as CSV.
-void write_frf_table(OutputFile& out, const Model& model, const std::vector<FrfPoint>& points);
 
 }  // namespace poundsim::io
