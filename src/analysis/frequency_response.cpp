@@ -28,6 +28,19 @@ void SteadyStateOptions::validate() const {
   }
 }
 
+FrameAmplitudes run_amplitudes(const Simulator& sim) {
+  FrameAmplitudes out;
+  const ResponseStatistics& st = sim.statistics();
+  const Model& model = sim.model();
+  for (int f = 0; f < model.frame_count(); ++f) {
+    out.base_shear.push_back(st.base_shear[static_cast<std::size_t>(f)].value);
+    out.storey_shear.push_back(st.storey_shear[static_cast<std::size_t>(f)].value);
+    const int top = sim.layout().dof(f, model.frames[static_cast<std::size_t>(f)].storeys() - 1);
+    out.top_displacement.push_back(st.floors[static_cast<std::size_t>(top)].displacement.value);
+  }
+  return out;
+}
+
 double reference_frequency(const Model& model) { return fundamental_frequency(model.frames.front()); }
 
 FrameAmplitudes free_response(const Model& model, double amplitude, double omega) {
@@ -140,13 +153,7 @@ FrfPoint steady_state_point_at(const Model& model, double omega1, double amplitu
   sim->advance_to((point.transient_periods + window) * period);
 
   const ResponseStatistics& st = sim->statistics();
-  const DofLayout& layout = sim->layout();
-  for (int f = 0; f < model.frame_count(); ++f) {
-    point.interacting.base_shear.push_back(st.base_shear[static_cast<std::size_t>(f)].value);
-    point.interacting.storey_shear.push_back(st.storey_shear[static_cast<std::size_t>(f)].value);
-    const int top = layout.dof(f, model.frames[static_cast<std::size_t>(f)].storeys() - 1);
-    point.interacting.top_displacement.push_back(st.floors[static_cast<std::size_t>(top)].displacement.value);
-  }
+  point.interacting = run_amplitudes(*sim);
   point.events = st.events;
   for (const GapResponse& g : st.gaps) point.impacts += g.impacts;
   return point;

@@ -367,6 +367,7 @@ LinearPhase& PoundingSystem::resolve_impacts(KinematicState& x, ContactState& c,
                                 return law.restitution();
                               });
         const ImpactOutcome o = restitution_impact(group_mass(gl), group_mass(gr), v(l), v(r), restitution);
+        if (o.impulse > 0) handler.on_pair_impact(group, l, r, group_mass(gl), group_mass(gr), restitution);
         for (Eigen::Index i = 0; i < v.size(); ++i) {
           const int gi = group[static_cast<std::size_t>(i)];
           if (gi == gl) v(i) = o.v_left;
@@ -422,6 +423,7 @@ LinearPhase& PoundingSystem::resolve_impacts(KinematicState& x, ContactState& c,
     }
     const Eigen::VectorXd group_v = momentum.cwiseQuotient(phase->mass());
     phase->scatter(group_v, v, false);
+    handler.on_merge(new_group, m, phase->mass());
   }
   handler.on_impact_loss(kinetic_before - kinetic_energy(v));
   for (std::size_t p = 0; p < elements; ++p) {

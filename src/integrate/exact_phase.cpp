@@ -179,8 +179,10 @@ void ExactTrajectory::start(const ExactPhase& phase, const Eigen::VectorXd& mass
 Eigen::MatrixXd ExactPhase::propagator(double s) const {
   if (!modal_) return (a_ * s).exp();
   // V = D V̂ with V̂ factorised: e^{As} = V e^{Λs} V̂⁻¹ D⁻¹.
-  const Eigen::MatrixXcd right = v_lu_.solve(scale_.cwiseInverse().cast<std::complex<double>>().asDiagonal().toDenseMatrix());
-  return (v_ * (lambda_ * s).array().exp().matrix().asDiagonal() * right).real();
+  if (inverse_modes_.size() == 0) {
+    inverse_modes_ = v_lu_.solve(scale_.cwiseInverse().cast<std::complex<double>>().asDiagonal().toDenseMatrix());
+  }
+  return (v_ * (lambda_ * s).array().exp().matrix().asDiagonal() * inverse_modes_).real();
 }
 
 void ExactTrajectory::evaluate(double s, Eigen::VectorXd& x, Eigen::VectorXd& x_rate) const {

@@ -9,6 +9,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "steppers.hpp"
+#include "tangent_flow.hpp"
 
 #include "../dynamics/contact_links.hpp"
 
@@ -128,6 +129,8 @@ void ExactStepper::start_segment(Loop& loop) {
   trajectory_.start(exact, loop.phase().mass(), loop.phase().constant_load(), loop.state().t, x_work_,
                     forcing_piece(loop.system().excitation(), loop.state().t));
   segment_powers_ = it->second.powers.get();
+  segment_guard_rows_ = &it->second.guard_rows;
+  if (TangentFlow* tangent = loop.tangent()) tangent->start_segment(loop.phase(), exact, loop.state().t);
   if (segment_powers_ != nullptr) segment_powers_->start(trajectory_);
   for (std::size_t p = 0; p < loop.contact().config.size(); ++p) {
     const Link& link = loop.system().tracked_links()[p];
@@ -228,9 +231,32 @@ void ExactStepper::integrate_to(Loop& loop, double t_end, bool /*nominal*/) {
     const bool fired = any_fired(loop.guards().work);
     accept(loop, upper_);  // loop.guards().lo = the guards at upper_: loop.guards().work
     if (!fired) continue;  // a touch within round-off: no event
-    loop.apply_pending_events();
+    apply_events(loop, crossing->guard);
     segment_valid_ = false;
   }
+}
+
+void ExactStepper::apply_events(Loop& loop, int guard) {
+  TangentFlow* tangent = loop.tangent();
+  if (tangent == nullptr) {
+    loop.apply_pending_events();
+    return;
+  }
+  // ∇h in floor coordinates: the guard row is in the phase's (gathered) coordinates.
+  tangent->propagate_to(loop.state().t);
+  const Eigen::Index n = loop.state().u.size();
+  const auto rows = segment_guard_rows_->row(guard);
+  const std::span<const int> representative = loop.phase().representatives();
+  const auto groups = static_cast<Eigen::Index>(representative.size());
+  gradient_.setZero(2 * n);
+  for (Eigen::Index r = 0; r < groups; ++r) {
+    gradient_(representative[static_cast<std::size_t>(r)]) = rows(r);
+    gradient_(n + representative[static_cast<std::size_t>(r)]) = rows(groups + r);
+  }
+  tangent->begin_events(gradient_, loop.state().v, loop.state().a);
+  loop.apply_pending_events();
+  tangent->end_events(loop.state().v, loop.state().a);
+  tangent->end_segment();
 }
 
 }  // namespace poundsim::detail

@@ -12,6 +12,7 @@
 #include "../dynamics/contact_links.hpp"
 #include "hermite_cubic.hpp"
 #include "steppers.hpp"
+#include "tangent_flow.hpp"
 #include "poundsim/error.hpp"
 
 namespace poundsim {
@@ -91,6 +92,14 @@ class Loop::Events final : public EventHandler {
     loop_.emit(gap, kind, left_before, right_before, impulse);
   }
   void on_impact_loss(double loss) override { loop_.energy_.add_impact_loss(loss); }
+  void on_pair_impact(std::span<const int> group, int left, int right, double mass_left, double mass_right,
+                      double restitution) override {
+    if (TangentFlow* tangent = loop_.tangent()) tangent->pair_impact(group, left, right, mass_left, mass_right, restitution);
+  }
+  void on_merge(std::span<const int> group, const Eigen::VectorXd& floor_mass,
+                const Eigen::VectorXd& group_mass) override {
+    if (TangentFlow* tangent = loop_.tangent()) tangent->merge(group, floor_mass, group_mass);
+  }
 
  private:
   Loop& loop_;
@@ -188,8 +197,11 @@ void Simulator::restart(Excitation excitation, double dt) {
   state_.t = 0.0;
   grid_origin_ = 0.0;
   grid_index_ = 0;
-  phases_.clear();  // factorised for the old step
-  stepper_->phases_cleared();
+  // Newmark's phases are factorised for the old step; the exact integrator's do not depend on it.
+  if (options_.integrator != Integrator::exact) {
+    phases_.clear();
+    stepper_->phases_cleared();
+  }
   try {
     settle_state();
   } catch (const SimulationError& e) {
@@ -197,7 +209,55 @@ void Simulator::restart(Excitation excitation, double dt) {
     throw;
   }
   reset_statistics();
+  if (tracking_) tangent_->reset(state_.t);
 }
+
+void Simulator::reset_state(const Eigen::VectorXd& u, const Eigen::VectorXd& v) {
+  const int n = system_.layout().size();
+  if (u.size() != n || v.size() != n) {
+    throw std::invalid_argument(fmt::format("reset_state: {} displacements and {} velocities given, the model has {} floors",
+                                            u.size(), v.size(), n));
+  }
+  if (!u.allFinite() || !v.allFinite()) throw std::invalid_argument("reset_state: a displacement or velocity is not finite");
+  failure_.reset();
+  state_.t = 0.0;
+  state_.u = u;
+  state_.v = v;
+  state_.a.setZero();
+  grid_origin_ = 0.0;
+  grid_index_ = 0;
+  contact_ = system_.initial_contact(state_);
+  if (system_.has_committing_laws()) system_.commit_states(state_, contact_);
+  try {
+    settle_state();
+  } catch (const SimulationError& e) {
+    record_failure(e);
+    throw;
+  }
+  reset_statistics();
+  if (tracking_) tangent_->reset(state_.t);
+}
+
+void Simulator::track_sensitivity(bool track) {
+  if (!track) {
+    tracking_ = false;
+    return;
+  }
+  if (options_.integrator != Integrator::exact) {
+    throw std::invalid_argument("the sensitivities of the state (periodic orbits) need integrator = \"exact\"");
+  }
+  if (!tangent_) tangent_ = std::make_unique<detail::TangentFlow>(system_.layout().size());
+  tracking_ = true;
+  tangent_->reset(state_.t);
+}
+
+const Eigen::MatrixXd& Simulator::sensitivity() {
+  if (!tracking_) throw std::logic_error("sensitivity(): track_sensitivity() was not called");
+  tangent_->propagate_to(state_.t);
+  return tangent_->sensitivity();
+}
+
+double Simulator::least_transversality() const { return tracking_ ? tangent_->least_transversality() : 1.0; }
 
 void Simulator::reset_statistics() {
   monitor_.reset();

@@ -61,6 +61,7 @@ class ExactStepper final : public Stepper {
   void phases_cleared() override {
     phases_.clear();
     segment_powers_ = nullptr;
+    segment_guard_rows_ = nullptr;
   }
 
  private:
@@ -86,15 +87,20 @@ class ExactStepper final : public Stepper {
   /// ∫ of the powers over [a, b] of the segment by quadrature (phases without modes).
   EnergyMeter::Powers quadrature_powers(const Loop& loop, double a, double b);
   [[nodiscard]] Eigen::MatrixXd guard_rows(const Loop& loop, const ExactPhase& exact) const;
+  /// Applies the events fired at the loop's state, taking the sensitivities (when tracked) across
+  /// them: the saltation of guard `guard`, the one whose crossing was located.
+  void apply_events(Loop& loop, int guard);
 
   std::map<ContactConfiguration, PhaseData> phases_;
   ExactPowerIntegrals* segment_powers_ = nullptr;  ///< of the current segment's phase, or null
+  const Eigen::MatrixXd* segment_guard_rows_ = nullptr;  ///< of the current segment's phase
   ExactTrajectory trajectory_;
   GuardExpansion expansion_;
   bool segment_valid_ = false;
   Eigen::VectorXd x_work_, x_rate_work_;
   std::vector<double> memory_amplitude_, memory_rate_;
   KinematicState node_, upper_;
+  Eigen::RowVectorXd gradient_;
 };
 
 }  // namespace poundsim::detail

@@ -103,6 +103,9 @@ struct FrfPoint {
   long impacts = 0;              ///< impacts over the steady-state window
 };
 
+/// The peaks per frame of what `sim` ran since its statistics were last reset.
+[[nodiscard]] FrameAmplitudes run_amplitudes(const Simulator& sim);
+
 /// ω₁: fundamental circular frequency of frame 1 alone [rad/s].
 [[nodiscard]] double reference_frequency(const Model& model);
 

@@ -71,6 +71,8 @@ class LinearPhase {
 
   /// Group (reduced DOF) of each floor DOF.
   [[nodiscard]] std::span<const int> group_of() const { return group_of_; }
+  /// The floor DOF whose values gather() takes for each group (its leftmost floor).
+  [[nodiscard]] std::span<const int> representatives() const { return representative_; }
   /// o: floor displacement minus its group coordinate [m].
   [[nodiscard]] const Eigen::VectorXd& offset() const { return offset_; }
   /// Sets the lengths ℓ of the rigid links (by gap element; others ignored), which fix the

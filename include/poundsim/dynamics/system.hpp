@@ -83,6 +83,14 @@ class EventHandler {
                         double right_before, double impulse) = 0;
   /// Impacts and locks at one instant dissipated `loss` [J] of kinetic energy.
   virtual void on_impact_loss(double loss) = 0;
+  /// The velocities of floors `left` and `right` and of their groups (`group`, of each floor) were
+  /// replaced by the restitution law with `restitution` (impact.hpp): one step of an impact's
+  /// resolution, reported for the sensitivities of periodic orbits (the velocity map is linear).
+  virtual void on_pair_impact(std::span<const int> /*group*/, int /*left*/, int /*right*/, double /*mass_left*/,
+                              double /*mass_right*/, double /*restitution*/) {}
+  /// Every floor took its group's centre-of-mass velocity (the plastic merge of a lock).
+  virtual void on_merge(std::span<const int> /*group*/, const Eigen::VectorXd& /*floor_mass*/,
+                        const Eigen::VectorXd& /*group_mass*/) {}
 };
 
 class PoundingSystem {

@@ -113,6 +113,7 @@ class ExactPhase {
   double log_norm_ = std::numeric_limits<double>::quiet_NaN();
   mutable double harmonic_omega_ = std::numeric_limits<double>::quiet_NaN();
   mutable Eigen::VectorXcd harmonic_response_;
+  mutable Eigen::MatrixXcd inverse_modes_;  ///< V⁻¹, made by the first propagator()
 };
 
 /// The exact trajectory of a phase from (t₀, x₀) while one forcing piece holds.

@@ -64,6 +64,7 @@ namespace poundsim {
 
 namespace detail {
 class Stepper;
+class TangentFlow;
 }  // namespace detail
 
 /// Options of the time-history integration. SI units.
@@ -171,6 +172,8 @@ class Loop {
   [[nodiscard]] const EnergyMeter& meter() const { return energy_; }
   [[nodiscard]] ResponseMonitor& monitor() { return monitor_; }
   [[nodiscard]] Guards& guards() { return guards_; }
+  /// The sensitivities of the state to the start of the run, when tracked (else null).
+  [[nodiscard]] TangentFlow* tangent() { return tracking_ ? tangent_.get() : nullptr; }
 
   /// The system's guards at x with the loop's contact state; the current phase gives λ.
   void evaluate_guards(const KinematicState& x, std::span<double> g, std::span<double> dg) {
@@ -224,6 +227,8 @@ class Loop {
   EnergyMeter energy_;
   ResponseMonitor monitor_;  ///< Peaks and counts.
   std::unique_ptr<Stepper> stepper_;  ///< Newmark or exact (options_.integrator)
+  std::unique_ptr<TangentFlow> tangent_;  ///< ∂x/∂x₀ (Simulator::track_sensitivity), kept when off
+  bool tracking_ = false;
   KinematicState state_;
   Guards guards_;
   int events_this_step_ = 0;
@@ -263,6 +268,26 @@ class Simulator : private detail::Loop {
   /// failure again (there is no state to continue from); a failure while it settles the state
   /// fails the simulator like one in advance_to.
   void restart(Excitation excitation, double dt);
+
+  /// Starts again from the floors' displacements `u` [m] and velocities `v` [m/s] (DofLayout
+  /// order) at t = 0 under the same excitation and step: each element's mode follows from u as
+  /// at construction, statistics and the energy balance start afresh, a failure is forgotten
+  /// (the state is new). The phases already built are kept: a periodic orbit's Newton
+  /// iterations start one run after another from nearby states. Throws std::invalid_argument
+  /// when the state cannot start (a size, a non-finite value, an element compressed past its
+  /// stop) and SimulationError when settling it fails.
+  void reset_state(const Eigen::VectorXd& u, const Eigen::VectorXd& v);
+
+  /// From now on (and after every restart or reset_state) tracks J = ∂x(t)/∂x(0), the
+  /// sensitivity of x = [u; u̇] to the state the run started from, through every phase and event
+  /// (src/integrate/tangent_flow.hpp). The exact integrator only: std::invalid_argument otherwise.
+  /// false stops tracking.
+  void track_sensitivity(bool track = true);
+  /// J at the current time (2N × 2N); track_sensitivity() first.
+  [[nodiscard]] const Eigen::MatrixXd& sensitivity();
+  /// Events since J started whose crossing was least transversal: min |∇h·ẋ| / (|∇h| |ẋ|) over
+  /// them (1 without events): near 0 the orbit grazes a guard and J is not the map's derivative.
+  [[nodiscard]] double least_transversality() const;
 
   /// Forgets the peaks and counts gathered so far (e.g. after a transient).
   void reset_statistics();

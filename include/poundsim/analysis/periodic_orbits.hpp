@@ -1,0 +1,255 @@
+#pragma once
+/// @file
+/// Periodic responses to a harmonic base acceleration a_g = A sin(ω̄t), found by shooting and
+/// followed by pseudo-arclength continuation, with their Floquet stability (issue 12;
+/// docs/periodic-orbits.md).
+///
+/// The stroboscopic (Poincaré) map P takes the floors' state x = [u; u̇] at t = 0 to the state
+/// one forcing period T = 2π/ω̄ later; a period-k orbit is a fixed point of P^k. The exact
+/// integrator runs the k periods and carries the map's Jacobian, the monodromy matrix, exactly:
+/// the phase propagators between events composed with each event's saltation matrix
+/// (src/integrate/tangent_flow.hpp). Newton's method on P^k(x) − x therefore converges
+/// quadratically; the eigenvalues of the monodromy matrix at the fixed point are the orbit's
+/// Floquet multipliers, stable when all lie inside the unit circle.
+///
+/// Continuation follows a branch of orbits through a parameter p — the forcing frequency ratio
+/// ω̄/ω₁ or any model parameter — by pseudo-arclength (Keller 1977): predictor along the
+/// branch's tangent, Newton corrector on F(x, p) = P^k(x; p) − x = 0 with the arclength
+/// constraint, so that folds are passed. ∂F/∂p is a forward difference of the map (one extra run);
+/// ∂F/∂x is exact. Along a branch the multipliers mark folds (+1), period doublings (−1: the
+/// period-2k branch is followed from there), Neimark–Sacker points (a complex pair leaves the unit
+/// circle) and grazing (the orbit's events change: an element starts or stops touching, where
+/// the map is not smooth; the branch is restarted across it).
+///
+/// The state is scaled for Newton and the arclength: w = [u; u̇/ω̄]/L, L = A/ω₁² (the static
+/// displacement of frame 1's first mode under the amplitude).
+///
+/// Limits: laws whose State persists between events (yielding storeys, the force criterion's
+/// relaxing free end) are not part of x and are refused; an orbit that is locked at t = 0 cannot
+/// start a run (its lock is a history, not a displacement) and Newton fails there; the map is
+/// not smooth where an orbit grazes, locks or fires the rest-velocity rule, and Newton may then
+/// converge linearly or not at all (the point is reported as not converged).
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "poundsim/analysis/frequency_response.hpp"
+#include "poundsim/fields.hpp"
+#include "poundsim/integrate/simulator.hpp"
+#include "poundsim/model/model.hpp"
+
+namespace poundsim {
+
+/// Newton's method on the stroboscopic map, and the sampling of a converged orbit's peaks.
+struct ShootingOptions {
+  /// Converged when max |P^k(w) − w| ≤ tolerance × max(1, max |w|) in the scaled state w.
+  double tolerance = 1e-10;
+  int max_iterations = 25;  ///< Newton iterations before a point is declared not converged.
+  /// Samples per forcing period of the runs (the exact integrator's dt = T / this): peaks are
+  /// refined between samples where a rate changes sign, so a few dozen suffice.
+  int samples_per_period = 64;
+
+  static constexpr auto fields() {
+    using O = ShootingOptions;
+    return std::tuple{
+        NumberField{"tolerance", &O::tolerance, "", Interval{.lo = 0.0, .hi = 1e-3, .lo_open = true},
+                    "Newton stops when the scaled state repeats to this"},
+        IntegerField{"max_iterations", &O::max_iterations, 1, 1000, "Newton iterations per point"},
+        IntegerField{"samples_per_period", &O::samples_per_period, 4, 1'000'000,
+                     "samples of the exact solution per forcing period (peaks are refined between them)"},
+    };
+  }
+  void validate() const;
+};
+
+/// What is special about a point of a branch.
+enum class BifurcationKind : std::uint8_t {
+  none,
+  fold,              ///< a multiplier passes +1: the branch turns back in the parameter
+  period_doubling,   ///< a multiplier passes −1: a period-2k branch is born
+  neimark_sacker,    ///< a complex pair leaves (or enters) the unit circle
+  grazing,           ///< the orbit's events change: an element starts or stops touching
+  end,               ///< the branch ends: Newton failed below the smallest step
+};
+
+[[nodiscard]] std::string_view to_string(BifurcationKind kind);
+
+/// One periodic orbit.
+struct PeriodicOrbit {
+  double parameter = 0.0;   ///< p: ω̄/ω₁ for a frequency response, else the model parameter
+  double omega = 0.0;       ///< ω̄ [rad/s]
+  int periodicity = 1;      ///< k: the orbit repeats every k forcing periods
+  Eigen::VectorXd u, v;     ///< floors' displacements [m] and velocities [m/s] at t = 0 (mod kT)
+  Eigen::MatrixXd monodromy;     ///< ∂x(kT)/∂x(0), x = [u; u̇]
+  Eigen::VectorXcd multipliers;  ///< eigenvalues of the monodromy, by decreasing modulus
+  bool stable = false;      ///< every multiplier inside the unit circle
+  int iterations = 0;       ///< Newton iterations taken
+  double residual = 0.0;    ///< max |P^k(w) − w| at the end (scaled)
+  long events = 0;          ///< events per orbit (k periods)
+  long impacts = 0;         ///< impacts per orbit
+  /// min |∇h·ẋ|/(|∇h||ẋ|) over the orbit's events: near 0 it grazes a guard.
+  double transversality = 1.0;
+  FrameAmplitudes amplitudes;  ///< peaks over the orbit
+  BifurcationKind bifurcation = BifurcationKind::none;  ///< between this point and the one before
+
+  [[nodiscard]] double largest_multiplier() const {
+    return multipliers.size() > 0 ? std::abs(multipliers(0)) : 0.0;
+  }
+};
+
+/// The stroboscopic map of a model under a harmonic base acceleration: runs of the exact
+/// integrator from a state at t = 0, with the monodromy.
+class StroboscopicMap {
+ public:
+  /// `options`: the event rules (its integrator is set to exact, its dt per frequency). Throws
+  /// std::invalid_argument for models the map cannot hold (see the file comment).
+  StroboscopicMap(const Model& model, double amplitude, double omega, TimeHistoryOptions options,
+                  int samples_per_period);
+  ~StroboscopicMap();
+  StroboscopicMap(const StroboscopicMap&) = delete;
+  StroboscopicMap& operator=(const StroboscopicMap&) = delete;
+
+  void set_omega(double omega);
+  [[nodiscard]] double omega() const { return omega_; }
+  [[nodiscard]] double amplitude() const { return amplitude_; }
+  [[nodiscard]] const Model& model() const { return model_; }
+  [[nodiscard]] int dofs() const { return dofs_; }
+
+  /// Runs k periods from x = [u; v] (2N); the state reached and, when `jacobian` is given, the
+  /// monodromy ∂x(kT)/∂x(0). Throws SimulationError or std::invalid_argument (a state that cannot
+  /// start) as the simulator does.
+  Eigen::VectorXd evaluate(const Eigen::VectorXd& x, int k, Eigen::MatrixXd* jacobian = nullptr);
+  /// The simulator of the last evaluation (its statistics are the run's peaks and counts).
+  [[nodiscard]] const Simulator& simulator() const { return *sim_; }
+
+ private:
+  Model model_;
+  double amplitude_ = 0.0, omega_ = 0.0;
+  TimeHistoryOptions options_;
+  int samples_ = 64;
+  int dofs_ = 0;
+  std::unique_ptr<Simulator> sim_;
+};
+
+/// The linear frames' steady state at t = 0 (each frame alone, closed form): x = [u; u̇] (2N).
+[[nodiscard]] Eigen::VectorXd linear_steady_state(const Model& model, double amplitude, double omega);
+
+/// The state after `periods` forcing periods from x0: a starting guess near an attracting orbit.
+[[nodiscard]] Eigen::VectorXd settled_state(StroboscopicMap& map, const Eigen::VectorXd& x0, int periods);
+
+/// Newton's method for a period-k orbit from x0 = [u; v]. Returns the orbit (converged or not:
+/// `converged` says which). The monodromy, multipliers, events and peaks are those of the last
+/// iterate.
+struct ShootingResult {
+  PeriodicOrbit orbit;
+  bool converged = false;
+  std::string failure;  ///< why Newton stopped, when it did not converge
+};
+[[nodiscard]] ShootingResult shoot(StroboscopicMap& map, const Eigen::VectorXd& x0, int k, const ShootingOptions& options);
+
+/// Options of pseudo-arclength continuation. Step lengths are in the scaled space (w, p).
+struct ContinuationOptions {
+  double initial_step = 0.01;
+  double min_step = 1e-6;
+  double max_step = 0.05;
+  /// The largest change of the parameter in one step (keeps a branch as finely resolved as a
+  /// brute-force sweep of the same range).
+  double max_parameter_step = 0.01;
+  int max_points = 5000;          ///< per branch
+  int max_periodicity = 8;        ///< period doublings are followed up to this k
+  int newton_iterations = 8;      ///< corrector iterations before the step is halved
+  /// Relative forward-difference step for ∂F/∂p.
+  double difference_step = 1e-7;
+
+  static constexpr auto fields() {
+    using O = ContinuationOptions;
+    return std::tuple{
+        NumberField{"initial_step", &O::initial_step, "", positive, "first arclength step (scaled state and parameter)"},
+        NumberField{"min_step", &O::min_step, "", positive, "below this a branch ends"},
+        NumberField{"max_step", &O::max_step, "", positive, "largest arclength step"},
+        NumberField{"max_parameter_step", &O::max_parameter_step, "", positive,
+                    "largest change of the parameter in one step"},
+        IntegerField{"max_points", &O::max_points, 2, 1'000'000, "points per branch"},
+        IntegerField{"max_periodicity", &O::max_periodicity, 1, 64, "period doublings followed up to this k"},
+        IntegerField{"newton_iterations", &O::newton_iterations, 2, 100, "corrector iterations before halving the step"},
+        NumberField{"difference_step", &O::difference_step, "", Interval{.lo = 0.0, .hi = 1e-2, .lo_open = true},
+                    "relative step of the parameter's forward difference"},
+    };
+  }
+  void validate() const;
+};
+
+/// One continued branch.
+struct Branch {
+  int id = 0;
+  int periodicity = 1;
+  int parent = -1;  ///< the branch it doubled from (−1: a starting branch)
+  std::vector<PeriodicOrbit> points;
+  std::string ended;  ///< why the continuation stopped
+};
+
+/// A family of models along a parameter: the map at p (a frequency ratio, or a model parameter
+/// at a fixed frequency).
+class OrbitFamily {
+ public:
+  virtual ~OrbitFamily() = default;
+  /// The map at p, made current.
+  virtual StroboscopicMap& at(double p) = 0;
+  /// A second map at p for the parameter's difference (must not disturb at()'s).
+  virtual StroboscopicMap& difference_at(double p) = 0;
+  /// The length that scales states [m].
+  [[nodiscard]] virtual double length_scale() const = 0;
+};
+
+/// The frequency ratio ω̄/ω₁ of a fixed model.
+class FrequencyFamily final : public OrbitFamily {
+ public:
+  FrequencyFamily(const Model& model, double amplitude, const TimeHistoryOptions& options, int samples_per_period);
+  StroboscopicMap& at(double ratio) override;
+  StroboscopicMap& difference_at(double ratio) override;
+  [[nodiscard]] double length_scale() const override { return length_; }
+  [[nodiscard]] double reference_omega() const { return omega1_; }
+
+ private:
+  double omega1_ = 0.0, length_ = 0.0;
+  StroboscopicMap map_, difference_;
+};
+
+/// A model parameter at a fixed frequency: `model_at(p)` builds the model.
+class ParameterFamily final : public OrbitFamily {
+ public:
+  ParameterFamily(std::function<Model(double)> model_at, double amplitude, double ratio,
+                  const TimeHistoryOptions& options, int samples_per_period);
+  StroboscopicMap& at(double p) override;
+  StroboscopicMap& difference_at(double p) override;
+  [[nodiscard]] double length_scale() const override { return length_; }
+
+ private:
+  std::function<Model(double)> model_at_;
+  double amplitude_, ratio_, length_ = 0.0;
+  TimeHistoryOptions options_;
+  int samples_;
+  std::unique_ptr<StroboscopicMap> map_, difference_;
+  double map_p_ = 0.0, difference_p_ = 0.0;
+};
+
+/// What a continuation run found.
+struct ContinuationResult {
+  std::vector<Branch> branches;
+  long map_evaluations = 0;   ///< runs of the map (with or without the monodromy)
+  long newton_iterations = 0;
+};
+
+/// Follows the period-k branch through `start` (a converged orbit at p = start.parameter) in
+/// the direction of increasing p (`direction` = +1) or decreasing (−1) until p leaves
+/// [p_min, p_max]; period doublings start new branches, followed likewise.
+[[nodiscard]] ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& start, double p_min,
+                                                 double p_max, int direction, const ShootingOptions& shooting,
+                                                 const ContinuationOptions& options);
+
+}  // namespace poundsim

@@ -1,0 +1,572 @@
+#include "poundsim/analysis/periodic_orbits.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+#include <fmt/format.h>
+
+#include "poundsim/error.hpp"
+
+namespace poundsim {
+
+std::string_view to_string(BifurcationKind kind) {
+  switch (kind) {
+    case BifurcationKind::none: return "";
+    case BifurcationKind::fold: return "fold";
+    case BifurcationKind::period_doubling: return "period-doubling";
+    case BifurcationKind::neimark_sacker: return "Neimark-Sacker";
+    case BifurcationKind::grazing: return "grazing";
+    case BifurcationKind::end: return "end";
+  }
+  return "?";
+}
+
+void ShootingOptions::validate() const {
+  if (const auto violation = first_violation(*this)) throw std::invalid_argument(*violation);
+}
+
+void ContinuationOptions::validate() const {
+  if (const auto violation = first_violation(*this)) throw std::invalid_argument(*violation);
+  if (min_step > initial_step) throw std::invalid_argument("min_step must not exceed initial_step");
+  if (initial_step > max_step) throw std::invalid_argument("initial_step must not exceed max_step");
+}
+
+namespace {
+
+constexpr double kTwoPi = 2 * std::numbers::pi;
+
+/// The state x of a run is [u; u̇]; the laws' States are not in it: refuse the laws that keep one.
+void refuse_remembering_laws(const Model& model, const TimeHistoryOptions& options) {
+  if (options.separation == SeparationCriterion::force) {
+    throw std::invalid_argument(
+        "periodic orbits need separation = \"displacement\": under the force criterion a separated "
+        "element's free end relaxes with a memory that the floors' state does not hold");
+  }
+  const DofLayout layout(model);
+  for (const Link& link : make_links(model, layout)) {
+    std::visit(
+        [&](const auto& law) {
+          using L = std::decay_t<decltype(law)>;
+          if constexpr (!ContactLaw<L> && !std::is_same_v<typename L::State, NoState>) {
+            throw std::invalid_argument(fmt::format(
+                "periodic orbits need elastic storeys: {} keeps a state between events (its plastic "
+                "drift) that the floors' state does not hold",
+                describe(link, layout)));
+          }
+        },
+        link.law);
+  }
+}
+
+/// Scaling of the state: w = D x, D = diag(1/L, 1/(ω̄L)).
+struct Scaling {
+  double length, omega;
+  [[nodiscard]] Eigen::VectorXd to_scaled(const Eigen::VectorXd& x) const {
+    const Eigen::Index n = x.size() / 2;
+    Eigen::VectorXd w(x.size());
+    w.head(n) = x.head(n) / length;
+    w.tail(n) = x.tail(n) / (omega * length);
+    return w;
+  }
+  [[nodiscard]] Eigen::VectorXd to_state(const Eigen::VectorXd& w) const {
+    const Eigen::Index n = w.size() / 2;
+    Eigen::VectorXd x(w.size());
+    x.head(n) = w.head(n) * length;
+    x.tail(n) = w.tail(n) * (omega * length);
+    return x;
+  }
+  /// D J D⁻¹.
+  [[nodiscard]] Eigen::MatrixXd jacobian(const Eigen::MatrixXd& j) const {
+    const Eigen::Index n = j.rows() / 2;
+    Eigen::MatrixXd out = j;
+    out.block(0, n, n, n) *= omega;
+    out.block(n, 0, n, n) /= omega;
+    return out;
+  }
+};
+
+Eigen::VectorXcd sorted_multipliers(const Eigen::MatrixXd& monodromy) {
+  Eigen::VectorXcd mu = Eigen::EigenSolver<Eigen::MatrixXd>(monodromy, false).eigenvalues();
+  std::vector<std::complex<double>> values(mu.data(), mu.data() + mu.size());
+  std::stable_sort(values.begin(), values.end(), [](auto a, auto b) {
+    if (std::abs(a) != std::abs(b)) return std::abs(a) > std::abs(b);
+    if (a.real() != b.real()) return a.real() > b.real();
+    return a.imag() > b.imag();
+  });
+  for (std::size_t i = 0; i < values.size(); ++i) mu(static_cast<Eigen::Index>(i)) = values[i];
+  return mu;
+}
+
+/// Fills what the run from x tells about the orbit through x.
+void describe_run(const StroboscopicMap& map, const Eigen::VectorXd& x, const Eigen::MatrixXd& monodromy,
+                  PeriodicOrbit& orbit) {
+  const Eigen::Index n = map.dofs();
+  orbit.omega = map.omega();
+  orbit.u = x.head(n);
+  orbit.v = x.tail(n);
+  orbit.monodromy = monodromy;
+  orbit.multipliers = sorted_multipliers(monodromy);
+  orbit.stable = orbit.largest_multiplier() < 1.0;
+  const Simulator& sim = map.simulator();
+  orbit.events = sim.statistics().events;
+  orbit.impacts = 0;
+  for (const GapResponse& g : sim.statistics().gaps) orbit.impacts += g.impacts;
+  orbit.transversality = sim.least_transversality();
+  orbit.amplitudes = run_amplitudes(sim);
+}
+
+}  // namespace
+
+StroboscopicMap::StroboscopicMap(const Model& model, double amplitude, double omega, TimeHistoryOptions options,
+                                 int samples_per_period)
+    : model_(model), amplitude_(amplitude), omega_(omega), options_(options), samples_(samples_per_period) {
+  validate(model_);
+  refuse_remembering_laws(model_, options_);
+  options_.integrator = Integrator::exact;
+  options_.dt = kTwoPi / omega_ / samples_;
+  dofs_ = DofLayout(model_).size();
+  sim_ = std::make_unique<Simulator>(model_, HarmonicExcitation{amplitude_, omega_}, options_);
+  sim_->track_sensitivity();
+}
+
+StroboscopicMap::~StroboscopicMap() = default;
+
+void StroboscopicMap::set_omega(double omega) {
+  if (omega == omega_) return;
+  omega_ = omega;
+  options_.dt = kTwoPi / omega_ / samples_;
+  // A run that failed has no state to restart from: start it at rest first.
+  sim_->reset_state(Eigen::VectorXd::Zero(dofs_), Eigen::VectorXd::Zero(dofs_));
+  sim_->restart(HarmonicExcitation{amplitude_, omega_}, options_.dt);
+}
+
+Eigen::VectorXd StroboscopicMap::evaluate(const Eigen::VectorXd& x, int k, Eigen::MatrixXd* jacobian) {
+  sim_->track_sensitivity(jacobian != nullptr);
+  sim_->reset_state(x.head(dofs_), x.tail(dofs_));
+  sim_->advance_to(k * kTwoPi / omega_);
+  Eigen::VectorXd out(2 * dofs_);
+  out << sim_->state().u, sim_->state().v;
+  if (jacobian != nullptr) *jacobian = sim_->sensitivity();
+  return out;
+}
+
+Eigen::VectorXd linear_steady_state(const Model& model, double amplitude, double omega) {
+  const DofLayout layout(model);
+  const Eigen::Index n = layout.size();
+  Eigen::VectorXd x(2 * n);
+  for (int f = 0; f < model.frame_count(); ++f) {
+    const Eigen::VectorXcd u = harmonic_amplitudes(model.frames[static_cast<std::size_t>(f)], amplitude, omega);
+    for (int i = 0; i < layout.storeys(f); ++i) {
+      // u(t) = Im(U e^{iω̄t}): u(0) = Im U, u̇(0) = ω̄ Re U.
+      x(layout.dof(f, i)) = u(i).imag();
+      x(n + layout.dof(f, i)) = omega * u(i).real();
+    }
+  }
+  return x;
+}
+
+Eigen::VectorXd settled_state(StroboscopicMap& map, const Eigen::VectorXd& x0, int periods) {
+  Eigen::VectorXd x = x0;
+  for (int i = 0; i < periods; ++i) x = map.evaluate(x, 1);
+  return x;
+}
+
+namespace {
+
+double state_length(const Model& model, double amplitude) {
+  const double omega1 = reference_frequency(model);
+  return std::abs(amplitude) / (omega1 * omega1);
+}
+
+}  // namespace
+
+ShootingResult shoot(StroboscopicMap& map, const Eigen::VectorXd& x0, int k, const ShootingOptions& options) {
+  ShootingResult result;
+  PeriodicOrbit& orbit = result.orbit;
+  orbit.periodicity = k;
+  const Scaling scaling{state_length(map.model(), map.amplitude()), map.omega()};
+  Eigen::VectorXd x = x0, previous = x0;
+  Eigen::MatrixXd monodromy;
+  const Eigen::Index size = x.size();
+  for (int iteration = 0;; ++iteration) {
+    Eigen::VectorXd image;
+    // An iterate that cannot start (an element pressed past its stop) or run is brought back
+    // towards the last one that could.
+    for (int backtrack = 0;; ++backtrack) {
+      try {
+        image = map.evaluate(x, k, &monodromy);
+        break;
+      } catch (const std::exception& e) {
+        if (iteration == 0 || backtrack >= 20) {
+          result.failure = fmt::format("the run from Newton's iterate {} failed: {}", iteration, e.what());
+          return result;
+        }
+        x = previous + 0.5 * (x - previous);
+      }
+    }
+    previous = x;
+    const Eigen::VectorXd w = scaling.to_scaled(x);
+    const Eigen::VectorXd residual = scaling.to_scaled(image) - w;
+    orbit.iterations = iteration;
+    orbit.residual = residual.cwiseAbs().maxCoeff();
+    describe_run(map, x, monodromy, orbit);
+    if (orbit.residual <= options.tolerance * std::max(1.0, w.cwiseAbs().maxCoeff())) {
+      result.converged = true;
+      return result;
+    }
+    if (iteration >= options.max_iterations) {
+      result.failure = fmt::format("no convergence in {} Newton iterations (residual {:.3g})", iteration, orbit.residual);
+      return result;
+    }
+    const Eigen::MatrixXd jacobian = scaling.jacobian(monodromy) - Eigen::MatrixXd::Identity(size, size);
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(jacobian);
+    const Eigen::VectorXd step = lu.solve(-residual);
+    if (!step.allFinite()) {
+      result.failure = "the Newton matrix is singular (a multiplier at +1: a fold)";
+      return result;
+    }
+    x = scaling.to_state(w + step);
+  }
+}
+
+// ---- families ------------------------------------------------------------------------------
+
+FrequencyFamily::FrequencyFamily(const Model& model, double amplitude, const TimeHistoryOptions& options,
+                                 int samples_per_period)
+    : omega1_(reference_frequency(model)),
+      length_(state_length(model, amplitude)),
+      map_(model, amplitude, omega1_, options, samples_per_period),
+      difference_(model, amplitude, omega1_, options, samples_per_period) {}
+
+StroboscopicMap& FrequencyFamily::at(double ratio) {
+  map_.set_omega(ratio * omega1_);
+  return map_;
+}
+
+StroboscopicMap& FrequencyFamily::difference_at(double ratio) {
+  difference_.set_omega(ratio * omega1_);
+  return difference_;
+}
+
+ParameterFamily::ParameterFamily(std::function<Model(double)> model_at, double amplitude, double ratio,
+                                 const TimeHistoryOptions& options, int samples_per_period)
+    : model_at_(std::move(model_at)), amplitude_(amplitude), ratio_(ratio), options_(options),
+      samples_(samples_per_period) {}
+
+StroboscopicMap& ParameterFamily::at(double p) {
+  if (!map_ || map_p_ != p) {
+    const Model model = model_at_(p);
+    map_ = std::make_unique<StroboscopicMap>(model, amplitude_, ratio_ * reference_frequency(model), options_, samples_);
+    map_p_ = p;
+    if (length_ == 0.0) length_ = state_length(model, amplitude_);
+  }
+  return *map_;
+}
+
+StroboscopicMap& ParameterFamily::difference_at(double p) {
+  if (!difference_ || difference_p_ != p) {
+    const Model model = model_at_(p);
+    difference_ = std::make_unique<StroboscopicMap>(model, amplitude_, ratio_ * reference_frequency(model), options_,
+                                                    samples_);
+    difference_p_ = p;
+  }
+  return *difference_;
+}
+
+// ---- continuation --------------------------------------------------------------------------
+
+namespace {
+
+/// F(w, p) = D P^k(D⁻¹w; p) − w with its derivatives, for one branch.
+class BranchProblem {
+ public:
+  BranchProblem(OrbitFamily& family, int k, const ContinuationOptions& options, ContinuationResult& counts)
+      : family_(family), k_(k), options_(options), counts_(counts) {}
+
+  [[nodiscard]] Scaling scaling(StroboscopicMap& map) const { return {family_.length_scale(), map.omega()}; }
+
+  /// F, ∂F/∂w and ∂F/∂p at (w, p); the orbit described from the run. False when a run failed.
+  bool evaluate(const Eigen::VectorXd& w, double p, Eigen::VectorXd& f, Eigen::MatrixXd& fw, Eigen::VectorXd& fp,
+                PeriodicOrbit& orbit, std::string& failure) {
+    try {
+      StroboscopicMap& map = family_.at(p);
+      const Scaling s = scaling(map);
+      const Eigen::VectorXd x = s.to_state(w);
+      Eigen::MatrixXd monodromy;
+      const Eigen::VectorXd image = map.evaluate(x, k_, &monodromy);
+      ++counts_.map_evaluations;
+      f = s.to_scaled(image) - w;
+      fw = s.jacobian(monodromy) - Eigen::MatrixXd::Identity(w.size(), w.size());
+      orbit.parameter = p;
+      orbit.periodicity = k_;
+      describe_run(map, x, monodromy, orbit);
+      const double dp = options_.difference_step * std::max(1.0, std::abs(p));
+      StroboscopicMap& shifted = family_.difference_at(p + dp);
+      const Scaling s2 = scaling(shifted);
+      const Eigen::VectorXd image2 = shifted.evaluate(s2.to_state(w), k_);
+      ++counts_.map_evaluations;
+      fp = ((s2.to_scaled(image2) - w) - f) / dp;
+      return true;
+    } catch (const std::exception& e) {
+      failure = e.what();
+      return false;
+    }
+  }
+
+ private:
+  OrbitFamily& family_;
+  int k_;
+  const ContinuationOptions& options_;
+  ContinuationResult& counts_;
+};
+
+/// The unit tangent of the branch: null vector of [F_w F_p], oriented along `previous`.
+Eigen::VectorXd branch_tangent(const Eigen::MatrixXd& fw, const Eigen::VectorXd& fp, const Eigen::VectorXd& previous) {
+  const Eigen::Index m = fw.rows();
+  Eigen::MatrixXd a(m + 1, m + 1);
+  a.topLeftCorner(m, m) = fw;
+  a.topRightCorner(m, 1) = fp;
+  a.bottomRows(1) = previous.transpose();
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(m + 1);
+  rhs(m) = 1.0;
+  Eigen::VectorXd t = a.partialPivLu().solve(rhs);
+  t.normalize();
+  if (t.dot(previous) < 0) t = -t;
+  return t;
+}
+
+int real_below_minus_one(const Eigen::VectorXcd& mu) {
+  int count = 0;
+  for (const auto& m : mu) {
+    if (std::abs(m.imag()) <= 1e-9 * std::abs(m) && m.real() < -1.0) ++count;
+  }
+  return count;
+}
+int real_above_one(const Eigen::VectorXcd& mu) {
+  int count = 0;
+  for (const auto& m : mu) {
+    if (std::abs(m.imag()) <= 1e-9 * std::abs(m) && m.real() > 1.0) ++count;
+  }
+  return count;
+}
+int complex_outside(const Eigen::VectorXcd& mu) {
+  int count = 0;
+  for (const auto& m : mu) {
+    if (std::abs(m.imag()) > 1e-9 * std::abs(m) && std::abs(m) > 1.0) ++count;
+  }
+  return count;
+}
+
+struct PendingBranch {
+  PeriodicOrbit start;
+  int parent;
+  int direction;
+};
+
+/// A period-2k orbit near the period-k orbit `at`, along the eigenvector of its multiplier
+/// nearest −1; nothing when Newton finds none distinct from the period-k orbit.
+std::optional<PeriodicOrbit> doubled_orbit(OrbitFamily& family, const PeriodicOrbit& at, const ShootingOptions& shooting,
+                                           ContinuationResult& counts) {
+  StroboscopicMap& map = family.at(at.parameter);
+  const Scaling s{family.length_scale(), map.omega()};
+  const Eigen::MatrixXd jw = s.jacobian(at.monodromy);
+  const Eigen::EigenSolver<Eigen::MatrixXd> eig(jw);
+  Eigen::Index best = 0;
+  for (Eigen::Index i = 1; i < eig.eigenvalues().size(); ++i) {
+    if (std::abs(eig.eigenvalues()(i) + 1.0) < std::abs(eig.eigenvalues()(best) + 1.0)) best = i;
+  }
+  Eigen::VectorXd direction = eig.eigenvectors().col(best).real();
+  if (direction.norm() == 0) return std::nullopt;
+  direction.normalize();
+  Eigen::VectorXd x;
+  x.resize(at.u.size() * 2);
+  x << at.u, at.v;
+  const Eigen::VectorXd w = s.to_scaled(x);
+  for (const double size : {1e-2, 1e-1, 3e-1}) {
+    for (const double sign : {1.0, -1.0}) {
+      ShootingResult r = shoot(map, s.to_state(w + sign * size * direction), 2 * at.periodicity, shooting);
+      counts.map_evaluations += r.orbit.iterations + 1;
+      counts.newton_iterations += r.orbit.iterations;
+      if (!r.converged) continue;
+      Eigen::VectorXd xr(x.size());
+      xr << r.orbit.u, r.orbit.v;
+      const Eigen::VectorXd half = map.evaluate(xr, at.periodicity);
+      ++counts.map_evaluations;
+      if ((s.to_scaled(half) - s.to_scaled(xr)).cwiseAbs().maxCoeff() < 1e-6) continue;  // the period-k orbit again
+      r.orbit.parameter = at.parameter;
+      // The run above left the map with the half orbit: describe the whole one again.
+      Eigen::MatrixXd monodromy;
+      map.evaluate(xr, 2 * at.periodicity, &monodromy);
+      ++counts.map_evaluations;
+      describe_run(map, xr, monodromy, r.orbit);
+      return r.orbit;
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& start, double p_min, double p_max,
+                                   int direction, const ShootingOptions& shooting, const ContinuationOptions& options) {
+  shooting.validate();
+  options.validate();
+  ContinuationResult result;
+  std::vector<PendingBranch> pending{{start, -1, direction >= 0 ? 1 : -1}};
+  while (!pending.empty()) {
+    const PendingBranch job = pending.front();
+    pending.erase(pending.begin());
+    Branch branch;
+    branch.id = static_cast<int>(result.branches.size());
+    branch.periodicity = job.start.periodicity;
+    branch.parent = job.parent;
+    const int k = branch.periodicity;
+    BranchProblem problem(family, k, options, result);
+
+    // The first point: F_w, F_p there give the tangent.
+    PeriodicOrbit current = job.start;
+    Eigen::VectorXd f, fp;
+    Eigen::MatrixXd fw;
+    std::string failure;
+    Eigen::VectorXd w;
+    {
+      StroboscopicMap& map = family.at(current.parameter);
+      const Scaling s = problem.scaling(map);
+      Eigen::VectorXd x(2 * current.u.size());
+      x << current.u, current.v;
+      w = s.to_scaled(x);
+    }
+    if (!problem.evaluate(w, current.parameter, f, fw, fp, current, failure)) {
+      branch.ended = "the starting orbit's run failed: " + failure;
+      result.branches.push_back(std::move(branch));
+      continue;
+    }
+    const Eigen::Index m = w.size();
+    Eigen::VectorXd seed = Eigen::VectorXd::Zero(m + 1);
+    seed(m) = job.direction;
+    Eigen::VectorXd tangent = branch_tangent(fw, fp, seed);
+    branch.points.push_back(current);
+    double step = options.initial_step;
+    double p = current.parameter;
+
+    while (static_cast<int>(branch.points.size()) < options.max_points) {
+      if (p < p_min || p > p_max) {
+        branch.ended = "left the parameter range";
+        break;
+      }
+      if (std::abs(tangent(m)) * step > options.max_parameter_step) step = options.max_parameter_step / std::abs(tangent(m));
+      Eigen::VectorXd z(m + 1);
+      z << w, p;
+      const Eigen::VectorXd predicted = z + step * tangent;
+      Eigen::VectorXd trial = predicted;
+      PeriodicOrbit orbit;
+      bool converged = false;
+      int iterations = 0;
+      for (; iterations < options.newton_iterations; ++iterations) {
+        ++result.newton_iterations;
+        if (!problem.evaluate(trial.head(m), trial(m), f, fw, fp, orbit, failure)) break;
+        const double arclength = tangent.dot(trial - predicted);
+        if (f.cwiseAbs().maxCoeff() <= shooting.tolerance * std::max(1.0, trial.head(m).cwiseAbs().maxCoeff()) &&
+            std::abs(arclength) <= 1e-6 * step) {
+          converged = true;
+          break;
+        }
+        Eigen::MatrixXd a(m + 1, m + 1);
+        a.topLeftCorner(m, m) = fw;
+        a.topRightCorner(m, 1) = fp;
+        a.bottomRows(1) = tangent.transpose();
+        Eigen::VectorXd rhs(m + 1);
+        rhs << -f, -arclength;
+        const Eigen::VectorXd delta = a.partialPivLu().solve(rhs);
+        if (!delta.allFinite()) break;
+        trial += delta;
+      }
+      if (!converged) {
+        step *= 0.5;
+        if (step < options.min_step) {
+          branch.ended = failure.empty() ? "Newton failed below the smallest step" : "a run failed: " + failure;
+          branch.points.back().bifurcation = BifurcationKind::end;
+          break;
+        }
+        continue;
+      }
+      orbit.iterations = iterations;
+      orbit.residual = f.cwiseAbs().maxCoeff();
+      const Eigen::VectorXd next_tangent = branch_tangent(fw, fp, tangent);
+      const PeriodicOrbit& before = branch.points.back();
+      if (next_tangent(m) * tangent(m) < 0) {
+        orbit.bifurcation = BifurcationKind::fold;
+      } else if (real_below_minus_one(before.multipliers) != real_below_minus_one(orbit.multipliers)) {
+        orbit.bifurcation = BifurcationKind::period_doubling;
+      } else if (complex_outside(before.multipliers) != complex_outside(orbit.multipliers)) {
+        orbit.bifurcation = BifurcationKind::neimark_sacker;
+      } else if (before.events != orbit.events || before.impacts != orbit.impacts) {
+        orbit.bifurcation = BifurcationKind::grazing;
+      } else if (real_above_one(before.multipliers) != real_above_one(orbit.multipliers)) {
+        orbit.bifurcation = BifurcationKind::fold;
+      }
+      if (branch.parent >= 0 && orbit.bifurcation != BifurcationKind::none && k % 2 == 0) {
+        // A doubled branch that returns to its parent's period-doubling point goes on as the
+        // parent's orbits run twice (a fixed point of P^{2k} too): it ends there.
+        StroboscopicMap& map = family.at(orbit.parameter);
+        Eigen::VectorXd x(2 * orbit.u.size());
+        x << orbit.u, orbit.v;
+        const Scaling s{family.length_scale(), map.omega()};
+        const Eigen::VectorXd half = map.evaluate(x, k / 2);
+        ++result.map_evaluations;
+        if ((s.to_scaled(half) - s.to_scaled(x)).cwiseAbs().maxCoeff() < 1e-6) {
+          orbit.bifurcation = BifurcationKind::period_doubling;
+          branch.points.push_back(orbit);
+          branch.ended = "met the branch it doubled from";
+          break;
+        }
+      }
+      const bool grazed = orbit.bifurcation == BifurcationKind::grazing;
+      branch.points.push_back(orbit);
+      w = trial.head(m);
+      p = trial(m);
+      // Across a grazing the map's derivative jumps: the old tangent is no guide, take the new one
+      // and start again with small steps.
+      tangent = next_tangent;
+      if (grazed) {
+        step = std::max(options.min_step, std::min(step, options.initial_step));
+      } else if (iterations <= 2) {
+        step = std::min(options.max_step, step * 1.5);
+      } else if (iterations >= 5) {
+        step *= 0.5;
+      }
+      if (orbit.bifurcation == BifurcationKind::period_doubling && 2 * k <= options.max_periodicity) {
+        // Follow the doubled branch from the side where the period-k orbit is unstable.
+        const PeriodicOrbit& unstable =
+            real_below_minus_one(orbit.multipliers) > real_below_minus_one(before.multipliers) ? orbit : before;
+        bool known = false;
+        for (const Branch& b : result.branches) {
+          if (b.periodicity != 2 * k) continue;
+          for (const PeriodicOrbit& q : {b.points.front(), b.points.back()}) {
+            if (std::abs(q.parameter - unstable.parameter) <= 2 * options.max_parameter_step) known = true;
+          }
+        }
+        for (const PendingBranch& b : pending) {
+          if (b.start.periodicity == 2 * k &&
+              std::abs(b.start.parameter - unstable.parameter) <= 2 * options.max_parameter_step) {
+            known = true;
+          }
+        }
+        if (!known) {
+          if (auto doubled = doubled_orbit(family, unstable, shooting, result)) {
+            pending.push_back({*doubled, branch.id, 1});
+            pending.push_back({*doubled, branch.id, -1});
+          }
+        }
+      }
+    }
+    if (branch.ended.empty()) branch.ended = "reached the most points of a branch";
+    result.branches.push_back(std::move(branch));
+  }
+  return result;
+}
+
+}  // namespace poundsim
