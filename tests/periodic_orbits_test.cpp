@@ -5,11 +5,13 @@
 
 #include <cmath>
 #include <complex>
+#include <algorithm>
 #include <array>
 #include <numbers>
 #include <vector>
 
 #include <Eigen/Dense>
+#include <unsupported/Eigen/MatrixFunctions>
 #include <gtest/gtest.h>
 
 #include "poundsim/analysis/periodic_orbits.hpp"
@@ -111,6 +113,238 @@ TEST(StroboscopicMap, TheMonodromyOfImpactsAndContactsIsTheMapsDerivative) {
   }
   // Every kind of event was crossed: contact, separation, impact, lock, unlock.
   for (const int count : kinds) EXPECT_GT(count, 0);
+}
+
+
+// ---- the forced impact oscillator ---------------------------------------------------------
+//
+// ẍ + 2ζω₀ẋ + ω₀²x = −A sin ω̄t with a rigid stop at x = δ (impact: ẋ → −e ẋ). Its period-1 orbit
+// with one impact per period, in closed form (docs/periodic-orbits.md): with the impact at phase
+// θ = ω̄τ at speed V, the flight of one period from (δ, −eV) returns to (δ, V):
+//     Φ(T)(δ, −eV) − (δ, V) = (Φ(T) − I) x_p(τ),   x_p(τ) = P (sin θ, cos θ),
+// so (sin θ, cos θ) = a + V b and |a + V b| = 1 is a quadratic in V. The monodromy from just
+// after an impact is M = Φ(T) S, S = [[−e, 0], [(a⁺ + e a⁻)/V, −e]]; it doubles its period where
+// 1 + tr M + det M = 0.
+
+struct ImpactOscillator {
+  double omega0 = 2 * std::numbers::pi, zeta = 0.05, amplitude = 1.0, e = 0.8;
+  double gap = 0.1 * 1.0 / (4 * std::numbers::pi * std::numbers::pi);  // σ = δω₀²/A = 0.1
+
+  /// The frame on a stiff, heavy neighbour (10⁸ × the mass, 10⁴ × the frequency, 5 % damping): a
+  /// stop that moves by ~10⁻⁸ of the oscillator and whose own multipliers are ~e^{−0.05·10⁴ω₀T}.
+  [[nodiscard]] Model model() const {
+    const double m = 1e5;
+    const double m2 = 1e8 * m, w2 = 1e4 * omega0;
+    GapProperties stop;
+    stop.gap = gap;
+    stop.restitution = e;
+    return make_model({make_uniform_frame(1, m, m * omega0 * omega0, 2 * zeta * omega0 * m, "oscillator"),
+                       make_uniform_frame(1, m2, m2 * w2 * w2, 2 * 0.05 * w2 * m2, "stop")},
+                      stop);
+  }
+  [[nodiscard]] Eigen::Matrix2d flow(double s) const {
+    Eigen::Matrix2d a;
+    a << 0, 1, -omega0 * omega0, -2 * zeta * omega0;
+    return (a * s).exp();
+  }
+  [[nodiscard]] std::complex<double> response(double w) const {
+    return -amplitude / std::complex<double>(omega0 * omega0 - w * w, 2 * zeta * omega0 * w);
+  }
+  [[nodiscard]] Eigen::Vector2d particular(double w, double t) const {
+    const std::complex<double> u = response(w) * std::exp(std::complex<double>(0, w * t));
+    return {u.imag(), (std::complex<double>(0, w) * u).imag()};
+  }
+  struct Orbit {
+    bool exists = false;
+    double theta = 0, speed = 0;
+    Eigen::Vector2d at_zero;   ///< the state at t = 0 (mod T)
+    Eigen::Matrix2d monodromy;  ///< from just after the impact
+  };
+  /// `high`: the root with the larger impact speed (the resonant, stable one).
+  [[nodiscard]] Orbit orbit(double w, bool high = true) const {
+    const double period = 2 * std::numbers::pi / w;
+    const Eigen::Matrix2d phi = flow(period);
+    const Eigen::Matrix2d b_matrix = phi - Eigen::Matrix2d::Identity();
+    const std::complex<double> u = response(w);
+    Eigen::Matrix2d p;
+    p << u.real(), u.imag(), -w * u.imag(), w * u.real();
+    const Eigen::Vector2d q = -e * phi.col(1) - Eigen::Vector2d(0, 1);
+    const Eigen::Matrix2d bp = b_matrix * p;
+    const Eigen::Vector2d a = bp.lu().solve(b_matrix * Eigen::Vector2d(gap, 0));
+    const Eigen::Vector2d b = bp.lu().solve(q);
+    const double qa = b.squaredNorm(), qb = 2 * a.dot(b), qc = a.squaredNorm() - 1;
+    const double disc = qb * qb - 4 * qa * qc;
+    Orbit o;
+    if (disc < 0) return o;
+    o.speed = (-qb + (high ? 1 : -1) * std::sqrt(disc)) / (2 * qa);
+    if (!(o.speed > 0)) return o;
+    const Eigen::Vector2d sc = a + o.speed * b;
+    o.theta = std::atan2(sc(0), sc(1));
+    double tau = o.theta / w;
+    while (tau < 0) tau += period;
+    while (tau >= period) tau -= period;
+    const Eigen::Vector2d after(gap, -e * o.speed);
+    o.at_zero = particular(w, period) + flow(period - tau) * (after - particular(w, tau));
+    // No other contact in flight.
+    for (int i = 1; i < 400; ++i) {
+      const double s = period * i / 400;
+      const Eigen::Vector2d x = particular(w, tau + s) + flow(s) * (after - particular(w, tau));
+      if (x(0) > gap) return o;
+    }
+    const double forcing = -amplitude * std::sin(o.theta);
+    const double before_acc = -2 * zeta * omega0 * o.speed - omega0 * omega0 * gap + forcing;
+    const double after_acc = 2 * zeta * omega0 * e * o.speed - omega0 * omega0 * gap + forcing;
+    Eigen::Matrix2d salt;
+    salt << -e, 0, (after_acc + e * before_acc) / o.speed, -e;
+    o.monodromy = phi * salt;
+    o.exists = true;
+    return o;
+  }
+  /// 1 + tr M + det M of the resonant orbit: 0 at its period doubling.
+  [[nodiscard]] double doubling_test(double w) const {
+    const Orbit o = orbit(w);
+    return 1 + o.monodromy.trace() + o.monodromy.determinant();
+  }
+};
+
+TEST(ImpactOscillator, ShootingFindsTheAnalyticPeriodOneOrbitAndItsMultipliers) {
+  const ImpactOscillator osc;
+  const Model model = osc.model();
+  for (const double ratio : {1.2, 1.8, 2.0, 2.3}) {
+    const double w = ratio * osc.omega0;
+    const ImpactOscillator::Orbit analytic = osc.orbit(w);
+    ASSERT_TRUE(analytic.exists) << ratio;
+    StroboscopicMap map(model, osc.amplitude, w, exact_options(), 32);
+    Eigen::VectorXd start = Eigen::VectorXd::Zero(4);
+    start(0) = analytic.at_zero(0) * 1.01;
+    start(2) = analytic.at_zero(1) * 0.99;
+    const ShootingResult r = shoot(map, start, 1, ShootingOptions{});
+    ASSERT_TRUE(r.converged) << ratio << ": " << r.failure;
+    EXPECT_EQ(r.orbit.impacts, 1) << ratio;
+    // The neighbour moves by ~1e-8 of the oscillator where the analytic stop is fixed.
+    const double size = analytic.at_zero.cwiseAbs().maxCoeff();
+    EXPECT_NEAR(r.orbit.u(0), analytic.at_zero(0), 1e-7 * size) << ratio;
+    EXPECT_NEAR(r.orbit.v(0) / w, analytic.at_zero(1) / w, 1e-7 * size) << ratio;
+    // The oscillator's two multipliers are those of M = Φ(T) S (the same up to a similarity); the
+    // neighbour's two are e^{λT} of its own stiff mode, far smaller.
+    const Eigen::Vector2cd expected = Eigen::EigenSolver<Eigen::Matrix2d>(analytic.monodromy).eigenvalues();
+    std::vector<std::complex<double>> got(r.orbit.multipliers.data(), r.orbit.multipliers.data() + 2);
+    for (const std::complex<double>& mu : expected) {
+      const double nearest = std::min(std::abs(got[0] - mu), std::abs(got[1] - mu));
+      EXPECT_LT(nearest, 1e-4) << ratio << ": " << mu;
+    }
+    EXPECT_EQ(r.orbit.stable, std::abs(expected(0)) < 1 && std::abs(expected(1)) < 1) << ratio;
+  }
+}
+
+TEST(ImpactOscillator, ContinuationFindsTheAnalyticPeriodDoubling) {
+  const ImpactOscillator osc;
+  // The analytic doubling: 1 + tr M + det M changes sign; bisected to 1e-12.
+  double lo = 2.0 * osc.omega0, hi = 2.8 * osc.omega0;
+  ASSERT_LT(osc.doubling_test(lo) * osc.doubling_test(hi), 0);
+  for (int i = 0; i < 100; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (osc.doubling_test(lo) * osc.doubling_test(mid) <= 0 ? hi : lo) = mid;
+  }
+  const double analytic = 0.5 * (lo + hi) / osc.omega0;
+  // As derived independently for σ = 0.1, e = 0.8, ζ = 0.05 (the design note of issue 12).
+  EXPECT_NEAR(analytic, 2.45671536, 1e-8);
+
+  const Model model = osc.model();
+  TimeHistoryOptions options = exact_options();
+  FrequencyFamily family(model, osc.amplitude, options, 32);
+  StroboscopicMap& map = family.at(2.2);
+  const ImpactOscillator::Orbit start_orbit = osc.orbit(2.2 * osc.omega0);
+  Eigen::VectorXd start = Eigen::VectorXd::Zero(4);
+  start(0) = start_orbit.at_zero(0);
+  start(2) = start_orbit.at_zero(1);
+  ShootingResult r = shoot(map, start, 1, ShootingOptions{});
+  ASSERT_TRUE(r.converged) << r.failure;
+  r.orbit.parameter = 2.2;
+  ContinuationOptions co;
+  co.max_parameter_step = 5e-3;
+  co.max_points = 200;
+  const ContinuationResult traced = continue_orbits(family, r.orbit, 2.2, 2.6, +1, ShootingOptions{}, co);
+  ASSERT_FALSE(traced.branches.empty());
+  const Branch& main = traced.branches.front();
+  const auto pd = std::find_if(main.points.begin(), main.points.end(), [](const PeriodicOrbit& p) {
+    return p.bifurcation == BifurcationKind::period_doubling;
+  });
+  ASSERT_NE(pd, main.points.end());
+  // The doubling lies between the flagged point and the one before; the refined point is at it.
+  EXPECT_NEAR(pd->parameter, analytic, 1e-6) << "between " << (pd - 1)->parameter << " and " << (pd + 1)->parameter;
+  EXPECT_NEAR(pd->multipliers(pd->multipliers.size() > 0 ? 0 : 0).real(), -1.0, 1e-6);
+  // Beyond it a period-2 branch is followed.
+  ASSERT_GE(traced.branches.size(), 2u);
+  EXPECT_EQ(traced.branches[1].periodicity, 2);
+  EXPECT_GT(traced.branches[1].points.size(), 3u);
+}
+
+
+TEST(PeriodicOrbits, LinearFramesShootToTheirClosedFormInOneStep) {
+  // A joint too wide to close: the frames are linear, P is affine, and Newton lands on the closed
+  // form in one step; the multipliers are e^{λT} of the frames' modes.
+  DimensionlessParameters p = testing::fig2('c');
+  p.delta = 100;
+  const Model model = make_model(p, {1, 1});
+  const double w = 0.9 * reference_frequency(model);
+  StroboscopicMap map(model, 0.2 * kG, w, exact_options(), 32);
+  const ShootingResult r = shoot(map, Eigen::VectorXd::Zero(4), 1, ShootingOptions{});
+  ASSERT_TRUE(r.converged) << r.failure;
+  EXPECT_EQ(r.orbit.iterations, 1);
+  EXPECT_EQ(r.orbit.events, 0);
+  const Eigen::VectorXd closed = linear_steady_state(model, 0.2 * kG, w);
+  EXPECT_LT((state_of(r.orbit) - closed).cwiseAbs().maxCoeff(), 1e-12 * closed.cwiseAbs().maxCoeff());
+  const double period = 2 * std::numbers::pi / w;
+  for (const Frame& f : model.frames) {
+    // |e^{λT}| = e^{−ξωT} for each frame's (proportionally damped) mode: ξω = c/(2m).
+    const double decay = std::exp(-f.damping[0] / (2 * f.mass[0]) * period);
+    const double nearest = std::min({std::abs(std::abs(r.orbit.multipliers(0)) - decay), std::abs(std::abs(r.orbit.multipliers(2)) - decay)});
+    EXPECT_LT(nearest, 1e-12);
+  }
+  EXPECT_TRUE(r.orbit.stable);
+}
+
+TEST(PeriodicOrbits, StableContinuedOrbitsAreWhereLongSimulationsSettle) {
+  // Fig. 2c's and 2b's frames: each stable continued orbit, perturbed by 1 % and simulated exactly
+  // for as many periods as its largest multiplier needs to shrink the perturbation below 1e-12,
+  // settles on the same peaks to 1e-8.
+  for (const char panel : {'b', 'c'}) {
+    const Model model = make_model(testing::fig2(panel), {1, 1});
+    FrequencyResponseOptions o;
+    o.amplitude = 0.2 * kG;
+    o.method = FrfMethod::continuation;
+    o.steady.steps_per_period = 64;
+    for (int i = 0; i <= 10; ++i) o.ratios.push_back(0.6 + 0.05 * i);
+    o.time_history = exact_options();
+    const std::vector<FrfPoint> points = frequency_response(model, o);
+    int checked = 0;
+    for (std::size_t i = 0; i < points.size(); i += 7) {
+      const FrfPoint& p = points[i];
+      if (!p.continued || !p.stable || std::abs(p.multipliers.front()) > 0.9) continue;
+      StroboscopicMap map(model, o.amplitude, p.omega, o.time_history, 64);
+      // The continued orbit's state is not in FrfPoint: recover it by shooting from a settled run.
+      Eigen::VectorXd x = settled_state(map, Eigen::VectorXd::Zero(4), 20);
+      const ShootingResult shot = shoot(map, x, p.periodicity, ShootingOptions{});
+      ASSERT_TRUE(shot.converged);
+      if (std::abs(shot.orbit.amplitudes.base_shear[0] - p.interacting.base_shear[0]) > 1e-6 * p.interacting.base_shear[0]) {
+        continue;  // a coexisting orbit: the settled run found another one
+      }
+      const int periods = static_cast<int>(std::ceil(std::log(1e-12 / 1e-2) / std::log(std::abs(p.multipliers.front())))) + 1;
+      Eigen::VectorXd start = state_of(shot.orbit) * 1.01;
+      start = settled_state(map, start, (periods / p.periodicity + 1) * p.periodicity);
+      map.evaluate(start, p.periodicity);
+      const FrameAmplitudes simulated = run_amplitudes(map.simulator());
+      for (std::size_t f = 0; f < 2; ++f) {
+        EXPECT_NEAR(simulated.base_shear[f], p.interacting.base_shear[f], 1e-8 * p.interacting.base_shear[f])
+            << panel << " at " << p.ratio << " frame " << f + 1;
+        EXPECT_NEAR(simulated.top_displacement[f], p.interacting.top_displacement[f], 1e-8 * p.interacting.top_displacement[f])
+            << panel << " at " << p.ratio << " frame " << f + 1;
+      }
+      ++checked;
+    }
+    EXPECT_GE(checked, 3) << panel;
+  }
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include <fmt/format.h>
 
 #include "poundsim/analysis/parallel.hpp"
+#include "poundsim/analysis/periodic_orbits.hpp"
 
 namespace poundsim {
 
@@ -175,6 +176,7 @@ std::vector<FrfPoint> frequency_response(const Model& model, const FrequencyResp
     if (!(r > 0) || !std::isfinite(r)) throw std::invalid_argument(fmt::format("frequency ratio {} must be > 0", r));
   }
   validate(model);
+  if (options.method == FrfMethod::continuation) return frequency_response_by_continuation(model, options);
   const double omega1 = reference_frequency(model);
 
   std::vector<double> ascending = options.ratios;

@@ -289,8 +289,9 @@ class BranchProblem {
   [[nodiscard]] Scaling scaling(StroboscopicMap& map) const { return {family_.length_scale(), map.omega()}; }
 
   /// F, ∂F/∂w and ∂F/∂p at (w, p); the orbit described from the run. False when a run failed.
+  /// `with_fp` false keeps fp as it is (a chord: ∂F/∂p changes little within a step).
   bool evaluate(const Eigen::VectorXd& w, double p, Eigen::VectorXd& f, Eigen::MatrixXd& fw, Eigen::VectorXd& fp,
-                PeriodicOrbit& orbit, std::string& failure) {
+                PeriodicOrbit& orbit, std::string& failure, bool with_fp = true) {
     try {
       StroboscopicMap& map = family_.at(p);
       const Scaling s = scaling(map);
@@ -303,6 +304,7 @@ class BranchProblem {
       orbit.parameter = p;
       orbit.periodicity = k_;
       describe_run(map, x, monodromy, orbit);
+      if (!with_fp) return true;
       const double dp = options_.difference_step * std::max(1.0, std::abs(p));
       StroboscopicMap& shifted = family_.difference_at(p + dp);
       const Scaling s2 = scaling(shifted);
@@ -408,6 +410,68 @@ std::optional<PeriodicOrbit> doubled_orbit(OrbitFamily& family, const PeriodicOr
   return std::nullopt;
 }
 
+/// The test function of a bifurcation that changes the multipliers: 1 + μ for the real
+/// multiplier nearest −1 (period doubling), |μ| − 1 for the complex one nearest the unit circle
+/// (Neimark–Sacker).
+double bifurcation_test(const PeriodicOrbit& orbit, BifurcationKind kind) {
+  double best = std::numeric_limits<double>::infinity();
+  double value = best;
+  for (const auto& mu : orbit.multipliers) {
+    const bool real = std::abs(mu.imag()) <= 1e-9 * std::abs(mu);
+    if (kind == BifurcationKind::period_doubling && real && std::abs(mu.real() + 1) < best) {
+      best = std::abs(mu.real() + 1);
+      value = mu.real() + 1;
+    }
+    if (kind == BifurcationKind::neimark_sacker && !real && std::abs(std::abs(mu) - 1) < best) {
+      best = std::abs(std::abs(mu) - 1);
+      value = std::abs(mu) - 1;
+    }
+  }
+  return value;
+}
+
+/// The orbit where the test function of `kind` vanishes between a and b (regula falsi, Illinois,
+/// on orbits shot at fixed p from the interpolated state); nothing when it cannot be bracketed.
+std::optional<PeriodicOrbit> refined_bifurcation(OrbitFamily& family, PeriodicOrbit a, PeriodicOrbit b,
+                                                 BifurcationKind kind, const ShootingOptions& shooting,
+                                                 ContinuationResult& counts) {
+  double fa = bifurcation_test(a, kind), fb = bifurcation_test(b, kind);
+  if (!(fa * fb < 0)) return std::nullopt;
+  const auto state = [](const PeriodicOrbit& o) {
+    Eigen::VectorXd x(2 * o.u.size());
+    x << o.u, o.v;
+    return x;
+  };
+  std::optional<PeriodicOrbit> best;
+  int side = 0;
+  for (int i = 0; i < 40 && std::abs(b.parameter - a.parameter) > 1e-11 * std::max(1.0, std::abs(a.parameter)); ++i) {
+    const double t = fa / (fa - fb);
+    const double p = a.parameter + t * (b.parameter - a.parameter);
+    StroboscopicMap& map = family.at(p);
+    ShootingResult r = shoot(map, state(a) + t * (state(b) - state(a)), a.periodicity, shooting);
+    counts.map_evaluations += r.orbit.iterations + 1;
+    counts.newton_iterations += r.orbit.iterations;
+    if (!r.converged) break;
+    r.orbit.parameter = p;
+    const double fc = bifurcation_test(r.orbit, kind);
+    best = r.orbit;
+    if (fc == 0) break;
+    if (fc * fa < 0) {
+      b = r.orbit;
+      fb = fc;
+      if (side == -1) fa /= 2;
+      side = -1;
+    } else {
+      a = r.orbit;
+      fa = fc;
+      if (side == 1) fb /= 2;
+      side = 1;
+    }
+  }
+  if (best) best->bifurcation = kind;
+  return best;
+}
+
 }  // namespace
 
 ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& start, double p_min, double p_max,
@@ -467,7 +531,7 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
       int iterations = 0;
       for (; iterations < options.newton_iterations; ++iterations) {
         ++result.newton_iterations;
-        if (!problem.evaluate(trial.head(m), trial(m), f, fw, fp, orbit, failure)) break;
+        if (!problem.evaluate(trial.head(m), trial(m), f, fw, fp, orbit, failure, iterations == 0)) break;
         const double arclength = tangent.dot(trial - predicted);
         if (f.cwiseAbs().maxCoeff() <= shooting.tolerance * std::max(1.0, trial.head(m).cwiseAbs().maxCoeff()) &&
             std::abs(arclength) <= 1e-6 * step) {
@@ -496,7 +560,7 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
       orbit.iterations = iterations;
       orbit.residual = f.cwiseAbs().maxCoeff();
       const Eigen::VectorXd next_tangent = branch_tangent(fw, fp, tangent);
-      const PeriodicOrbit& before = branch.points.back();
+      const PeriodicOrbit before = branch.points.back();  // a copy: the push below may move the points
       if (next_tangent(m) * tangent(m) < 0) {
         orbit.bifurcation = BifurcationKind::fold;
       } else if (real_below_minus_one(before.multipliers) != real_below_minus_one(orbit.multipliers)) {
@@ -525,6 +589,14 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
         }
       }
       const bool grazed = orbit.bifurcation == BifurcationKind::grazing;
+      const BifurcationKind found = orbit.bifurcation;
+      if (orbit.bifurcation == BifurcationKind::period_doubling || orbit.bifurcation == BifurcationKind::neimark_sacker) {
+        // Locate it: the flagged orbit is only the first past it.
+        if (auto at = refined_bifurcation(family, before, orbit, orbit.bifurcation, shooting, result)) {
+          branch.points.push_back(*at);
+          orbit.bifurcation = BifurcationKind::none;
+        }
+      }
       branch.points.push_back(orbit);
       w = trial.head(m);
       p = trial(m);
@@ -533,12 +605,27 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
       tangent = next_tangent;
       if (grazed) {
         step = std::max(options.min_step, std::min(step, options.initial_step));
-      } else if (iterations <= 2) {
+      } else if (iterations <= 3) {
         step = std::min(options.max_step, step * 1.5);
-      } else if (iterations >= 5) {
+      } else if (iterations >= 6) {
         step *= 0.5;
       }
-      if (orbit.bifurcation == BifurcationKind::period_doubling && 2 * k <= options.max_periodicity) {
+      // A branch that creeps (steps at the smallest size for many points without moving in the
+      // parameter or the state) sits on a singularity the corrector cannot pass: end it.
+      if (branch.points.size() > 50) {
+        const PeriodicOrbit& back = branch.points[branch.points.size() - 51];
+        Eigen::VectorXd xb(2 * back.u.size()), xo(2 * orbit.u.size());
+        xb << back.u, back.v;
+        xo << orbit.u, orbit.v;
+        const Scaling s{family.length_scale(), orbit.omega};
+        if (std::abs(back.parameter - orbit.parameter) < 0.01 * options.max_parameter_step &&
+            (s.to_scaled(xb) - s.to_scaled(xo)).norm() < 50 * options.min_step * 10) {
+          branch.points.back().bifurcation = BifurcationKind::end;
+          branch.ended = "stalled: the corrector cannot pass a singularity of the map";
+          break;
+        }
+      }
+      if (found == BifurcationKind::period_doubling && 2 * k <= options.max_periodicity) {
         // Follow the doubled branch from the side where the period-k orbit is unstable.
         const PeriodicOrbit& unstable =
             real_below_minus_one(orbit.multipliers) > real_below_minus_one(before.multipliers) ? orbit : before;
@@ -567,6 +654,117 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
     result.branches.push_back(std::move(branch));
   }
   return result;
+}
+
+// ---- frequency responses by continuation ----------------------------------------------------
+
+namespace {
+
+/// The smallest k ≤ max_k whose sections repeat to `tolerance` (relative) after `settle` periods
+/// from x; 0 when none. x is left at the last section.
+int detected_periodicity(StroboscopicMap& map, Eigen::VectorXd& x, int settle, int max_k, double tolerance) {
+  x = settled_state(map, x, settle);
+  std::vector<Eigen::VectorXd> sections{x};
+  double scale = x.cwiseAbs().maxCoeff();
+  for (int j = 0; j < 2 * max_k; ++j) {
+    x = map.evaluate(x, 1);
+    sections.push_back(x);
+    scale = std::max(scale, x.cwiseAbs().maxCoeff());
+  }
+  const auto size = static_cast<int>(sections.size());
+  for (int k = 1; k <= max_k; ++k) {
+    double worst = 0;
+    for (int j = size - 1; j >= size - k; --j) {
+      worst = std::max(worst, (sections[static_cast<std::size_t>(j)] - sections[static_cast<std::size_t>(j - k)]).cwiseAbs().maxCoeff());
+    }
+    if (worst <= tolerance * scale) return k;
+  }
+  return 0;
+}
+
+FrfPoint frf_point(const Model& model, double amplitude, const PeriodicOrbit& orbit, int branch, int parent) {
+  FrfPoint p;
+  p.ratio = orbit.parameter;
+  p.omega = orbit.omega;
+  p.interacting = orbit.amplitudes;
+  p.free = free_response(model, amplitude, orbit.omega);
+  p.periodicity = orbit.periodicity;
+  p.transient_periods = 0;
+  p.events = orbit.events;
+  p.impacts = orbit.impacts;
+  p.continued = true;
+  p.branch_id = branch;
+  p.parent_branch = parent;
+  p.stable = orbit.stable;
+  p.multipliers.assign(orbit.multipliers.data(), orbit.multipliers.data() + orbit.multipliers.size());
+  p.bifurcation = orbit.bifurcation;
+  return p;
+}
+
+}  // namespace
+
+std::vector<FrfPoint> frequency_response_by_continuation(const Model& model, const FrequencyResponseOptions& options) {
+  options.shooting.validate();
+  options.continuation.validate();
+  std::vector<double> ratios = options.ratios;
+  std::sort(ratios.begin(), ratios.end());
+  const double lo = ratios.front(), hi = ratios.back();
+  TimeHistoryOptions th = options.time_history;
+  th.integrator = Integrator::exact;
+  FrequencyFamily family(model, options.amplitude, th, options.steady.steps_per_period);
+  ContinuationOptions co = options.continuation;
+  if (ratios.size() > 1) co.max_parameter_step = std::min(co.max_parameter_step, (hi - lo) / static_cast<double>(ratios.size() - 1));
+  const int max_k = std::min(options.steady.max_periodicity, co.max_periodicity);
+
+  std::vector<FrfPoint> out;
+  int next_branch = 0;
+  double covered = -std::numeric_limits<double>::infinity();
+  const auto report = [&] {
+    if (!options.progress) return;
+    const auto done = std::count_if(ratios.begin(), ratios.end(), [&](double r) { return r <= covered; });
+    options.progress(static_cast<int>(done), static_cast<int>(ratios.size()));
+  };
+  for (const double r : ratios) {
+    if (r <= covered) continue;
+    StroboscopicMap& map = family.at(r);
+    Eigen::VectorXd x = Eigen::VectorXd::Zero(2 * map.dofs());
+    std::optional<PeriodicOrbit> seed;
+    try {
+      const int k = detected_periodicity(map, x, options.steady.max_periods / 10 + 10, max_k, 1e-4);
+      for (const int kk : {k > 0 ? k : 1}) {
+        ShootingResult shot = shoot(map, x, kk, options.shooting);
+        if (shot.converged) {
+          shot.orbit.parameter = r;
+          seed = shot.orbit;
+        }
+      }
+    } catch (const std::exception&) {
+      seed.reset();  // the run from rest failed: the simulation below says why
+    }
+    if (!seed) {
+      // No periodic orbit from here (quasi-periodic, chaotic, or beyond Newton): simulate.
+      std::unique_ptr<Simulator> sim;
+      FrfPoint p = steady_state_point(model, options.amplitude, r, options.steady, th, sim);
+      out.push_back(std::move(p));
+      covered = r;
+      report();
+      continue;
+    }
+    const ContinuationResult traced = continue_orbits(family, *seed, lo, hi, +1, options.shooting, co);
+    for (const Branch& b : traced.branches) {
+      for (const PeriodicOrbit& orbit : b.points) {
+        if (orbit.parameter < lo || orbit.parameter > hi) continue;
+        out.push_back(frf_point(model, options.amplitude, orbit, next_branch + b.id,
+                                b.parent >= 0 ? next_branch + b.parent : -1));
+      }
+    }
+    double reached = r;
+    for (const PeriodicOrbit& orbit : traced.branches.front().points) reached = std::max(reached, orbit.parameter);
+    covered = std::max(covered, reached);
+    next_branch += static_cast<int>(traced.branches.size());
+    report();
+  }
+  return out;
 }
 
 }  // namespace poundsim

@@ -1,6 +1,9 @@
 #include "poundsim/io/frequency_response_run.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <complex>
+#include <limits>
 #include <map>
 
 #include <fmt/format.h>
@@ -18,8 +21,11 @@ FrequencyResponseOptions frequency_response_options(const RunInput& input) {
   FrequencyResponseOptions o;
   o.amplitude = f.amplitude_g * standard_gravity;
   o.ratios = f.ratios;
+  o.method = f.method;
   o.sweep = f.sweep;
   o.steady = f.steady;
+  o.shooting = f.shooting;
+  o.continuation = f.continuation;
   o.time_history = input.analysis.options;
   o.threads = f.threads;
   return o;
@@ -52,6 +58,23 @@ Table frf_table(const Model& model, const std::vector<FrfPoint>& points) {
   per_frame("top{}_free_m", "m", 1.0, [](const FrfPoint& p) -> const auto& { return p.free.top_displacement; });
   each(table.integers("events"), [](const FrfPoint& p) { return static_cast<std::int64_t>(p.events); });
   each(table.integers("impacts"), [](const FrfPoint& p) { return static_cast<std::int64_t>(p.impacts); });
+  if (std::none_of(points.begin(), points.end(), [](const FrfPoint& p) { return p.continued; })) return table;
+  // Continuation: the branch, the stability and what the multipliers say.
+  each(table.integers("branch_id"), [](const FrfPoint& p) { return static_cast<std::int64_t>(p.branch_id); });
+  each(table.integers("parent_branch"), [](const FrfPoint& p) { return static_cast<std::int64_t>(p.parent_branch); });
+  each(table.integers("stable"), [](const FrfPoint& p) { return static_cast<std::int64_t>(p.stable ? 1 : 0); });
+  each(table.numbers("max_multiplier", "1"), [](const FrfPoint& p) {
+    return p.multipliers.empty() ? std::numeric_limits<double>::quiet_NaN() : std::abs(p.multipliers.front());
+  });
+  each(table.texts("bifurcation"), [](const FrfPoint& p) { return std::string(to_string(p.bifurcation)); });
+  each(table.texts("multipliers"), [](const FrfPoint& p) {
+    std::string text;
+    for (const std::complex<double>& m : p.multipliers) {
+      if (!text.empty()) text += ' ';
+      text += m.imag() == 0.0 ? fmt::format("{:.9g}", m.real()) : fmt::format("{:.9g}{:+.9g}j", m.real(), m.imag());
+    }
+    return text;
+  });
   return table;
 }
 
@@ -61,7 +84,9 @@ FrequencyResponseResult frequency_response_result(const RunInput& input, std::ve
   const Model& model = input.model;
   const double w1 = reference_weight(model);
   for (const FrfPoint& p : result.points) {
-    BranchPeaks& b = result.branches[std::string(to_string(p.branch))];
+    // Continued orbits: the peaks a response can settle on are those of the stable ones.
+    if (p.continued && !p.stable) continue;
+    BranchPeaks& b = result.branches[p.continued ? std::string("continuation") : std::string(to_string(p.branch))];
     b.frames.resize(static_cast<std::size_t>(model.frame_count()));
     ++b.points;
     ++b.periodicity[p.periodicity];
@@ -122,6 +147,31 @@ nlohmann::json to_json(const FrequencyResponseResult& result) {
                       {"weight_N", weight(fr)},
                       {"natural_frequencies_rad_s", std::vector<double>(w.begin(), w.end())}});
   }
+  json continuation = nullptr;
+  if (f.method == FrfMethod::continuation) {
+    std::map<int, json> by_branch;
+    json bifurcations = json::array();
+    for (const FrfPoint& p : result.points) {
+      if (!p.continued) continue;
+      json& b = by_branch[p.branch_id];
+      if (b.is_null()) {
+        b = {{"branch", p.branch_id}, {"periodicity", p.periodicity}, {"parent", p.parent_branch},
+             {"points", 0}, {"stable_points", 0}, {"ratio_min", p.ratio}, {"ratio_max", p.ratio}};
+      }
+      b["points"] = b["points"].get<int>() + 1;
+      if (p.stable) b["stable_points"] = b["stable_points"].get<int>() + 1;
+      b["ratio_min"] = std::min(b["ratio_min"].get<double>(), p.ratio);
+      b["ratio_max"] = std::max(b["ratio_max"].get<double>(), p.ratio);
+      if (p.bifurcation != BifurcationKind::none) {
+        bifurcations.push_back({{"branch", p.branch_id}, {"kind", std::string(to_string(p.bifurcation))},
+                                {"ratio", p.ratio}, {"max_multiplier", p.multipliers.empty() ? 0.0 : std::abs(p.multipliers.front())}});
+      }
+    }
+    json branch_list = json::array();
+    for (auto& [id, b] : by_branch) branch_list.push_back(std::move(b));
+    const auto simulated = std::count_if(result.points.begin(), result.points.end(), [](const FrfPoint& p) { return !p.continued; });
+    continuation = {{"branches", branch_list}, {"bifurcations", bifurcations}, {"simulated_points", simulated}};
+  }
   json summary{{"poundsim_version", POUNDSIM_VERSION},
                {"input", input.source.string()},
                {"title", input.title},
@@ -132,6 +182,7 @@ nlohmann::json to_json(const FrequencyResponseResult& result) {
                  {"points", f.ratios.size()},
                  {"ratio_min", f.ratios.front()},
                  {"ratio_max", f.ratios.back()},
+                 {"method", std::string(name_in(frf_method_names, f.method))},
                  {"sweep", std::string(to_string(f.sweep))},
                  {"steps_per_period", f.steady.steps_per_period},
                  {"tolerance", f.steady.tolerance},
@@ -143,6 +194,7 @@ nlohmann::json to_json(const FrequencyResponseResult& result) {
                {"frames", frames},
                {"branches", branches},
                {"run_time_s", result.run_time}};
+  if (!continuation.is_null()) summary["continuation"] = std::move(continuation);
   if (input.dimensionless) {
     const DimensionlessParameters& d = *input.dimensionless;
     summary["dimensionless"] = fields_json(d, {"mass1"});  // a response is per unit mass: no scale

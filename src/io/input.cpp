@@ -1322,6 +1322,21 @@ FrfSettings read_frf(TableReader& t, TableReader& analysis, const Model& model, 
   }
   check_event_tolerance(analysis, a.options, longest,
                         fmt::format("a forcing period at ω̄/ω₁ = {} over frf.steps_per_period", f.ratios.front()));
+  if (t.has("continuation")) {
+    if (f.method != FrfMethod::continuation) t.fail("continuation", "only for method = \"continuation\"");
+    TableReader c = t.table("continuation");
+    c.declare<ContinuationOptions, ShootingOptions>();
+    read_fields(c, f.continuation);
+    read_fields(c, f.shooting);
+    if (f.continuation.min_step > f.continuation.initial_step) c.fail("min_step", "must not exceed initial_step");
+    if (f.continuation.initial_step > f.continuation.max_step) c.fail("initial_step", "must not exceed max_step");
+    c.finish();
+  }
+  if (f.method == FrfMethod::continuation && a.options.separation == SeparationCriterion::force) {
+    analysis.fail("separation", "must be \"displacement\" for frf.method = \"continuation\": under the force "
+                                "criterion a separated element's free end relaxes with a memory the floors' state "
+                                "does not hold");
+  }
   t.finish();
   return f;
 }
@@ -1921,6 +1936,12 @@ std::string to_toml(const RunInput& in) {
     write_fields(f, *in.frf);
     write_fields(f, in.frf->steady);
     f.insert("ratios", number_array(in.frf->ratios));
+    if (in.frf->method == FrfMethod::continuation) {
+      toml::table c;
+      write_fields(c, in.frf->continuation);
+      write_fields(c, in.frf->shooting);
+      f.insert("continuation", std::move(c));
+    }
     root.insert("frf", std::move(f));
   } else {
     if (in.analysis.duration > 0) analysis.insert("duration", in.analysis.duration);

@@ -18,10 +18,13 @@
 /// from (K − ω̄²M + iω̄C) U = −M 1 A, frame by frame.
 
 #include <array>
+#include <complex>
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
+#include "poundsim/analysis/orbit_options.hpp"
 #include "poundsim/fields.hpp"
 #include "poundsim/model/model.hpp"
 #include "poundsim/integrate/simulator.hpp"
@@ -75,8 +78,13 @@ struct SteadyStateOptions {
 struct FrequencyResponseOptions {
   double amplitude = 0.0;        ///< A [m/s²]
   std::vector<double> ratios;    ///< ω̄/ω₁, ω₁ of frame 1 alone
-  SweepMode sweep = SweepMode::from_rest;
-  SteadyStateOptions steady;
+  FrfMethod method = FrfMethod::simulation;
+  SweepMode sweep = SweepMode::from_rest;  ///< simulation: the sweep
+  SteadyStateOptions steady;     ///< simulation, and where continuation falls back to it
+  /// continuation: the ratios span the range followed; orbits are sampled steady.steps_per_period
+  /// times a period (peaks are refined between samples).
+  ShootingOptions shooting;
+  ContinuationOptions continuation;
   /// Integrator, event tolerance, lock time, separation; dt is set per point from T.
   TimeHistoryOptions time_history;
   int threads = 0;               ///< 0: all hardware threads. Results do not depend on it.
@@ -101,6 +109,13 @@ struct FrfPoint {
   int transient_periods = 0;     ///< periods simulated until the repetition was found (or the budget)
   long events = 0;               ///< events over the steady-state window
   long impacts = 0;              ///< impacts over the steady-state window
+  // Continuation (FrfMethod::continuation):
+  bool continued = false;        ///< a continued orbit (else simulated: stable by construction)
+  int branch_id = -1;            ///< the branch it lies on (−1: simulated)
+  int parent_branch = -1;        ///< the branch a period-doubled branch was born from
+  bool stable = true;            ///< every Floquet multiplier inside the unit circle
+  std::vector<std::complex<double>> multipliers;  ///< by decreasing modulus (continued orbits)
+  BifurcationKind bifurcation = BifurcationKind::none;  ///< between this point and the one before
 };
 
 /// The peaks per frame of what `sim` ran since its statistics were last reset.

@@ -39,45 +39,11 @@
 #include <Eigen/Core>
 
 #include "poundsim/analysis/frequency_response.hpp"
-#include "poundsim/fields.hpp"
+#include "poundsim/analysis/orbit_options.hpp"
 #include "poundsim/integrate/simulator.hpp"
 #include "poundsim/model/model.hpp"
 
 namespace poundsim {
-
-/// Newton's method on the stroboscopic map, and the sampling of a converged orbit's peaks.
-struct ShootingOptions {
-  /// Converged when max |P^k(w) − w| ≤ tolerance × max(1, max |w|) in the scaled state w.
-  double tolerance = 1e-10;
-  int max_iterations = 25;  ///< Newton iterations before a point is declared not converged.
-  /// Samples per forcing period of the runs (the exact integrator's dt = T / this): peaks are
-  /// refined between samples where a rate changes sign, so a few dozen suffice.
-  int samples_per_period = 64;
-
-  static constexpr auto fields() {
-    using O = ShootingOptions;
-    return std::tuple{
-        NumberField{"tolerance", &O::tolerance, "", Interval{.lo = 0.0, .hi = 1e-3, .lo_open = true},
-                    "Newton stops when the scaled state repeats to this"},
-        IntegerField{"max_iterations", &O::max_iterations, 1, 1000, "Newton iterations per point"},
-        IntegerField{"samples_per_period", &O::samples_per_period, 4, 1'000'000,
-                     "samples of the exact solution per forcing period (peaks are refined between them)"},
-    };
-  }
-  void validate() const;
-};
-
-/// What is special about a point of a branch.
-enum class BifurcationKind : std::uint8_t {
-  none,
-  fold,              ///< a multiplier passes +1: the branch turns back in the parameter
-  period_doubling,   ///< a multiplier passes −1: a period-2k branch is born
-  neimark_sacker,    ///< a complex pair leaves (or enters) the unit circle
-  grazing,           ///< the orbit's events change: an element starts or stops touching
-  end,               ///< the branch ends: Newton failed below the smallest step
-};
-
-[[nodiscard]] std::string_view to_string(BifurcationKind kind);
 
 /// One periodic orbit.
 struct PeriodicOrbit {
@@ -152,38 +118,6 @@ struct ShootingResult {
 };
 [[nodiscard]] ShootingResult shoot(StroboscopicMap& map, const Eigen::VectorXd& x0, int k, const ShootingOptions& options);
 
-/// Options of pseudo-arclength continuation. Step lengths are in the scaled space (w, p).
-struct ContinuationOptions {
-  double initial_step = 0.01;
-  double min_step = 1e-6;
-  double max_step = 0.05;
-  /// The largest change of the parameter in one step (keeps a branch as finely resolved as a
-  /// brute-force sweep of the same range).
-  double max_parameter_step = 0.01;
-  int max_points = 5000;          ///< per branch
-  int max_periodicity = 8;        ///< period doublings are followed up to this k
-  int newton_iterations = 8;      ///< corrector iterations before the step is halved
-  /// Relative forward-difference step for ∂F/∂p.
-  double difference_step = 1e-7;
-
-  static constexpr auto fields() {
-    using O = ContinuationOptions;
-    return std::tuple{
-        NumberField{"initial_step", &O::initial_step, "", positive, "first arclength step (scaled state and parameter)"},
-        NumberField{"min_step", &O::min_step, "", positive, "below this a branch ends"},
-        NumberField{"max_step", &O::max_step, "", positive, "largest arclength step"},
-        NumberField{"max_parameter_step", &O::max_parameter_step, "", positive,
-                    "largest change of the parameter in one step"},
-        IntegerField{"max_points", &O::max_points, 2, 1'000'000, "points per branch"},
-        IntegerField{"max_periodicity", &O::max_periodicity, 1, 64, "period doublings followed up to this k"},
-        IntegerField{"newton_iterations", &O::newton_iterations, 2, 100, "corrector iterations before halving the step"},
-        NumberField{"difference_step", &O::difference_step, "", Interval{.lo = 0.0, .hi = 1e-2, .lo_open = true},
-                    "relative step of the parameter's forward difference"},
-    };
-  }
-  void validate() const;
-};
-
 /// One continued branch.
 struct Branch {
   int id = 0;
@@ -251,5 +185,13 @@ struct ContinuationResult {
 [[nodiscard]] ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& start, double p_min,
                                                  double p_max, int direction, const ShootingOptions& shooting,
                                                  const ContinuationOptions& options);
+
+/// A frequency response by continuation (FrfMethod::continuation): from the lowest ratio, a seed
+/// (simulated from rest until its sections repeat, then shot) is continued upward through the
+/// range, its period doublings followed; where a branch ends before the top, the next ratio above
+/// it is seeded again, and where no orbit converges the point is simulated (FrfPoint::continued
+/// false). Every point of every branch in [min ratio, max ratio] is returned, stable or not.
+[[nodiscard]] std::vector<FrfPoint> frequency_response_by_continuation(const Model& model,
+                                                                       const FrequencyResponseOptions& options);
 
 }  // namespace poundsim

@@ -351,8 +351,11 @@ struct AnalysisSettings {
 struct FrfSettings {
   double amplitude_g = 0.0;           ///< A/g of a_g = A sin(ω̄t)
   std::vector<double> ratios;         ///< ω̄/ω₁, ascending
+  FrfMethod method = FrfMethod::simulation;
   SweepMode sweep = SweepMode::from_rest;
   SteadyStateOptions steady;
+  ShootingOptions shooting;           ///< [frf.continuation]
+  ContinuationOptions continuation;   ///< [frf.continuation]
   int threads = 0;                    ///< 0: all cores
 
   /// The fields of [frf] read as declared (fields.hpp); the ratios and the steady-state options
@@ -365,8 +368,11 @@ struct FrfSettings {
         CustomField<F>{"ratio_min", "the first of `points` evenly spaced ratios"},
         CustomField<F>{"ratio_max", "the last of them"},
         CustomField<F>{"points", "how many"},
+        ChoiceField{"method", &F::method, frf_method_names,
+                    "simulate until the response repeats, or shoot and continue every periodic branch"},
         ChoiceField{"sweep", &F::sweep, sweep_mode_names,
-                    "every point from rest, or a sweep up, down or both ways through the ratios"},
+                    "simulation: every point from rest, or a sweep up, down or both ways through the ratios"},
+        CustomField<F>{"continuation", "the continuation's options (method = \"continuation\")"},
         threads_field(&F::threads, "worker threads"),
     };
   }

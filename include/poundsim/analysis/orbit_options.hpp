@@ -1,0 +1,86 @@
+#pragma once
+/// @file
+/// The options of shooting and continuation of periodic orbits (periodic_orbits.hpp), and what a
+/// continued point can be: read from a model file's [frf.continuation] (docs/input.md).
+
+#include <array>
+#include <cstdint>
+#include <string_view>
+#include <utility>
+
+#include "poundsim/fields.hpp"
+
+namespace poundsim {
+
+/// How a frequency response finds its steady states.
+enum class FrfMethod : std::uint8_t {
+  simulation,    ///< brute force: simulate until the Poincaré sections repeat
+  continuation,  ///< shooting and pseudo-arclength continuation of every branch (periodic_orbits.hpp)
+};
+inline constexpr std::array<std::pair<std::string_view, FrfMethod>, 2> frf_method_names{{
+    {"simulation", FrfMethod::simulation}, {"continuation", FrfMethod::continuation}}};
+
+/// Newton's method on the stroboscopic map, and the sampling of a converged orbit's peaks.
+struct ShootingOptions {
+  /// Converged when max |P^k(w) − w| ≤ tolerance × max(1, max |w|) in the scaled state w.
+  double tolerance = 1e-10;
+  int max_iterations = 25;  ///< Newton iterations before a point is declared not converged.
+
+  static constexpr auto fields() {
+    using O = ShootingOptions;
+    return std::tuple{
+        NumberField{"tolerance", &O::tolerance, "", Interval{.lo = 0.0, .hi = 1e-3, .lo_open = true},
+                    "Newton stops when the scaled state repeats to this"},
+        IntegerField{"max_iterations", &O::max_iterations, 1, 1000, "Newton iterations per point"},
+    };
+  }
+  void validate() const;
+};
+
+/// What is special about a point of a branch.
+enum class BifurcationKind : std::uint8_t {
+  none,
+  fold,              ///< a multiplier passes +1: the branch turns back in the parameter
+  period_doubling,   ///< a multiplier passes −1: a period-2k branch is born
+  neimark_sacker,    ///< a complex pair leaves (or enters) the unit circle
+  grazing,           ///< the orbit's events change: an element starts or stops touching
+  end,               ///< the branch ends: Newton failed below the smallest step
+};
+
+[[nodiscard]] std::string_view to_string(BifurcationKind kind);
+
+
+
+/// Options of pseudo-arclength continuation. Step lengths are in the scaled space (w, p).
+struct ContinuationOptions {
+  double initial_step = 0.05;
+  double min_step = 1e-6;
+  double max_step = 1.0;
+  /// The largest change of the parameter in one step (keeps a branch as finely resolved as a
+  /// brute-force sweep of the same range).
+  double max_parameter_step = 0.01;
+  int max_points = 5000;          ///< per branch
+  int max_periodicity = 8;        ///< period doublings are followed up to this k
+  int newton_iterations = 8;      ///< corrector iterations before the step is halved
+  /// Relative forward-difference step for ∂F/∂p.
+  double difference_step = 1e-7;
+
+  static constexpr auto fields() {
+    using O = ContinuationOptions;
+    return std::tuple{
+        NumberField{"initial_step", &O::initial_step, "", positive, "first arclength step (scaled state and parameter)"},
+        NumberField{"min_step", &O::min_step, "", positive, "below this a branch ends"},
+        NumberField{"max_step", &O::max_step, "", positive, "largest arclength step"},
+        NumberField{"max_parameter_step", &O::max_parameter_step, "", positive,
+                    "largest change of the parameter in one step"},
+        IntegerField{"max_points", &O::max_points, 2, 1'000'000, "points per branch"},
+        IntegerField{"max_periodicity", &O::max_periodicity, 1, 64, "period doublings followed up to this k"},
+        IntegerField{"newton_iterations", &O::newton_iterations, 2, 100, "corrector iterations before halving the step"},
+        NumberField{"difference_step", &O::difference_step, "", Interval{.lo = 0.0, .hi = 1e-2, .lo_open = true},
+                    "relative step of the parameter's forward difference"},
+    };
+  }
+  void validate() const;
+};
+
+}  // namespace poundsim
