@@ -510,13 +510,48 @@ def _rows(table: Table, branch: Optional[str] = None) -> np.ndarray:
     return idx[np.argsort(table["ratio"][idx], kind="stable")]
 
 
+def _continued_branches(a: Any, table: Table, frames: Sequence[int], names: Any, label: str) -> None:
+    """The branches of a response by continuation: stable solid, unstable dashed, bifurcations
+    marked (see frf)."""
+    branch = np.asarray(table["branch"]).astype(str)
+    ids = np.asarray(table["branch_id"])
+    stable = np.asarray(table["stable"]) == 1
+    kinds = np.asarray(table["bifurcation"]).astype(str)
+    ratio = np.asarray(table["ratio"])
+    for i, f in enumerate(frames):
+        c = colour(f - 1)
+        v = np.asarray(table[f"V{f}_W"])
+        labelled = {True: False, False: False}
+        for b in np.unique(ids[branch == "continuation"]):
+            rows = np.flatnonzero((branch == "continuation") & (ids == b))  # in arclength order
+            start = 0
+            for j in range(1, len(rows) + 1):
+                if j < len(rows) and stable[rows[j]] == stable[rows[start]]:
+                    continue
+                run = rows[start:min(j + 1, len(rows))]  # overlapping by one point: a continuous curve
+                s = bool(stable[rows[start]])
+                a.plot(ratio[run], v[run], "-" if s else "--", color=c, lw=1.1 if s else 0.8,
+                       label=(f"{_name(names, f)}, {label}" if s else f"{_name(names, f)}, unstable")
+                       if not labelled[s] else None, gid=f"V{f}_W_branch{b}_{'stable' if s else 'unstable'}")
+                labelled[s] = True
+                start = j
+        for kind, marker in (("fold", "o"), ("period-doubling", "s"), ("Neimark-Sacker", "D")):
+            rows = np.flatnonzero(kinds == kind)
+            if len(rows):
+                a.plot(ratio[rows], v[rows], marker, color=c, ms=3.2, mfc="none", mew=0.7,
+                       label=kind if i == 0 else None, gid=f"V{f}_W_{kind}")
+
+
 def frf(fr: FrequencyResponse, ax: Any = None, free: bool = True, *, sweep: Optional[FrequencyResponse] = None,
         compare: Optional[FrequencyResponse] = None, compare_label: str = "compared", label: str = "interacting",
         size: SizeArg = "column", title: Optional[str] = None):
     """V/W (steady-state peak base shear K₁u₁ over the weight of frame 1) against ω̄/ω₁, as the
     paper's Figures 2–4: every frame (frame 1 blue, frame 2 red) interacting solid — the
     responses from rest, branch "rest" — and free dashed (`free=False` leaves them out);
-    responses that are not periodic (periodicity 0) marked ×. A two-way sweep's branches "up"
+    responses that are not periodic (periodicity 0) marked ×. A response by continuation
+    (frf.method = "continuation") draws each branch in its order along the arclength, stable
+    stretches solid and unstable ones dashed, its folds ○, period doublings □ and Neimark–Sacker
+    points ◇ marked, and the points it simulated +. A two-way sweep's branches "up"
     and "down" (in `fr` itself, or in `sweep`) are drawn as markers ▲ and ▼ over the curves;
     `compare`, another response (bare pounding, say), dotted with `compare_label`; `label` names
     the solid curves. Legend labels: "<frame>, interacting", "<frame>, free". Returns the
@@ -527,13 +562,19 @@ def frf(fr: FrequencyResponse, ax: Any = None, free: bool = True, *, sweep: Opti
     frames = _frf_frames(table)
     names = frame_names(fr, len(frames))
     rest = _rows(table, "rest")
-    curve = rest if len(rest) else _rows(table)  # a sweep alone: its free curve from every row
+    continued = "branch_id" in table
+    curve = rest if len(rest) and not continued else _rows(table)  # a sweep alone: its free curve from every row
     with _axes(ax, size if size != "column" else (COLUMN_WIDTH, 2.8)) as (a,):
         ratio = table["ratio"]
         chaotic = rest[table["periodicity"][rest] == 0] if "periodicity" in table else rest[:0]
+        if continued:
+            _continued_branches(a, table, frames, names, label)
         for i, f in enumerate(frames):
             c = colour(f - 1)
-            if len(rest):
+            if len(rest) and continued:
+                a.plot(ratio[rest], table[f"V{f}_W"][rest], "+", color=c, ms=3.5,
+                       label="simulated" if i == 0 else None, gid=f"V{f}_W_simulated")
+            elif len(rest):
                 a.plot(ratio[rest], table[f"V{f}_W"][rest], "-", color=c, lw=1.1,
                        label=f"{_name(names, f)}, {label}", gid=f"V{f}_W")
             if free:

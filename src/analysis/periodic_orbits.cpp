@@ -436,7 +436,7 @@ std::optional<PeriodicOrbit> refined_bifurcation(OrbitFamily& family, PeriodicOr
                                                  BifurcationKind kind, const ShootingOptions& shooting,
                                                  ContinuationResult& counts) {
   double fa = bifurcation_test(a, kind), fb = bifurcation_test(b, kind);
-  if (!(fa * fb < 0)) return std::nullopt;
+  if (!std::isfinite(fa) || !std::isfinite(fb) || !(fa * fb < 0)) return std::nullopt;
   const auto state = [](const PeriodicOrbit& o) {
     Eigen::VectorXd x(2 * o.u.size());
     x << o.u, o.v;
@@ -447,8 +447,12 @@ std::optional<PeriodicOrbit> refined_bifurcation(OrbitFamily& family, PeriodicOr
   for (int i = 0; i < 40 && std::abs(b.parameter - a.parameter) > 1e-11 * std::max(1.0, std::abs(a.parameter)); ++i) {
     const double t = fa / (fa - fb);
     const double p = a.parameter + t * (b.parameter - a.parameter);
-    StroboscopicMap& map = family.at(p);
-    ShootingResult r = shoot(map, state(a) + t * (state(b) - state(a)), a.periodicity, shooting);
+    ShootingResult r;
+    try {
+      r = shoot(family.at(p), state(a) + t * (state(b) - state(a)), a.periodicity, shooting);
+    } catch (const std::exception&) {
+      break;  // a run that cannot start: keep the best located so far
+    }
     counts.map_evaluations += r.orbit.iterations + 1;
     counts.newton_iterations += r.orbit.iterations;
     if (!r.converged) break;
@@ -513,6 +517,11 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
     seed(m) = job.direction;
     Eigen::VectorXd tangent = branch_tangent(fw, fp, seed);
     branch.points.push_back(current);
+    if (!tangent.allFinite()) {
+      branch.ended = "the branch's tangent is not defined at its start (a singular Jacobian)";
+      result.branches.push_back(std::move(branch));
+      continue;
+    }
     double step = options.initial_step;
     double p = current.parameter;
 
@@ -560,6 +569,12 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
       orbit.iterations = iterations;
       orbit.residual = f.cwiseAbs().maxCoeff();
       const Eigen::VectorXd next_tangent = branch_tangent(fw, fp, tangent);
+      if (!next_tangent.allFinite()) {
+        branch.points.push_back(orbit);
+        branch.points.back().bifurcation = BifurcationKind::end;
+        branch.ended = "the branch's tangent is not defined (a singular Jacobian)";
+        break;
+      }
       const PeriodicOrbit before = branch.points.back();  // a copy: the push below may move the points
       if (next_tangent(m) * tangent(m) < 0) {
         orbit.bifurcation = BifurcationKind::fold;
@@ -642,8 +657,14 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
             known = true;
           }
         }
+        std::optional<PeriodicOrbit> doubled;
         if (!known) {
-          if (auto doubled = doubled_orbit(family, unstable, shooting, result)) {
+          try {
+            doubled = doubled_orbit(family, unstable, shooting, result);
+          } catch (const std::exception&) {
+            doubled.reset();  // no period-2k orbit could be started: the branch is not followed
+          }
+          if (doubled) {
             pending.push_back({*doubled, branch.id, 1});
             pending.push_back({*doubled, branch.id, -1});
           }

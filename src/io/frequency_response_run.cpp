@@ -49,7 +49,9 @@ Table frf_table(const Model& model, const std::vector<FrfPoint>& points) {
   per_frame("V{}_W", "1", w1, [](const FrfPoint& p) -> const auto& { return p.interacting.base_shear; });
   per_frame("V{}_free_W", "1", w1, [](const FrfPoint& p) -> const auto& { return p.free.base_shear; });
   each(table.integers("periodicity"), [](const FrfPoint& p) { return static_cast<std::int64_t>(p.periodicity); });
-  each(table.texts("branch"), [](const FrfPoint& p) { return std::string(to_string(p.branch)); });
+  each(table.texts("branch"), [](const FrfPoint& p) {
+    return p.continued ? std::string("continuation") : std::string(to_string(p.branch));
+  });
   each(table.integers("transient_periods"), [](const FrfPoint& p) { return static_cast<std::int64_t>(p.transient_periods); });
   each(table.numbers("omega_rad_s", "rad/s"), [](const FrfPoint& p) { return p.omega; });
   per_frame("S{}_W", "1", w1, [](const FrfPoint& p) -> const auto& { return p.interacting.storey_shear; });
