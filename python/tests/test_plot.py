@@ -556,3 +556,38 @@ def test_the_scripts_draw_through_the_module(el_centro, bilinear, responses, stu
     force = el_centro[1].summary.max_gap_force_N
     assert f"| paper | {force:.4g} | " in r.stdout and "| hertzdamp | " in r.stdout
     png_size(tmp_path / "laws.png")
+
+
+def test_frf_by_continuation_draws_stable_solid_and_unstable_dashed(tmp_path):
+    # Fig. 2b between 0.55 and 0.8 by continuation: the resonance branch folds over an unstable
+    # stretch; each stretch is the table's rows of that branch and stability, in arclength order.
+    out = cli_run(EXAMPLES / "paper" / "fig2b.toml", tmp_path / "continued", "frf.points=26", "frf.ratio_min=0.55",
+                  "frf.ratio_max=0.8", 'frf.method="continuation"', 'analysis.integrator="exact"',
+                  "frf.steps_per_period=32")
+    fr = poundsim.read(out)
+    t = fr.table
+    fig = pp.frf(fr)
+    ax = fig.axes[0]
+    branch_id, stable = np.asarray(t["branch_id"]), np.asarray(t["stable"]) == 1
+    drawn = {ln.get_gid(): ln for ln in ax.get_lines() if ln.get_gid()}
+    assert any(g.endswith("_unstable") for g in drawn) and any(g.endswith("_stable") for g in drawn)
+    for gid, ln in drawn.items():
+        m = re.fullmatch(r"V(\d)_W_branch(\d+)_(stable|unstable)", gid)
+        if not m:
+            continue
+        f, b, kind = int(m.group(1)), int(m.group(2)), m.group(3)
+        assert ln.get_linestyle() == ("-" if kind == "stable" else "--")
+        x, y = xy(ln)
+        rows = np.flatnonzero(branch_id == b)
+        # Every drawn point is a row of that branch with that stability, but for the one point a
+        # stretch shares with the next.
+        matches = [int(np.flatnonzero((t["ratio"][rows] == xi) & (t[f"V{f}_W"][rows] == yi))[0]) for xi, yi in zip(x, y)]
+        assert all(stable[rows[i]] == (kind == "stable") for i in matches[:-1])
+        assert matches == list(range(matches[0], matches[0] + len(matches)))
+    folds = np.flatnonzero(np.asarray(t["bifurcation"]).astype(str) == "fold")
+    assert len(folds) >= 1
+    x, y = xy(line(ax, "V1_W_fold"))
+    assert np.array_equal(x, t["ratio"][folds]) and np.array_equal(y, t["V1_W"][folds])
+    labels = [tx.get_text() for tx in ax.get_legend().get_texts()]
+    assert "frame 1, unstable" in labels and "fold" in labels
+    save(fig, tmp_path, "frf_continuation")

@@ -4,6 +4,7 @@
 #include "poundsim/io/frequency_response_run.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -12,6 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "poundsim/analysis/response_metrics.hpp"
+#include "poundsim/error.hpp"
 
 namespace poundsim::io {
 namespace {
@@ -55,6 +57,76 @@ TEST(FrequencyResponseResult, PeaksAreThoseOfItsPointsAndTheSummaryIsWrittenFrom
             std::string::npos)
       << text;
   fs::remove_all(out);
+}
+
+
+TEST(FrequencyResponseResult, ContinuationWritesBranchesStabilityAndBifurcations) {
+  // Fig. 2b (bare pounding) between 0.55 and 0.8 by continuation: the resonance branch folds
+  // (an unstable middle branch) and a period-doubling window follows.
+  const fs::path figure = fs::path(POUNDSIM_SOURCE_DIR) / "examples" / "paper" / "fig2b.toml";
+  const std::vector<std::string> overrides{"frf.points=26", "frf.ratio_min=0.55", "frf.ratio_max=0.8",
+                                           "frf.method=\"continuation\"", "analysis.integrator=\"exact\"",
+                                           "frf.steps_per_period=32"};
+  const RunInput input = read_input(figure, overrides);
+  const fs::path out = fs::temp_directory_path() / "poundsim_frf_continuation";
+  const FrequencyResponseResult r = run_frequency_response(input, out);
+  int unstable = 0, folds = 0, doublings = 0;
+  for (const FrfPoint& p : r.points) {
+    ASSERT_TRUE(p.continued);
+    EXPECT_GE(p.ratio, 0.55);
+    EXPECT_LE(p.ratio, 0.8);
+    ASSERT_FALSE(p.multipliers.empty());
+    EXPECT_EQ(p.stable, std::abs(p.multipliers.front()) < 1.0);
+    unstable += p.stable ? 0 : 1;
+    folds += p.bifurcation == BifurcationKind::fold ? 1 : 0;
+    doublings += p.bifurcation == BifurcationKind::period_doubling ? 1 : 0;
+  }
+  EXPECT_GT(unstable, 0);
+  EXPECT_GE(folds, 1);  // the resonance branch turns back
+  EXPECT_GE(doublings, 1);
+  // The peaks reported are those of stable orbits.
+  const double w1 = reference_weight(input.model);
+  double peak = 0;
+  for (const FrfPoint& p : r.points) {
+    if (p.stable) peak = std::max(peak, p.interacting.base_shear[0] / w1);
+  }
+  EXPECT_EQ(r.branches.at("continuation").frames[0].peak_v_w, peak);
+  // frf.csv carries the branch, the stability and the multipliers; summary.json the bifurcations.
+  std::ifstream csv(out / "frf.csv");
+  std::string header;
+  std::getline(csv, header);
+  for (const char* column : {"branch_id", "parent_branch", "stable", "max_multiplier", "bifurcation", "multipliers"}) {
+    EXPECT_NE(header.find(column), std::string::npos) << column;
+  }
+  std::ifstream summary_file(out / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(summary_file);
+  EXPECT_EQ(summary, to_json(r));
+  EXPECT_EQ(summary["analysis"]["method"], "continuation");
+  EXPECT_GE(summary["continuation"]["bifurcations"].size(), 3u);
+  fs::remove_all(out);
+}
+
+TEST(FrequencyResponseInput, ContinuationOptionsBelongToTheContinuationMethod) {
+  const fs::path figure = fs::path(POUNDSIM_SOURCE_DIR) / "examples" / "paper" / "fig2c.toml";
+  try {
+    static_cast<void>(read_input(figure, std::vector<std::string>{"frf.continuation.max_step=0.5"}));
+    FAIL() << "a [frf.continuation] table with method = \"simulation\" was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("continuation"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("only for method = \"continuation\""), std::string::npos) << e.what();
+  }
+  try {
+    static_cast<void>(read_input(figure, std::vector<std::string>{"frf.method=\"continuation\"", "frf.continuation.min_step=0.5"}));
+    FAIL() << "min_step above initial_step was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("min_step"), std::string::npos) << e.what();
+  }
+  const RunInput in = read_input(figure, std::vector<std::string>{"frf.method=\"continuation\"", "frf.continuation.max_parameter_step=0.002"});
+  EXPECT_EQ(in.frf->method, FrfMethod::continuation);
+  EXPECT_EQ(in.frf->continuation.max_parameter_step, 0.002);
+  const FrequencyResponseOptions o = frequency_response_options(in);
+  EXPECT_EQ(o.method, FrfMethod::continuation);
+  EXPECT_EQ(o.continuation.max_parameter_step, 0.002);
 }
 
 }  // namespace
