@@ -253,18 +253,18 @@ TEST(ImpactOscillator, ContinuationFindsTheAnalyticPeriodDoubling) {
   const Model model = osc.model();
   TimeHistoryOptions options = exact_options();
   FrequencyFamily family(model, osc.amplitude, options, 32);
-  StroboscopicMap& map = family.at(2.2);
-  const ImpactOscillator::Orbit start_orbit = osc.orbit(2.2 * osc.omega0);
+  StroboscopicMap& map = family.at(2.4);
+  const ImpactOscillator::Orbit start_orbit = osc.orbit(2.4 * osc.omega0);
   Eigen::VectorXd start = Eigen::VectorXd::Zero(4);
   start(0) = start_orbit.at_zero(0);
   start(2) = start_orbit.at_zero(1);
   ShootingResult r = shoot(map, start, 1, ShootingOptions{});
   ASSERT_TRUE(r.converged) << r.failure;
-  r.orbit.parameter = 2.2;
+  r.orbit.parameter = 2.4;
   ContinuationOptions co;
   co.max_parameter_step = 5e-3;
-  co.max_points = 200;
-  const ContinuationResult traced = continue_orbits(family, r.orbit, 2.2, 2.6, +1, ShootingOptions{}, co);
+  co.max_points = 30;  // enough to pass the doubling and start the period-2 branch
+  const ContinuationResult traced = continue_orbits(family, r.orbit, 2.4, 2.5, +1, ShootingOptions{}, co);
   ASSERT_FALSE(traced.branches.empty());
   const Branch& main = traced.branches.front();
   const auto pd = std::find_if(main.points.begin(), main.points.end(), [](const PeriodicOrbit& p) {

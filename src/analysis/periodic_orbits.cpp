@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <variant>
 #include <stdexcept>
 
 #include <Eigen/Dense>
@@ -145,11 +147,44 @@ void StroboscopicMap::set_omega(double omega) {
 
 Eigen::VectorXd StroboscopicMap::evaluate(const Eigen::VectorXd& x, int k, Eigen::MatrixXd* jacobian) {
   sim_->track_sensitivity(jacobian != nullptr);
-  sim_->reset_state(x.head(dofs_), x.tail(dofs_));
+  // A run cannot start with a pair pressed past its stop, yet an orbit whose section finds a pair
+  // on its stop (touching at rest, δ = 0, or pressed together) is reached by Newton's iterates
+  // from both sides. The map is taken at the state put back on the stop (each floor of the pair
+  // moved half the excess): continuous, the identity where no pair is past its stop, and its
+  // derivative I − ½ n nᵀ composed into the monodromy where one is.
+  start_ = x;
+  bool projected = false;
+  if (jacobian != nullptr) projection_.setIdentity(2 * dofs_, 2 * dofs_);
+  for (const Link& link : sim_->system().contact_links()) {
+    if (!link.joins_floors() || link.b < 0) continue;
+    std::visit(
+        [&](const auto& law) {
+          using L = std::decay_t<decltype(law)>;
+          if constexpr (ContactLaw<L>) {
+            if (!law.traits.has_stop) return;
+            const double past = start_(link.a) - start_(link.b) - law.locked_length();
+            if (!(past > 0)) return;
+            start_(link.a) -= 0.5 * past;
+            start_(link.b) += 0.5 * past;
+            // The halves may leave an ulp of the excess.
+            while (start_(link.a) - start_(link.b) - law.locked_length() > 0) {
+              start_(link.b) = std::nextafter(start_(link.b), std::numeric_limits<double>::infinity());
+            }
+            projected = true;
+            if (jacobian != nullptr) {
+              Eigen::RowVectorXd difference = projection_.row(link.a) - projection_.row(link.b);
+              projection_.row(link.a) -= 0.5 * difference;
+              projection_.row(link.b) += 0.5 * difference;
+            }
+          }
+        },
+        link.law);
+  }
+  sim_->reset_state(start_.head(dofs_), start_.tail(dofs_));
   sim_->advance_to(k * kTwoPi / omega_);
   Eigen::VectorXd out(2 * dofs_);
   out << sim_->state().u, sim_->state().v;
-  if (jacobian != nullptr) *jacobian = sim_->sensitivity();
+  if (jacobian != nullptr) *jacobian = projected ? Eigen::MatrixXd(sim_->sensitivity() * projection_) : sim_->sensitivity();
   return out;
 }
 
@@ -292,6 +327,10 @@ class BranchProblem {
   /// `with_fp` false keeps fp as it is (a chord: ∂F/∂p changes little within a step).
   bool evaluate(const Eigen::VectorXd& w, double p, Eigen::VectorXd& f, Eigen::MatrixXd& fw, Eigen::VectorXd& fp,
                 PeriodicOrbit& orbit, std::string& failure, bool with_fp = true) {
+    if (!(p > 0) || !std::isfinite(p) || !w.allFinite()) {
+      failure = fmt::format("the corrector left the admissible states (parameter {})", p);
+      return false;
+    }
     try {
       StroboscopicMap& map = family_.at(p);
       const Scaling s = scaling(map);
@@ -526,6 +565,11 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
     double p = current.parameter;
 
     while (static_cast<int>(branch.points.size()) < options.max_points) {
+      if (result.map_evaluations >= options.max_evaluations) {
+        branch.ended = "the budget of map evaluations is spent";
+        pending.clear();
+        break;
+      }
       if (p < p_min || p > p_max) {
         branch.ended = "left the parameter range";
         break;
@@ -736,6 +780,7 @@ std::vector<FrfPoint> frequency_response_by_continuation(const Model& model, con
   ContinuationOptions co = options.continuation;
   if (ratios.size() > 1) co.max_parameter_step = std::min(co.max_parameter_step, (hi - lo) / static_cast<double>(ratios.size() - 1));
   const int max_k = std::min(options.steady.max_periodicity, co.max_periodicity);
+  long budget = static_cast<long>(co.evaluations_per_ratio) * static_cast<long>(ratios.size());
 
   std::vector<FrfPoint> out;
   int next_branch = 0;
@@ -750,17 +795,19 @@ std::vector<FrfPoint> frequency_response_by_continuation(const Model& model, con
     StroboscopicMap& map = family.at(r);
     Eigen::VectorXd x = Eigen::VectorXd::Zero(2 * map.dofs());
     std::optional<PeriodicOrbit> seed;
-    try {
-      const int k = detected_periodicity(map, x, options.steady.max_periods / 10 + 10, max_k, 1e-4);
-      for (const int kk : {k > 0 ? k : 1}) {
-        ShootingResult shot = shoot(map, x, kk, options.shooting);
+    if (budget > 0) {
+      try {
+        const int settle = options.steady.max_periods / 10 + 10;
+        const int k = detected_periodicity(map, x, settle, max_k, 1e-4);
+        ShootingResult shot = shoot(map, x, k > 0 ? k : 1, options.shooting);
+        budget -= settle + 2 * max_k + shot.orbit.iterations + 1;
         if (shot.converged) {
           shot.orbit.parameter = r;
           seed = shot.orbit;
         }
+      } catch (const std::exception&) {
+        seed.reset();  // the run from rest failed: the simulation below says why
       }
-    } catch (const std::exception&) {
-      seed.reset();  // the run from rest failed: the simulation below says why
     }
     if (!seed) {
       // No periodic orbit from here (quasi-periodic, chaotic, or beyond Newton): simulate.
@@ -771,7 +818,9 @@ std::vector<FrfPoint> frequency_response_by_continuation(const Model& model, con
       report();
       continue;
     }
+    co.max_evaluations = budget;
     const ContinuationResult traced = continue_orbits(family, *seed, lo, hi, +1, options.shooting, co);
+    budget -= traced.map_evaluations;
     for (const Branch& b : traced.branches) {
       for (const PeriodicOrbit& orbit : b.points) {
         if (orbit.parameter < lo || orbit.parameter > hi) continue;

@@ -438,7 +438,7 @@ TEST(StudyRun, AKilledStudyResumesWhereItStopped) {
   }
   // Wait until some, not all, points are in the database, then kill.
   long seen = 0;
-  for (int i = 0; i < 2000 && seen < 2; ++i) {
+  for (int i = 0; i < 12000 && seen < 2; ++i) {  // up to 60 s: a sanitizer build on a loaded machine is slow
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
     if (fs::exists(dir / "out" / "study.sqlite")) {
       try {

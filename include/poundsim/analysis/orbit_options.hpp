@@ -64,6 +64,12 @@ struct ContinuationOptions {
   int newton_iterations = 8;      ///< corrector iterations before the step is halved
   /// Relative forward-difference step for ∂F/∂p.
   double difference_step = 1e-7;
+  /// Runs of the map (one forcing period each, k for a period-k orbit) allowed per ratio of a
+  /// frequency response: the budget of the whole continuation is this × the ratios. Where it is
+  /// spent, the ratios not yet reached are simulated.
+  int evaluations_per_ratio = 200;
+  /// The runs one continue_orbits call may make (the frequency response sets it from the above).
+  long max_evaluations = 10'000'000;
 
   static constexpr auto fields() {
     using O = ContinuationOptions;
@@ -78,6 +84,8 @@ struct ContinuationOptions {
         IntegerField{"newton_iterations", &O::newton_iterations, 2, 100, "corrector iterations before halving the step"},
         NumberField{"difference_step", &O::difference_step, "", Interval{.lo = 0.0, .hi = 1e-2, .lo_open = true},
                     "relative step of the parameter's forward difference"},
+        IntegerField{"evaluations_per_ratio", &O::evaluations_per_ratio, 1, 1'000'000,
+                     "runs of the map allowed per ratio; beyond, the remaining ratios are simulated"},
     };
   }
   void validate() const;

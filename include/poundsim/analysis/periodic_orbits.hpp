@@ -87,7 +87,8 @@ class StroboscopicMap {
   [[nodiscard]] int dofs() const { return dofs_; }
 
   /// Runs k periods from x = [u; v] (2N); the state reached and, when `jacobian` is given, the
-  /// monodromy ∂x(kT)/∂x(0). Throws SimulationError or std::invalid_argument (a state that cannot
+  /// monodromy ∂x(kT)/∂x(0). A pair of floors past its stop in x is put back on it first (each
+  /// moved half the excess; the monodromy includes that projection). Throws SimulationError or std::invalid_argument (a state that cannot
   /// start) as the simulator does.
   Eigen::VectorXd evaluate(const Eigen::VectorXd& x, int k, Eigen::MatrixXd* jacobian = nullptr);
   /// The simulator of the last evaluation (its statistics are the run's peaks and counts).
@@ -100,6 +101,8 @@ class StroboscopicMap {
   int samples_ = 64;
   int dofs_ = 0;
   std::unique_ptr<Simulator> sim_;
+  Eigen::VectorXd start_;  ///< the state a run starts from (put back on the stops)
+  Eigen::MatrixXd projection_;  ///< ∂start/∂x
 };
 
 /// The linear frames' steady state at t = 0 (each frame alone, closed form): x = [u; u̇] (2N).
