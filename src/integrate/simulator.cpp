@@ -202,6 +202,10 @@ void Simulator::restart(Excitation excitation, double dt) {
     phases_.clear();
     stepper_->phases_cleared();
   }
+  start_afresh();
+}
+
+void Simulator::start_afresh() {
   try {
     settle_state();
   } catch (const SimulationError& e) {
@@ -228,14 +232,7 @@ void Simulator::reset_state(const Eigen::VectorXd& u, const Eigen::VectorXd& v) 
   grid_index_ = 0;
   contact_ = system_.initial_contact(state_);
   if (system_.has_committing_laws()) system_.commit_states(state_, contact_);
-  try {
-    settle_state();
-  } catch (const SimulationError& e) {
-    record_failure(e);
-    throw;
-  }
-  reset_statistics();
-  if (tracking_) tangent_->reset(state_.t);
+  start_afresh();
 }
 
 void Simulator::track_sensitivity(bool track) {

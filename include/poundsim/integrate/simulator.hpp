@@ -329,6 +329,9 @@ class Simulator : private detail::Loop {
  private:
   void integrate_to(double t_end, bool nominal);
   void settle_state();
+  /// settle_state() at a new start (restart, reset_state), a failure recorded; then statistics
+  /// and the sensitivities start here.
+  void start_afresh();
   /// A failed simulator throws its failure again; record_failure makes it failed.
   void throw_if_failed() const;
   void record_failure(const SimulationError& e);
