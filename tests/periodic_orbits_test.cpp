@@ -98,8 +98,23 @@ TEST(StroboscopicMap, TheMonodromyOfImpactsAndContactsIsTheMapsDerivative) {
     ASSERT_TRUE(r.converged) << c.name << ": " << r.failure;
     ASSERT_GT(r.orbit.events, 0) << c.name;
     const Eigen::VectorXd x = state_of(r.orbit);
+    // Recording the peaks and the energy balance changes nothing of the run: the same state, the
+    // same monodromy, the same events, bit for bit.
+    Eigen::MatrixXd recorded_monodromy;
+    const Eigen::VectorXd recorded = map.evaluate(x, 1, &recorded_monodromy, StroboscopicMap::Responses::record);
+    const long recorded_events = map.simulator().statistics().events;
+    // The orbit's peaks are those of its recorded period.
+    const FrameAmplitudes peaks = run_amplitudes(map.simulator());
+    for (std::size_t f = 0; f < 2; ++f) {
+      EXPECT_GT(peaks.base_shear[f], 0.0) << c.name;
+      EXPECT_EQ(r.orbit.amplitudes.base_shear[f], peaks.base_shear[f]) << c.name;
+      EXPECT_EQ(r.orbit.amplitudes.top_displacement[f], peaks.top_displacement[f]) << c.name;
+    }
     Eigen::MatrixXd exact;
-    map.evaluate(x, 1, &exact);
+    const Eigen::VectorXd skipped = map.evaluate(x, 1, &exact);
+    EXPECT_TRUE(skipped == recorded) << c.name;
+    EXPECT_TRUE(exact == recorded_monodromy) << c.name;
+    EXPECT_EQ(map.simulator().statistics().events, recorded_events) << c.name;
     const Eigen::MatrixXd differences = finite_difference_jacobian(map, x, 1);
     for (const auto& g : map.simulator().statistics().gaps) {
       kinds[0] += g.contacts;
@@ -333,7 +348,7 @@ TEST(PeriodicOrbits, StableContinuedOrbitsAreWhereLongSimulationsSettle) {
       const int periods = static_cast<int>(std::ceil(std::log(1e-12 / 1e-2) / std::log(std::abs(p.multipliers.front())))) + 1;
       Eigen::VectorXd start = state_of(shot.orbit) * 1.01;
       start = settled_state(map, start, (periods / p.periodicity + 1) * p.periodicity);
-      map.evaluate(start, p.periodicity);
+      map.evaluate(start, p.periodicity, nullptr, StroboscopicMap::Responses::record);
       const FrameAmplitudes simulated = run_amplitudes(map.simulator());
       for (std::size_t f = 0; f < 2; ++f) {
         EXPECT_NEAR(simulated.base_shear[f], p.interacting.base_shear[f], 1e-8 * p.interacting.base_shear[f])

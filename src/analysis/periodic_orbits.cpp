@@ -117,7 +117,14 @@ void describe_run(const StroboscopicMap& map, const Eigen::VectorXd& x, const Ei
   orbit.impacts = 0;
   for (const GapResponse& g : sim.statistics().gaps) orbit.impacts += g.impacts;
   orbit.transversality = sim.least_transversality();
-  orbit.amplitudes = run_amplitudes(sim);
+}
+
+/// The orbit's peaks: its period run once more, recording them (the Newton iterations skip them).
+void record_amplitudes(StroboscopicMap& map, PeriodicOrbit& orbit) {
+  Eigen::VectorXd x(2 * map.dofs());
+  x << orbit.u, orbit.v;
+  map.evaluate(x, orbit.periodicity, nullptr, StroboscopicMap::Responses::record);
+  orbit.amplitudes = run_amplitudes(map.simulator());
 }
 
 }  // namespace
@@ -145,8 +152,10 @@ void StroboscopicMap::set_omega(double omega) {
   sim_->restart(HarmonicExcitation{amplitude_, omega_}, options_.dt);
 }
 
-Eigen::VectorXd StroboscopicMap::evaluate(const Eigen::VectorXd& x, int k, Eigen::MatrixXd* jacobian) {
+Eigen::VectorXd StroboscopicMap::evaluate(const Eigen::VectorXd& x, int k, Eigen::MatrixXd* jacobian,
+                                          Responses responses) {
   sim_->track_sensitivity(jacobian != nullptr);
+  sim_->record_responses(responses == Responses::record);
   // A run cannot start with a pair pressed past its stop, yet an orbit whose section finds a pair
   // on its stop (touching at rest, δ = 0, or pressed together) is reached by Newton's iterates
   // from both sides. The map is taken at the state put back on the stop (each floor of the pair
@@ -250,6 +259,7 @@ ShootingResult shoot(StroboscopicMap& map, const Eigen::VectorXd& x0, int k, con
     describe_run(map, x, monodromy, orbit);
     if (orbit.residual <= options.tolerance * std::max(1.0, w.cwiseAbs().maxCoeff())) {
       result.converged = true;
+      record_amplitudes(map, orbit);
       return result;
     }
     if (iteration >= options.max_iterations) {
@@ -717,6 +727,12 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
     }
     if (branch.ended.empty()) branch.ended = "reached the most points of a branch";
     result.branches.push_back(std::move(branch));
+  }
+  for (Branch& branch : result.branches) {
+    for (PeriodicOrbit& orbit : branch.points) {
+      record_amplitudes(family.at(orbit.parameter), orbit);
+      ++result.map_evaluations;
+    }
   }
   return result;
 }

@@ -158,13 +158,15 @@ void ExactStepper::state_at(const Loop& loop, double s, KinematicState& out) {
 }
 
 void ExactStepper::accept(Loop& loop, KinematicState& next) {
-  const double t0 = trajectory_.start_time();
-  const double a = loop.state().t - t0, b = next.t - t0;
-  const EnergyMeter::Powers integral =
-      segment_powers_ != nullptr ? segment_powers_->integrate(a, b) : quadrature_powers(loop, a, b);
-  loop.meter().step_with(loop.state(), next, integral, loop.contact().config, loop.contact().states);
-  Output output(*this, loop);
-  loop.monitor().observe_step(loop.state(), next, trajectory_.start_time(), output);
+  if (loop.recording()) {
+    const double t0 = trajectory_.start_time();
+    const double a = loop.state().t - t0, b = next.t - t0;
+    const EnergyMeter::Powers integral =
+        segment_powers_ != nullptr ? segment_powers_->integrate(a, b) : quadrature_powers(loop, a, b);
+    loop.meter().step_with(loop.state(), next, integral, loop.contact().config, loop.contact().states);
+    Output output(*this, loop);
+    loop.monitor().observe_step(loop.state(), next, trajectory_.start_time(), output);
+  }
   loop.evaluate_guards(next, loop.guards().lo, loop.guards().rate_lo);
   loop.after_accept(next);
 }

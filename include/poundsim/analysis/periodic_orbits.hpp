@@ -86,12 +86,18 @@ class StroboscopicMap {
   [[nodiscard]] const Model& model() const { return model_; }
   [[nodiscard]] int dofs() const { return dofs_; }
 
+  /// What a run keeps besides the state: its peaks and energy balance (Responses::record) or
+  /// only its events (Responses::skip, about half the cost of a period: Simulator::record_responses).
+  enum class Responses { skip, record };
+
   /// Runs k periods from x = [u; v] (2N); the state reached and, when `jacobian` is given, the
   /// monodromy ∂x(kT)/∂x(0). A pair of floors past its stop in x is put back on it first (each
-  /// moved half the excess; the monodromy includes that projection). Throws SimulationError or std::invalid_argument (a state that cannot
-  /// start) as the simulator does.
-  Eigen::VectorXd evaluate(const Eigen::VectorXd& x, int k, Eigen::MatrixXd* jacobian = nullptr);
-  /// The simulator of the last evaluation (its statistics are the run's peaks and counts).
+  /// moved half the excess; the monodromy includes that projection). Throws SimulationError or
+  /// std::invalid_argument (a state that cannot start) as the simulator does.
+  Eigen::VectorXd evaluate(const Eigen::VectorXd& x, int k, Eigen::MatrixXd* jacobian = nullptr,
+                           Responses responses = Responses::skip);
+  /// The simulator of the last evaluation (its statistics are the run's counts, and its peaks
+  /// when it recorded them).
   [[nodiscard]] const Simulator& simulator() const { return *sim_; }
 
  private:

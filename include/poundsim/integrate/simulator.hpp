@@ -174,6 +174,8 @@ class Loop {
   [[nodiscard]] Guards& guards() { return guards_; }
   /// The sensitivities of the state to the start of the run, when tracked (else null).
   [[nodiscard]] TangentFlow* tangent() { return tracking_ ? tangent_.get() : nullptr; }
+  /// False while the simulator keeps the state alone (Simulator::record_responses).
+  [[nodiscard]] bool recording() const { return recording_; }
 
   /// The system's guards at x with the loop's contact state; the current phase gives λ.
   void evaluate_guards(const KinematicState& x, std::span<double> g, std::span<double> dg) {
@@ -229,6 +231,7 @@ class Loop {
   std::unique_ptr<Stepper> stepper_;  ///< Newmark or exact (options_.integrator)
   std::unique_ptr<TangentFlow> tangent_;  ///< ∂x/∂x₀ (Simulator::track_sensitivity), kept when off
   bool tracking_ = false;
+  bool recording_ = true;
   KinematicState state_;
   Guards guards_;
   int events_this_step_ = 0;
@@ -288,6 +291,13 @@ class Simulator : private detail::Loop {
   /// Events since J started whose crossing was least transversal: min |∇h·ẋ| / (|∇h| |ẋ|) over
   /// them (1 without events): near 0 the orbit grazes a guard and J is not the map's derivative.
   [[nodiscard]] double least_transversality() const;
+
+  /// False: the exact integrator keeps the state, the events and the sensitivity but neither the
+  /// energy balance nor the peaks between its samples (a third of a period's cost, the half of
+  /// it that locates extrema on the trajectory): statistics() and energy() then do not describe
+  /// the run. A periodic orbit's Newton iterations need only the state reached; the orbit found
+  /// is run once more with them. True (the default) keeps everything. Newmark always records.
+  void record_responses(bool record) { recording_ = record; }
 
   /// Forgets the peaks and counts gathered so far (e.g. after a transient).
   void reset_statistics();
