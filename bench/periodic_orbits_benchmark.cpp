@@ -5,11 +5,19 @@
 // storeys, with the events per orbit.
 
 #include <algorithm>
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <string>
+#include <thread>
+#include <vector>
 
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 
 #include "poundsim/analysis/periodic_orbits.hpp"
+#include "poundsim/io/frequency_response_run.hpp"
+#include "poundsim/io/input.hpp"
 #include "poundsim/model/dimensionless.hpp"
 #include "poundsim/units.hpp"
 
@@ -88,5 +96,62 @@ void BM_PeriodWithoutMonodromy(benchmark::State& state) {
   state.SetLabel(fmt::format("2x{} storeys", storeys));
 }
 BENCHMARK(BM_PeriodWithoutMonodromy)->Arg(1)->Arg(5)->Arg(10)->Arg(20)->Unit(benchmark::kMicrosecond);
+
+/// The same period recording its peaks and energy balance: what a brute-force period costs.
+void BM_RecordedPeriod(benchmark::State& state) {
+  const auto storeys = static_cast<int>(state.range(0));
+  DimensionlessParameters p = fig2c();
+  p.lambda2 = 200.0 * storeys;
+  const Model model = make_model(p, {storeys, storeys});
+  TimeHistoryOptions th;
+  th.integrator = Integrator::exact;
+  th.dt = 1.0;
+  StroboscopicMap map(model, 0.2 * standard_gravity, 0.9 * reference_frequency(model), th, 16);
+  const Eigen::VectorXd x = settled_state(map, Eigen::VectorXd::Zero(2 * map.dofs()), 30);
+  for (auto _ : state) benchmark::DoNotOptimize(map.evaluate(x, 1, nullptr, StroboscopicMap::Responses::record));
+  state.SetLabel(fmt::format("2x{} storeys", storeys));
+}
+BENCHMARK(BM_RecordedPeriod)->Arg(1)->Arg(5)->Arg(10)->Arg(20)->Unit(benchmark::kMicrosecond);
+
+/// The target: the paper's seven figures (examples/paper), 141 ratios each, exact, on two
+/// threads (a figure per thread at a time), by simulation from rest and by continuation, side by
+/// side; each figure's seconds as a counter.
+void BM_SevenPaperFigures(benchmark::State& state) {
+  const auto method = static_cast<FrfMethod>(state.range(0));
+  const std::array<const char*, 7> figures{"fig2a", "fig2b", "fig2c", "fig3a", "fig3b", "fig4a", "fig4b"};
+  std::vector<FrequencyResponseOptions> options;
+  std::vector<Model> models;
+  for (const char* figure : figures) {
+    const std::vector<std::string> settings{"frf.points=141", "frf.steps_per_period=16", "analysis.integrator=exact",
+                                            std::string("frf.method=") + (method == FrfMethod::simulation ? "simulation" : "continuation")};
+    const io::RunInput input =
+        io::read_input(std::string(POUNDSIM_SOURCE_DIR) + "/examples/paper/" + figure + ".toml", settings);
+    FrequencyResponseOptions o = io::frequency_response_options(input);
+    o.threads = 1;
+    options.push_back(o);
+    models.push_back(input.model);
+  }
+  std::array<double, 7> seconds{};
+  std::array<std::size_t, 7> points{};
+  for (auto _ : state) {
+    std::atomic<std::size_t> next{0};
+    const auto work = [&] {
+      for (std::size_t i; (i = next++) < figures.size();) {
+        const auto start = std::chrono::steady_clock::now();
+        points[i] = frequency_response(models[i], options[i]).size();
+        seconds[i] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      }
+    };
+    std::thread other(work);
+    work();
+    other.join();
+  }
+  for (std::size_t i = 0; i < figures.size(); ++i) {
+    state.counters[fmt::format("{}_s", figures[i])] = seconds[i];
+    state.counters[fmt::format("{}_points", figures[i])] = static_cast<double>(points[i]);
+  }
+  state.SetLabel(method == FrfMethod::simulation ? "simulation (exact, from rest)" : "continuation");
+}
+BENCHMARK(BM_SevenPaperFigures)->Arg(0)->Arg(1)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 
 }  // namespace
