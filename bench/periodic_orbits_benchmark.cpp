@@ -81,8 +81,10 @@ void BM_NewtonIteration(benchmark::State& state) {
 }
 BENCHMARK(BM_NewtonIteration)->Arg(1)->Arg(5)->Arg(10)->Arg(20)->Unit(benchmark::kMicrosecond);
 
-/// The same period without the monodromy: what carrying it costs.
-void BM_PeriodWithoutMonodromy(benchmark::State& state) {
+/// One period of Fig. 2c's frames with `storeys` storeys each at ω̄/ω₁ = 0.9, from a settled state,
+/// keeping the state alone or recording the responses: what carrying the monodromy costs, and
+/// what a brute-force period (peaks and energy balance) costs.
+void period(benchmark::State& state, StroboscopicMap::Responses responses) {
   const auto storeys = static_cast<int>(state.range(0));
   DimensionlessParameters p = fig2c();
   p.lambda2 = 200.0 * storeys;
@@ -92,25 +94,12 @@ void BM_PeriodWithoutMonodromy(benchmark::State& state) {
   th.dt = 1.0;
   StroboscopicMap map(model, 0.2 * standard_gravity, 0.9 * reference_frequency(model), th, 16);
   const Eigen::VectorXd x = settled_state(map, Eigen::VectorXd::Zero(2 * map.dofs()), 30);
-  for (auto _ : state) benchmark::DoNotOptimize(map.evaluate(x, 1));
+  for (auto _ : state) benchmark::DoNotOptimize(map.evaluate(x, 1, nullptr, responses));
   state.SetLabel(fmt::format("2x{} storeys", storeys));
 }
+void BM_PeriodWithoutMonodromy(benchmark::State& state) { period(state, StroboscopicMap::Responses::skip); }
 BENCHMARK(BM_PeriodWithoutMonodromy)->Arg(1)->Arg(5)->Arg(10)->Arg(20)->Unit(benchmark::kMicrosecond);
-
-/// The same period recording its peaks and energy balance: what a brute-force period costs.
-void BM_RecordedPeriod(benchmark::State& state) {
-  const auto storeys = static_cast<int>(state.range(0));
-  DimensionlessParameters p = fig2c();
-  p.lambda2 = 200.0 * storeys;
-  const Model model = make_model(p, {storeys, storeys});
-  TimeHistoryOptions th;
-  th.integrator = Integrator::exact;
-  th.dt = 1.0;
-  StroboscopicMap map(model, 0.2 * standard_gravity, 0.9 * reference_frequency(model), th, 16);
-  const Eigen::VectorXd x = settled_state(map, Eigen::VectorXd::Zero(2 * map.dofs()), 30);
-  for (auto _ : state) benchmark::DoNotOptimize(map.evaluate(x, 1, nullptr, StroboscopicMap::Responses::record));
-  state.SetLabel(fmt::format("2x{} storeys", storeys));
-}
+void BM_RecordedPeriod(benchmark::State& state) { period(state, StroboscopicMap::Responses::record); }
 BENCHMARK(BM_RecordedPeriod)->Arg(1)->Arg(5)->Arg(10)->Arg(20)->Unit(benchmark::kMicrosecond);
 
 /// The target: the paper's seven figures (examples/paper), 141 ratios each, exact, on two
