@@ -106,13 +106,13 @@ BENCHMARK(BM_RecordedPeriod)->Arg(1)->Arg(5)->Arg(10)->Arg(20)->Unit(benchmark::
 /// threads (a figure per thread at a time), by simulation from rest and by continuation, side by
 /// side; each figure's seconds as a counter.
 void BM_SevenPaperFigures(benchmark::State& state) {
-  const auto method = static_cast<FrfMethod>(state.range(0));
+  const auto& [method_name, method] = frf_method_names[static_cast<std::size_t>(state.range(0))];
   const std::array<const char*, 7> figures{"fig2a", "fig2b", "fig2c", "fig3a", "fig3b", "fig4a", "fig4b"};
   std::vector<FrequencyResponseOptions> options;
   std::vector<Model> models;
   for (const char* figure : figures) {
     const std::vector<std::string> settings{"frf.points=141", "frf.steps_per_period=16", "analysis.integrator=exact",
-                                            std::string("frf.method=") + (method == FrfMethod::simulation ? "simulation" : "continuation")};
+                                            fmt::format("frf.method={}", method_name)};
     const io::RunInput input =
         io::read_input(std::string(POUNDSIM_SOURCE_DIR) + "/examples/paper/" + figure + ".toml", settings);
     FrequencyResponseOptions o = io::frequency_response_options(input);

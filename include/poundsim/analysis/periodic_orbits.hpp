@@ -87,7 +87,8 @@ class StroboscopicMap {
   [[nodiscard]] int dofs() const { return dofs_; }
 
   /// What a run keeps besides the state: its peaks and energy balance (Responses::record) or
-  /// only its events (Responses::skip, about half the cost of a period: Simulator::record_responses).
+  /// only its events (Responses::skip, a fifth to a quarter of a recorded period's cost:
+  /// Simulator::record_responses).
   enum class Responses { skip, record };
 
   /// Runs k periods from x = [u; v] (2N); the state reached and, when `jacobian` is given, the

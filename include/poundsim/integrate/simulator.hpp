@@ -293,9 +293,9 @@ class Simulator : private detail::Loop {
   [[nodiscard]] double least_transversality() const;
 
   /// False: the exact integrator keeps the state, the events and the sensitivity but neither the
-  /// energy balance nor the peaks between its samples (a third of a period's cost, the half of
-  /// it that locates extrema on the trajectory): statistics() and energy() then do not describe
-  /// the run. A periodic orbit's Newton iterations need only the state reached; the orbit found
+  /// energy balance nor the peaks between its samples (locating extrema on the trajectory and the
+  /// energy integrals: a recorded period costs 4–5× one that skips them, docs/periodic-orbits.md):
+  /// statistics() and energy() then do not describe the run. A periodic orbit's Newton iterations need only the state reached; the orbit found
   /// is run once more with them. True (the default) keeps everything. Newmark always records.
   void record_responses(bool record) { recording_ = record; }
 
