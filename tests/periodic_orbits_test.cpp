@@ -362,5 +362,52 @@ TEST(PeriodicOrbits, StableContinuedOrbitsAreWhereLongSimulationsSettle) {
   }
 }
 
+TEST(PeriodicOrbits, AFrequencyResponseInPiecesIsTheSameOnAnyThreadsAndCoversTheRange) {
+  // Fig. 2c's frames at 0.6 … 1.1 in pieces of four ratios: the points on one thread and on two
+  // are the same bit for bit, each piece's branch ids follow the last piece's, and every ratio
+  // lies on a continued branch (Fig. 2c has one stable period-1 orbit there: nothing simulated).
+  const Model model = make_model(testing::fig2('c'), {1, 1});
+  FrequencyResponseOptions o;
+  o.amplitude = 0.2 * kG;
+  o.method = FrfMethod::continuation;
+  o.steady.steps_per_period = 32;
+  for (int i = 0; i <= 10; ++i) o.ratios.push_back(0.6 + 0.05 * i);
+  o.time_history = exact_options();
+  o.continuation.ratios_per_segment = 4;
+  o.threads = 1;
+  const std::vector<FrfPoint> one = frequency_response(model, o);
+  o.threads = 2;
+  const std::vector<FrfPoint> two = frequency_response(model, o);
+  ASSERT_EQ(one.size(), two.size());
+  for (std::size_t i = 0; i < one.size(); ++i) {
+    EXPECT_EQ(one[i].ratio, two[i].ratio) << i;
+    EXPECT_EQ(one[i].branch_id, two[i].branch_id) << i;
+    EXPECT_EQ(one[i].interacting.base_shear, two[i].interacting.base_shear) << i;
+    EXPECT_EQ(one[i].interacting.top_displacement, two[i].interacting.top_displacement) << i;
+  }
+  // Three pieces: [0.6, 0.8], [0.8, 1.0], [1.0, 1.1]; a branch of each, in order, ids 0, 1, 2.
+  int last_branch = -1;
+  double lowest = 10, highest = 0;
+  for (const FrfPoint& p : one) {
+    ASSERT_TRUE(p.continued) << p.ratio;
+    EXPECT_GE(p.branch_id, last_branch);
+    last_branch = p.branch_id;
+    lowest = std::min(lowest, p.ratio);
+    highest = std::max(highest, p.ratio);
+  }
+  EXPECT_EQ(last_branch, 2);
+  EXPECT_NEAR(lowest, 0.6, 1e-12);
+  EXPECT_NEAR(highest, 1.1, 1e-12);
+  // Where two pieces meet, both continue the same orbit: its peaks agree to Newton's tolerance.
+  for (const double seam : {0.8, 1.0}) {
+    std::vector<double> shears;
+    for (const FrfPoint& p : one) {
+      if (std::abs(p.ratio - seam) < 1e-12) shears.push_back(p.interacting.base_shear[0]);
+    }
+    ASSERT_EQ(shears.size(), 2u) << seam;
+    EXPECT_NEAR(shears[0], shears[1], 1e-8 * shears[0]) << seam;
+  }
+}
+
 }  // namespace
 }  // namespace poundsim

@@ -1,6 +1,9 @@
 #include "poundsim/analysis/periodic_orbits.hpp"
 
 #include <algorithm>
+#include <atomic>
+#include <functional>
+#include <optional>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -10,6 +13,7 @@
 #include <Eigen/Dense>
 #include <fmt/format.h>
 
+#include "poundsim/analysis/parallel.hpp"
 #include "poundsim/error.hpp"
 
 namespace poundsim {
@@ -525,6 +529,34 @@ std::optional<PeriodicOrbit> refined_bifurcation(OrbitFamily& family, PeriodicOr
   return best;
 }
 
+/// The orbit at p = edge of a branch whose last step went from `inside` to `outside` past it:
+/// shot at the edge from the state interpolated between the two (none when Newton fails there).
+std::optional<PeriodicOrbit> orbit_at_edge(OrbitFamily& family, const PeriodicOrbit& inside,
+                                           const PeriodicOrbit& outside, double edge,
+                                           const ShootingOptions& shooting, ContinuationResult& result) {
+  if (inside.parameter == edge) return std::nullopt;  // the branch already has its edge point
+  const double t = (edge - inside.parameter) / (outside.parameter - inside.parameter);
+  Eigen::VectorXd x(2 * inside.u.size());
+  x << inside.u + t * (outside.u - inside.u), inside.v + t * (outside.v - inside.v);
+  StroboscopicMap& map = family.at(edge);
+  ShootingResult shot;
+  try {
+    shot = shoot(map, x, inside.periodicity, shooting);
+  } catch (const std::exception&) {
+    return std::nullopt;  // the run failed: the branch ends at its last point inside
+  }
+  result.map_evaluations += shot.orbit.iterations + 2;  // Newton's runs and the recorded period
+  result.newton_iterations += shot.orbit.iterations;
+  if (!shot.converged) return std::nullopt;
+  // Newton may land on a coexisting orbit: keep only one as near as the branch's step.
+  Eigen::VectorXd step(x.size()), landed(x.size());
+  step << outside.u - inside.u, outside.v - inside.v;
+  landed << shot.orbit.u, shot.orbit.v;
+  if ((landed - x).cwiseAbs().maxCoeff() > 2 * step.cwiseAbs().maxCoeff()) return std::nullopt;
+  shot.orbit.parameter = edge;
+  return shot.orbit;
+}
+
 }  // namespace
 
 ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& start, double p_min, double p_max,
@@ -582,6 +614,13 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
       }
       if (p < p_min || p > p_max) {
         branch.ended = "left the parameter range";
+        if (branch.points.size() >= 2) {
+          // End on the range's edge: the orbit there, shot from between the last two points.
+          if (auto edge = orbit_at_edge(family, branch.points[branch.points.size() - 2], branch.points.back(),
+                                        p < p_min ? p_min : p_max, shooting, result)) {
+            branch.points.insert(branch.points.end() - 1, std::move(*edge));
+          }
+        }
         break;
       }
       if (std::abs(tangent(m)) * step > options.max_parameter_step) step = options.max_parameter_step / std::abs(tangent(m));
@@ -730,6 +769,7 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
   }
   for (Branch& branch : result.branches) {
     for (PeriodicOrbit& orbit : branch.points) {
+      if (!orbit.amplitudes.base_shear.empty()) continue;  // shot: recorded at its convergence
       record_amplitudes(family.at(orbit.parameter), orbit);
       ++result.map_evaluations;
     }
@@ -784,29 +824,35 @@ FrfPoint frf_point(const Model& model, double amplitude, const PeriodicOrbit& or
 
 }  // namespace
 
-std::vector<FrfPoint> frequency_response_by_continuation(const Model& model, const FrequencyResponseOptions& options) {
-  options.shooting.validate();
-  options.continuation.validate();
-  std::vector<double> ratios = options.ratios;
-  std::sort(ratios.begin(), ratios.end());
-  const double lo = ratios.front(), hi = ratios.back();
+namespace {
+
+/// One piece of a frequency response by continuation: the ratios [first, last) of the sorted
+/// list, continued within [lo, hi] on a budget of its own. Branch ids count from 0 in the piece.
+struct Segment {
+  std::vector<double> ratios;
+  double lo = 0.0, hi = 0.0;
+};
+
+std::vector<FrfPoint> continued_segment(const Model& model, const FrequencyResponseOptions& options,
+                                        const Segment& segment, const std::function<void(int)>& ratios_done) {
   TimeHistoryOptions th = options.time_history;
   th.integrator = Integrator::exact;
   FrequencyFamily family(model, options.amplitude, th, options.steady.steps_per_period);
   ContinuationOptions co = options.continuation;
-  if (ratios.size() > 1) co.max_parameter_step = std::min(co.max_parameter_step, (hi - lo) / static_cast<double>(ratios.size() - 1));
   const int max_k = std::min(options.steady.max_periodicity, co.max_periodicity);
-  long budget = static_cast<long>(co.evaluations_per_ratio) * static_cast<long>(ratios.size());
+  long budget = static_cast<long>(co.evaluations_per_ratio) * static_cast<long>(segment.ratios.size());
 
   std::vector<FrfPoint> out;
   int next_branch = 0;
   double covered = -std::numeric_limits<double>::infinity();
+  int reported = 0;
   const auto report = [&] {
-    if (!options.progress) return;
-    const auto done = std::count_if(ratios.begin(), ratios.end(), [&](double r) { return r <= covered; });
-    options.progress(static_cast<int>(done), static_cast<int>(ratios.size()));
+    const auto done = static_cast<int>(
+        std::count_if(segment.ratios.begin(), segment.ratios.end(), [&](double r) { return r <= covered; }));
+    ratios_done(done - reported);
+    reported = done;
   };
-  for (const double r : ratios) {
+  for (const double r : segment.ratios) {
     if (r <= covered) continue;
     StroboscopicMap& map = family.at(r);
     Eigen::VectorXd x = Eigen::VectorXd::Zero(2 * map.dofs());
@@ -828,18 +874,18 @@ std::vector<FrfPoint> frequency_response_by_continuation(const Model& model, con
     if (!seed) {
       // No periodic orbit from here (quasi-periodic, chaotic, or beyond Newton): simulate.
       std::unique_ptr<Simulator> sim;
-      FrfPoint p = steady_state_point(model, options.amplitude, r, options.steady, th, sim);
-      out.push_back(std::move(p));
+      out.push_back(steady_state_point(model, options.amplitude, r, options.steady, th, sim));
       covered = r;
       report();
       continue;
     }
     co.max_evaluations = budget;
-    const ContinuationResult traced = continue_orbits(family, *seed, lo, hi, +1, options.shooting, co);
+    const ContinuationResult traced =
+        continue_orbits(family, *seed, segment.lo, segment.hi, +1, options.shooting, co);
     budget -= traced.map_evaluations;
     for (const Branch& b : traced.branches) {
       for (const PeriodicOrbit& orbit : b.points) {
-        if (orbit.parameter < lo || orbit.parameter > hi) continue;
+        if (orbit.parameter < segment.lo || orbit.parameter > segment.hi) continue;
         out.push_back(frf_point(model, options.amplitude, orbit, next_branch + b.id,
                                 b.parent >= 0 ? next_branch + b.parent : -1));
       }
@@ -849,6 +895,60 @@ std::vector<FrfPoint> frequency_response_by_continuation(const Model& model, con
     covered = std::max(covered, reached);
     next_branch += static_cast<int>(traced.branches.size());
     report();
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<FrfPoint> frequency_response_by_continuation(const Model& model, const FrequencyResponseOptions& options) {
+  options.shooting.validate();
+  options.continuation.validate();
+  std::vector<double> ratios = options.ratios;
+  std::sort(ratios.begin(), ratios.end());
+  ContinuationOptions co = options.continuation;
+  if (ratios.size() > 1) {
+    co.max_parameter_step = std::min(co.max_parameter_step, (ratios.back() - ratios.front()) / static_cast<double>(ratios.size() - 1));
+  }
+  FrequencyResponseOptions piece = options;
+  piece.continuation = co;
+
+  // The pieces are fixed by the ratios alone (never by the threads), so the result is the same
+  // on any number of threads; each spends only its own budget, so a tangle of short branches in
+  // one part of the range cannot starve the rest.
+  const auto per = static_cast<std::size_t>(co.ratios_per_segment);
+  std::vector<Segment> segments;
+  for (std::size_t first = 0; first < ratios.size(); first += per) {
+    const std::size_t last = std::min(ratios.size(), first + per);
+    Segment s;
+    s.ratios.assign(ratios.begin() + static_cast<std::ptrdiff_t>(first), ratios.begin() + static_cast<std::ptrdiff_t>(last));
+    s.lo = ratios[first];
+    s.hi = last < ratios.size() ? ratios[last] : ratios.back();  // shares its top with the next piece
+    segments.push_back(std::move(s));
+  }
+  std::vector<std::vector<FrfPoint>> results(segments.size());
+  std::atomic<int> done{0};
+  const int total = static_cast<int>(ratios.size());
+  parallel_for(static_cast<int>(segments.size()), options.threads, [&](int i) {
+    const auto index = static_cast<std::size_t>(i);
+    results[index] = continued_segment(model, piece, segments[index], [&](int more) {
+      const int count = done += more;
+      if (options.progress && more > 0) options.progress(count, total);
+    });
+  });
+  std::vector<FrfPoint> out;
+  int offset = 0;
+  for (auto& r : results) {
+    int most = -1;
+    for (FrfPoint& p : r) {
+      if (p.branch_id >= 0) {
+        most = std::max(most, p.branch_id);
+        p.branch_id += offset;
+        if (p.parent_branch >= 0) p.parent_branch += offset;
+      }
+      out.push_back(std::move(p));
+    }
+    offset += most + 1;
   }
   return out;
 }

@@ -68,6 +68,12 @@ struct ContinuationOptions {
   /// frequency response: the budget of the whole continuation is this × the ratios. Where it is
   /// spent, the ratios not yet reached are simulated.
   int evaluations_per_ratio = 200;
+  /// A frequency response is continued in pieces of this many ratios, each seeded at its lowest
+  /// ratio, continued up to the next piece's and spending only its own share of the budget; the
+  /// pieces run in parallel (FrequencyResponseOptions::threads) and are fixed by the ratios, so
+  /// the result does not depend on the threads. A branch that crosses into the next piece is
+  /// followed there again from that piece's seed, under another branch id.
+  int ratios_per_segment = 12;
   /// The runs one continue_orbits call may make (the frequency response sets it from the above).
   long max_evaluations = 10'000'000;
 
@@ -86,6 +92,8 @@ struct ContinuationOptions {
                     "relative step of the parameter's forward difference"},
         IntegerField{"evaluations_per_ratio", &O::evaluations_per_ratio, 1, 1'000'000,
                      "runs of the map allowed per ratio; beyond, the remaining ratios are simulated"},
+        IntegerField{"ratios_per_segment", &O::ratios_per_segment, 1, 1'000'000,
+                     "the ratios continued as one piece, on its own budget and thread"},
     };
   }
   void validate() const;

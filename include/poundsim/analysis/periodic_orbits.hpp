@@ -196,11 +196,14 @@ struct ContinuationResult {
                                                  double p_max, int direction, const ShootingOptions& shooting,
                                                  const ContinuationOptions& options);
 
-/// A frequency response by continuation (FrfMethod::continuation): from the lowest ratio, a seed
-/// (simulated from rest until its sections repeat, then shot) is continued upward through the
-/// range, its period doublings followed; where a branch ends before the top, the next ratio above
-/// it is seeded again, and where no orbit converges the point is simulated (FrfPoint::continued
-/// false). Every point of every branch in [min ratio, max ratio] is returned, stable or not.
+/// A frequency response by continuation (FrfMethod::continuation). The sorted ratios are cut into
+/// pieces of ContinuationOptions::ratios_per_segment, continued in parallel, each on its own
+/// budget: from a piece's lowest ratio a seed (simulated from rest until its sections repeat, then
+/// shot) is continued upward to the next piece's lowest ratio, its period doublings followed;
+/// where a branch ends before the top, the next ratio above it is seeded again, and where no
+/// orbit converges or the budget is spent the point is simulated (FrfPoint::continued false).
+/// Every point of every branch in the range is returned, stable or not, piece after piece; the
+/// result does not depend on the number of threads.
 [[nodiscard]] std::vector<FrfPoint> frequency_response_by_continuation(const Model& model,
                                                                        const FrequencyResponseOptions& options);
 
