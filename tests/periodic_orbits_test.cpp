@@ -296,6 +296,67 @@ TEST(ImpactOscillator, ContinuationFindsTheAnalyticPeriodDoubling) {
 }
 
 
+TEST(ImpactOscillator, ContinuationInTheGapFollowsTheAnalyticOrbitsToTheirDoubling) {
+  // At ω̄ = 2.4ω₀ the period-1 orbit is stable for σ = δω₀²/A = 0.1 (its doubling in ω̄ is at
+  // 2.4567ω₀) and doubles its period as the gap widens: where 1 + tr M + det M = 0 in σ, bisected
+  // to 1e-12. Continued in σ from 0.1 down to 0.02 and up to 0.16, each period-1 point's
+  // multipliers are the analytic ones, and the doubling is found where the closed form puts it.
+  const double w = 2.4 * ImpactOscillator{}.omega0;
+  const auto oscillator = [](double sigma) {
+    ImpactOscillator osc;
+    osc.gap = sigma * osc.amplitude / (osc.omega0 * osc.omega0);
+    return osc;
+  };
+  double lo = 0.1, hi = 0.16;
+  ASSERT_LT(oscillator(lo).doubling_test(w) * oscillator(hi).doubling_test(w), 0);
+  for (int i = 0; i < 100; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (oscillator(lo).doubling_test(w) * oscillator(mid).doubling_test(w) <= 0 ? hi : lo) = mid;
+  }
+  const double analytic = 0.5 * (lo + hi);
+
+  FrequencyResponseOptions o;
+  o.amplitude = ImpactOscillator{}.amplitude;
+  o.ratios = {2.4};
+  o.steady.steps_per_period = 32;
+  o.time_history = exact_options();
+  o.continuation.max_parameter_step = 2e-3;
+  o.continuation.max_periodicity = 2;
+  const auto model_at = [&](double sigma) { return oscillator(sigma).model(); };
+  const std::vector<ParameterPoint> points = parameter_response_by_continuation(model_at, 0.02, 0.16, 0.1, o);
+  int checked = 0;
+  std::vector<double> doublings;
+  double lowest = 1, highest = 0;
+  for (const ParameterPoint& p : points) {
+    EXPECT_EQ(p.response.ratio, 2.4);
+    if (p.response.periodicity != 1) continue;
+    lowest = std::min(lowest, p.parameter);
+    highest = std::max(highest, p.parameter);
+    if (p.response.bifurcation == BifurcationKind::period_doubling) doublings.push_back(p.parameter);
+    const ImpactOscillator::Orbit orbit = oscillator(p.parameter).orbit(w);
+    ASSERT_TRUE(orbit.exists) << p.parameter;
+    const Eigen::Vector2cd expected = Eigen::EigenSolver<Eigen::Matrix2d>(orbit.monodromy).eigenvalues();
+    for (const std::complex<double>& mu : expected) {
+      const double nearest = std::min(std::abs(p.response.multipliers[0] - mu), std::abs(p.response.multipliers[1] - mu));
+      EXPECT_LT(nearest, 1e-4) << "sigma = " << p.parameter << ": " << mu;
+    }
+    if (p.response.bifurcation == BifurcationKind::none) {  // at a bifurcation a multiplier is on the circle
+      EXPECT_EQ(p.response.stable, std::abs(expected(0)) < 1 && std::abs(expected(1)) < 1) << p.parameter;
+    }
+    ++checked;
+  }
+  EXPECT_GT(checked, 50);
+  // Both directions reach the ends of the range (each branch ends on it).
+  EXPECT_EQ(lowest, 0.02);
+  EXPECT_EQ(highest, 0.16);
+  ASSERT_EQ(doublings.size(), 1u);
+  EXPECT_NEAR(doublings[0], analytic, 1e-6);
+  // Beyond the doubling a period-2 branch is followed.
+  EXPECT_TRUE(std::any_of(points.begin(), points.end(), [](const ParameterPoint& p) {
+    return p.response.periodicity == 2 && p.response.parent_branch >= 0;
+  }));
+}
+
 TEST(PeriodicOrbits, LinearFramesShootToTheirClosedFormInOneStep) {
   // A joint too wide to close: the frames are linear, P is affine, and Newton lands on the closed
   // form in one step; the multipliers are e^{λT} of the frames' modes.

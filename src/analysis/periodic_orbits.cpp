@@ -803,6 +803,25 @@ int detected_periodicity(StroboscopicMap& map, Eigen::VectorXd& x, int settle, i
   return 0;
 }
 
+/// The orbit the response from rest settles on: simulated steady.max_periods/10 + 10 periods,
+/// its periodicity read from its sections, then shot. None when Newton does not converge or a run
+/// fails (the caller simulates, or says so). `budget` is charged the runs.
+std::optional<PeriodicOrbit> orbit_from_rest(StroboscopicMap& map, const SteadyStateOptions& steady, int max_k,
+                                             const ShootingOptions& shooting, long& budget) {
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(2 * map.dofs());
+  const int settle = steady.max_periods / 10 + 10;
+  budget -= settle + 2 * max_k;
+  try {
+    const int k = detected_periodicity(map, x, settle, max_k, 1e-4);
+    ShootingResult shot = shoot(map, x, k > 0 ? k : 1, shooting);
+    budget -= shot.orbit.iterations + 1;
+    if (shot.converged) return std::move(shot.orbit);
+  } catch (const std::exception&) {
+    // the run from rest failed: the caller's simulation (or message) says why
+  }
+  return std::nullopt;
+}
+
 FrfPoint frf_point(const Model& model, double amplitude, const PeriodicOrbit& orbit, int branch, int parent) {
   FrfPoint p;
   p.ratio = orbit.parameter;
@@ -855,21 +874,10 @@ std::vector<FrfPoint> continued_segment(const Model& model, const FrequencyRespo
   for (const double r : segment.ratios) {
     if (r <= covered) continue;
     StroboscopicMap& map = family.at(r);
-    Eigen::VectorXd x = Eigen::VectorXd::Zero(2 * map.dofs());
     std::optional<PeriodicOrbit> seed;
     if (budget > 0) {
-      try {
-        const int settle = options.steady.max_periods / 10 + 10;
-        const int k = detected_periodicity(map, x, settle, max_k, 1e-4);
-        ShootingResult shot = shoot(map, x, k > 0 ? k : 1, options.shooting);
-        budget -= settle + 2 * max_k + shot.orbit.iterations + 1;
-        if (shot.converged) {
-          shot.orbit.parameter = r;
-          seed = shot.orbit;
-        }
-      } catch (const std::exception&) {
-        seed.reset();  // the run from rest failed: the simulation below says why
-      }
+      seed = orbit_from_rest(map, options.steady, max_k, options.shooting, budget);
+      if (seed) seed->parameter = r;
     }
     if (!seed) {
       // No periodic orbit from here (quasi-periodic, chaotic, or beyond Newton): simulate.
@@ -952,5 +960,52 @@ std::vector<FrfPoint> frequency_response_by_continuation(const Model& model, con
   }
   return out;
 }
+
+std::vector<ParameterPoint> parameter_response_by_continuation(const std::function<Model(double)>& model_at,
+                                                               double p_min, double p_max, double p_start,
+                                                               const FrequencyResponseOptions& options) {
+  options.shooting.validate();
+  options.continuation.validate();
+  if (options.ratios.size() != 1) {
+    throw std::invalid_argument(fmt::format("a continuation in a model parameter is at one forcing frequency, not {}",
+                                            options.ratios.size()));
+  }
+  if (!(p_min < p_max) || !(p_start >= p_min && p_start <= p_max)) {
+    throw std::invalid_argument(fmt::format("the start {} must lie in [min, max] = [{}, {}], min < max", p_start, p_min, p_max));
+  }
+  const double ratio = options.ratios.front();
+  TimeHistoryOptions th = options.time_history;
+  th.integrator = Integrator::exact;
+  ParameterFamily family(model_at, options.amplitude, ratio, th, options.steady.steps_per_period);
+  const int max_k = std::min(options.steady.max_periodicity, options.continuation.max_periodicity);
+  long budget = options.continuation.max_evaluations;
+  std::optional<PeriodicOrbit> seed = orbit_from_rest(family.at(p_start), options.steady, max_k, options.shooting, budget);
+  if (!seed) {
+    throw SimulationError(fmt::format("no periodic orbit to start from at {}: the response from rest does not settle on "
+                                      "one that Newton's method converges to (start elsewhere)", p_start));
+  }
+  seed->parameter = p_start;
+  ContinuationOptions co = options.continuation;
+  std::vector<ParameterPoint> out;
+  int offset = 0;
+  for (const int direction : {+1, -1}) {
+    if ((direction > 0 && p_start >= p_max) || (direction < 0 && p_start <= p_min)) continue;
+    co.max_evaluations = budget;
+    const ContinuationResult traced = continue_orbits(family, *seed, p_min, p_max, direction, options.shooting, co);
+    budget -= traced.map_evaluations;
+    for (const Branch& b : traced.branches) {
+      for (const PeriodicOrbit& orbit : b.points) {
+        if (orbit.parameter < p_min || orbit.parameter > p_max) continue;
+        FrfPoint point = frf_point(family.at(orbit.parameter).model(), options.amplitude, orbit, offset + b.id,
+                                   b.parent >= 0 ? offset + b.parent : -1);
+        point.ratio = ratio;
+        out.push_back({orbit.parameter, std::move(point)});
+      }
+    }
+    offset += static_cast<int>(traced.branches.size());
+  }
+  return out;
+}
+
 
 }  // namespace poundsim

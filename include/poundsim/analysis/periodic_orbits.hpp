@@ -207,4 +207,21 @@ struct ContinuationResult {
 [[nodiscard]] std::vector<FrfPoint> frequency_response_by_continuation(const Model& model,
                                                                        const FrequencyResponseOptions& options);
 
+/// One point of a continuation in a model parameter: the parameter's value and the orbit's
+/// response there (FrfPoint: ratio is the fixed ω̄/ω₁; branch, stability, multipliers, peaks).
+struct ParameterPoint {
+  double parameter = 0.0;
+  FrfPoint response;
+};
+
+/// Periodic responses at one forcing frequency (options.ratios holds exactly one ratio) as a model
+/// parameter p runs through [p_min, p_max]: `model_at(p)` builds the model. The orbit the response
+/// from rest settles on at p_start is shot and continued up to p_max and down to p_min, its period
+/// doublings followed (the shooting, continuation, steady-state — for the seed — and event options
+/// are options'). Every point of every branch in the range, stable or not; throws SimulationError
+/// when no orbit can be started at p_start, std::invalid_argument for options it cannot take.
+[[nodiscard]] std::vector<ParameterPoint> parameter_response_by_continuation(
+    const std::function<Model(double)>& model_at, double p_min, double p_max, double p_start,
+    const FrequencyResponseOptions& options);
+
 }  // namespace poundsim
