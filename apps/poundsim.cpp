@@ -22,6 +22,7 @@
 
 #include "poundsim/error.hpp"
 #include "poundsim/io/input.hpp"
+#include "poundsim/io/continuation_run.hpp"
 #include "poundsim/io/frequency_response_run.hpp"
 #include "poundsim/optimize/optimize_run.hpp"
 #include "poundsim/io/output_files.hpp"
@@ -190,6 +191,11 @@ int main(int argc, char** argv) {
       const poundsim::optimize::OptimizationResult result = poundsim::optimize::run_optimization(input, out_dir, progress);
       bar.finish();
       if (!quiet) fmt::print("{}", poundsim::optimize::report(result, out_dir));
+      return 0;
+    }
+    if (kind == AnalysisKind::continuation) {
+      const poundsim::io::ContinuationRunResult result = poundsim::io::run_continuation(input, out_dir);
+      if (!quiet) fmt::print("{}", poundsim::io::report(result, out_dir));
       return 0;
     }
     if (kind == AnalysisKind::frf) {

@@ -1273,6 +1273,14 @@ void read_band(TableReader& t, PointRun each, double& lo, double& hi) {
 FrfSettings read_frf(TableReader& t, TableReader& analysis, const Model& model, const AnalysisSettings& a) {
   FrfSettings f;
   read_fields(t, f);
+  if (a.kind == AnalysisKind::continuation) {
+    // [frf] gives a parameter continuation its forcing and options: one frequency, shot orbits.
+    if (t.has("method") && f.method != FrfMethod::continuation) {
+      t.fail("method", "analysis.kind = \"continuation\" shoots and continues orbits: \"continuation\", or leave it out");
+    }
+    if (t.has("sweep")) t.fail("sweep", "only for analysis.kind = \"frf\" with method = \"simulation\"");
+    f.method = FrfMethod::continuation;
+  }
   const bool listed = t.has("ratios");
   const bool range = t.has("ratio_min") || t.has("ratio_max") || t.has("points");
   if (listed == range) {
@@ -1331,6 +1339,14 @@ FrfSettings read_frf(TableReader& t, TableReader& analysis, const Model& model, 
     if (f.continuation.min_step > f.continuation.initial_step) c.fail("min_step", "must not exceed initial_step");
     if (f.continuation.initial_step > f.continuation.max_step) c.fail("initial_step", "must not exceed max_step");
     c.finish();
+  }
+  if (a.kind == AnalysisKind::continuation && f.ratios.size() != 1) {
+    t.fail(listed ? "ratios" : "points", fmt::format("analysis.kind = \"continuation\" runs at one forcing frequency: "
+                                                     "ratios = [ω̄/ω₁] (got {} ratios)", f.ratios.size()));
+  }
+  if (f.method == FrfMethod::continuation && a.options.integrator != Integrator::exact) {
+    analysis.fail("integrator", "must be \"exact\" for continuation: the map's Jacobian comes from the exact "
+                                "integrator's propagators and saltation matrices");
   }
   if (f.method == FrfMethod::continuation && a.options.separation == SeparationCriterion::force) {
     analysis.fail("separation", "must be \"displacement\" for frf.method = \"continuation\": under the force "
@@ -1412,6 +1428,25 @@ StudySettings read_study(TableReader& t) {
   }
   t.finish();
   return s;
+}
+
+/// [parameter]: a key of the model (the continuation rebuilds the model at each value) and its range.
+ContinuedParameter read_continued_parameter(TableReader& t) {
+  ContinuedParameter c;
+  c.key = t.string("key");
+  c.where = t.where("key");
+  const std::string_view root = std::string_view(c.key).substr(0, c.key.find_first_of(".["));
+  if (root != "model" && root != "frames" && root != "gap_elements") {
+    t.fail("key", fmt::format("'{}' is not a key of the model ([model], [[frames]] or [gap_elements]): the "
+                              "continuation follows orbits as the model changes", c.key));
+  }
+  c.min = t.number("min");
+  c.max = t.number("max");
+  if (!(c.max > c.min)) t.fail("max", "must be larger than min");
+  c.start = t.optional_number("start").value_or(c.min);
+  if (!(c.start >= c.min && c.start <= c.max)) t.fail("start", "must lie in [min, max]");
+  t.finish();
+  return c;
 }
 
 OptimizeSettings read_optimize(TableReader& t) {
@@ -1548,7 +1583,7 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
   if (!run.channels.empty() && kind != AnalysisKind::time_history) {
     top.fail("output", fmt::format("only for kind = \"time_history\", whose history.csv it chooses (not {})", context));
   }
-  PointRun each = kind == AnalysisKind::frf        ? PointRun::frf
+  PointRun each = kind == AnalysisKind::frf || kind == AnalysisKind::continuation ? PointRun::frf
                   : kind == AnalysisKind::ensemble ? PointRun::ensemble
                                                    : PointRun::time_history;
   if (kind == AnalysisKind::study) {
@@ -1565,6 +1600,9 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
     for (const char* table : {"study", "optimize"}) {
       if (top.has(table)) top.fail(table, fmt::format("only for analysis.kind = \"{}\"", table));
     }
+  }
+  if (kind != AnalysisKind::continuation && top.has("parameter")) {
+    top.fail("parameter", "only for analysis.kind = \"continuation\"");
   }
   if (each == PointRun::ensemble) {
     TableReader ensemble = top.table("ensemble");
@@ -1608,6 +1646,11 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
     TableReader frf = top.table("frf");
     frf.declare<FrfSettings, SteadyStateOptions>();
     run.frf = read_frf(frf, analysis, run.model, run.analysis);
+    if (kind == AnalysisKind::continuation) {
+      TableReader parameter = top.table("parameter");
+      parameter.declare<keys::ContinuedParameter>();
+      run.parameter = read_continued_parameter(parameter);
+    }
     run.excitation_info.kind = "harmonic";
     run.excitation_info.amplitude_g = run.frf->amplitude_g;
     run.excitation_info.omega1 = reference_frequency(run.model);
@@ -1963,6 +2006,10 @@ std::string to_toml(const RunInput& in) {
   }
   if (kind == AnalysisKind::study && in.study) root.insert("study", study_table(*in.study));
   if (kind == AnalysisKind::optimize && in.optimize) root.insert("optimize", optimize_table(*in.optimize));
+  if (kind == AnalysisKind::continuation && in.parameter) {
+    root.insert("parameter", toml::table{{"key", in.parameter->key}, {"min", in.parameter->min},
+                                         {"max", in.parameter->max}, {"start", in.parameter->start}});
+  }
   if (in.ensemble) {
     toml::table t;
     write_fields(t, *in.ensemble);

@@ -121,7 +121,14 @@ TEST(FrequencyResponseInput, ContinuationOptionsBelongToTheContinuationMethod) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("min_step"), std::string::npos) << e.what();
   }
-  const RunInput in = read_input(figure, std::vector<std::string>{"frf.method=\"continuation\"", "frf.continuation.max_parameter_step=0.002"});
+  try {
+    static_cast<void>(read_input(figure, std::vector<std::string>{"frf.method=\"continuation\""}));
+    FAIL() << "continuation with the Newmark integrator was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("analysis.integrator: must be \"exact\" for continuation"), std::string::npos) << e.what();
+  }
+  const RunInput in = read_input(figure, std::vector<std::string>{"frf.method=\"continuation\"", "analysis.integrator=\"exact\"",
+                                                                 "frf.continuation.max_parameter_step=0.002"});
   EXPECT_EQ(in.frf->method, FrfMethod::continuation);
   EXPECT_EQ(in.frf->continuation.max_parameter_step, 0.002);
   const FrequencyResponseOptions o = frequency_response_options(in);

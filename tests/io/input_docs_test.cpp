@@ -232,6 +232,8 @@ TEST(InputDocs, TheOtherTablesDocumentExactlyTheirDeclaredKeys) {
   expect_exactly_documented<io::keys::Initial>("## `[initial]`");
   expect_documented<io::keys::Excitation>("## `[excitation]`", {.required = 1, .shown_default = 2});
   expect_exactly_documented<io::keys::Excitation>("## `[excitation]`");
+  expect_documented<io::keys::ContinuedParameter>("`[parameter]`:", no_default);
+  expect_exactly_documented<io::keys::ContinuedParameter>("`[parameter]`:");
   expect_documented<io::keys::StudyParameter>("`[[study.parameter]]`:", no_default, "docs/studies.md");
   expect_exactly_documented<io::keys::StudyParameter>("`[[study.parameter]]`:", "docs/studies.md");
   expect_documented<io::keys::OptimizeVariable>("`[[optimize.variable]]`:", no_default, "docs/studies.md");

@@ -116,6 +116,7 @@ struct File {
         C{"study", "a parametric study", true},
         C{"optimize", "an optimisation", true},
         C{"ensemble", "the records of an ensemble", true},
+        C{"parameter", "the model parameter a continuation follows", true},
         C{"output", "what a time history records", true},
     };
   }
@@ -242,6 +243,14 @@ struct OptimizeVariable {
                       C{"start", "the starting value"}};
   }
 };
+/// [parameter] of a continuation.
+struct ContinuedParameter {
+  static constexpr auto fields() {
+    using C = CustomField<ContinuedParameter>;
+    return std::tuple{C{"key", "a numeric key of the model"}, C{"min", "the range's start"}, C{"max", "the range's end"},
+                      C{"start", "where the orbit is seeded (default min)"}};
+  }
+};
 }  // namespace keys
 
 /// How the excitation was described, for reports (the Excitation itself is in SI).
@@ -286,10 +295,11 @@ struct EnsembleSettings {
 };
 
 /// What an input runs (analysis.kind).
-enum class AnalysisKind : std::uint8_t { time_history, frf, ensemble, study, optimize };
-inline constexpr std::array<std::pair<std::string_view, AnalysisKind>, 5> analysis_kind_names{{
+enum class AnalysisKind : std::uint8_t { time_history, frf, continuation, ensemble, study, optimize };
+inline constexpr std::array<std::pair<std::string_view, AnalysisKind>, 6> analysis_kind_names{{
     {"time_history", AnalysisKind::time_history},
     {"frf", AnalysisKind::frf},
+    {"continuation", AnalysisKind::continuation},
     {"ensemble", AnalysisKind::ensemble},
     {"study", AnalysisKind::study},
     {"optimize", AnalysisKind::optimize},
@@ -416,6 +426,15 @@ struct StudySettings {
   }
 };
 
+/// [parameter] (analysis.kind = "continuation"): the model parameter periodic orbits are
+/// continued in, at [frf]'s one forcing frequency.
+struct ContinuedParameter {
+  std::string key;                   ///< A numeric key of the model, dotted (as --set takes it).
+  double min = 0.0, max = 0.0;
+  double start = 0.0;                ///< Where the seed is shot (default min).
+  std::string where;                 ///< "file:line:column: parameter.key", for messages.
+};
+
 /// One design variable of the optimiser.
 struct OptimizeVariable {
   std::string key;
@@ -481,7 +500,8 @@ struct RunInput {
   Excitation excitation;
   ExcitationInfo excitation_info;
   AnalysisSettings analysis;
-  std::optional<FrfSettings> frf;  ///< For kind = "frf" (which has no [excitation]).
+  std::optional<FrfSettings> frf;  ///< For kind = "frf" and "continuation" (which have no [excitation]).
+  std::optional<ContinuedParameter> parameter;  ///< For kind = "continuation".
   std::optional<StudySettings> study;        ///< For kind = "study".
   std::optional<EnsembleSettings> ensemble;  ///< For kind = "ensemble", or each = "ensemble".
   std::optional<OptimizeSettings> optimize;  ///< For kind = "optimize".
@@ -490,7 +510,8 @@ struct RunInput {
   [[nodiscard]] PointRun each() const {
     if (study) return study->each;
     if (optimize) return optimize->each;
-    return analysis.kind == AnalysisKind::frf ? PointRun::frf : PointRun::time_history;
+    return analysis.kind == AnalysisKind::frf || analysis.kind == AnalysisKind::continuation ? PointRun::frf
+                                                                                              : PointRun::time_history;
   }
   InitialConditions initial;
   /// [output] channels: what history.csv records, as patterns of channel names
