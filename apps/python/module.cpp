@@ -32,6 +32,7 @@
 
 #include "poundsim/analysis/channels.hpp"
 #include "poundsim/error.hpp"
+#include "poundsim/io/continuation_run.hpp"
 #include "poundsim/io/frequency_response_run.hpp"
 #include "poundsim/io/input.hpp"
 #include "poundsim/io/output_files.hpp"
@@ -381,6 +382,23 @@ FrequencyResponseRun run_frequency_response(const io::RunInput& input, const py:
   return run;
 }
 
+/// What a continuation in a model parameter returns to Python.
+struct ContinuationRun {
+  py::dict table, units, summary;
+};
+
+ContinuationRun run_continuation(const io::RunInput& input) {
+  require_kind(input, {io::AnalysisKind::continuation}, "a continuation");
+  const io::ContinuationRunResult result = [&] {
+    const py::gil_scoped_release release;  // other Python threads run meanwhile (Ctrl-C waits for the end)
+    return io::analyse_continuation(input);
+  }();
+  ContinuationRun run;
+  run.summary = to_python(io::to_json(result));
+  table_to_python(io::continuation_table(result), run.table, run.units);
+  return run;
+}
+
 /// What a study or an ensemble returns to Python.
 struct StudyRun {
   py::dict table, units, summary;
@@ -533,6 +551,13 @@ PYBIND11_MODULE(_core, m) {
   m.def("run_frequency_response", &run_frequency_response, py::arg("input"), py::arg("progress") = py::none(),
         py::arg("progress_interval") = 0.1,
         "Runs a frequency-response input; `progress(points done, points)` at most every `progress_interval` s.");
+
+  py::class_<ContinuationRun>(m, "ContinuationRun", "What a continuation in a parameter found: orbits.csv's table.")
+      .def_readonly("table", &ContinuationRun::table, "column → NumPy array (orbits.csv's columns)")
+      .def_readonly("units", &ContinuationRun::units, "column → unit")
+      .def_readonly("summary", &ContinuationRun::summary, "summary.json's content");
+  m.def("run_continuation", &run_continuation, py::arg("input"),
+        "Runs a continuation input (analysis.kind = \"continuation\"): every continued orbit.");
 
   py::class_<StudyRun>(m, "StudyRun", "What a study or an ensemble found: study.csv's (ensemble.csv's) table.")
       .def_readonly("table", &StudyRun::table, "column → NumPy array")

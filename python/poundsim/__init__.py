@@ -39,7 +39,7 @@ from typing import Any, Callable, Optional, Sequence
 # where it is installed: every poundsim folder on sys.path is part of the package.
 __path__ = pkgutil.extend_path(__path__, __name__)
 
-from .results import FrequencyResponse, Optimization, Study, Summary, Table, TimeHistory, read  # noqa: E402
+from .results import Continuation, FrequencyResponse, Optimization, Study, Summary, Table, TimeHistory, read  # noqa: E402
 from .model import Model, harmonic, record  # noqa: E402
 
 try:
@@ -56,7 +56,7 @@ except ImportError as missing:  # the results and plots still work
     class SimulationError(RuntimeError):  # type: ignore[no-redef]
         """The integration failed."""
 
-__all__ = ["FrequencyResponse", "Input", "InputError", "Model", "Optimization", "SimulationError", "Study",
+__all__ = ["Continuation", "FrequencyResponse", "Input", "InputError", "Model", "Optimization", "SimulationError", "Study",
            "Summary", "Table", "TimeHistory", "__version__", "from_dict", "harmonic", "load", "loads", "read",
            "record", "run"]
 
@@ -152,7 +152,7 @@ def run(
             raise ValueError(f"max_points is for studies and ensembles, not analysis.kind = {kind!r}")
         if isinstance(max_points, bool) or not isinstance(max_points, int) or max_points < 1:
             raise ValueError(f"max_points: {max_points!r}: expected a whole number of points from 1")
-    if out is not None and kind in ("time_history", "frf"):
+    if out is not None and kind in ("time_history", "frf", "continuation"):
         raise ValueError(f"out is for studies, ensembles and optimisations (their databases and files), not "
                          f"analysis.kind = {kind!r}: save the arrays, or run the command line for its files")
     if kind == "time_history":
@@ -161,6 +161,9 @@ def run(
     if kind == "frf":
         r = core.run_frequency_response(input, progress, progress_interval)
         return FrequencyResponse(Table(r.table, r.units), r.summary)
+    if kind == "continuation":
+        r = core.run_continuation(input)
+        return Continuation(Table(r.table, r.units), r.summary)
     with tempfile.TemporaryDirectory(prefix="poundsim_") as scratch:
         folder = os.fspath(out) if out is not None else scratch
         if kind in ("study", "ensemble"):

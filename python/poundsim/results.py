@@ -350,6 +350,22 @@ class FrequencyResponse(_WithSummary):
         return f"FrequencyResponse({len(self.table)} points, {self.frames} frames)"
 
 
+class Continuation(_WithSummary):
+    """A continuation in a model parameter: orbits.csv's table (one row per continued orbit:
+    parameter, ratio, V<f>_W, …, branch_id, stable, multipliers, docs/output.md) and the summary
+    (the parameter's key and range, the branches and the bifurcations)."""
+
+    def __init__(self, table: Table, summary: Any):
+        self.table = table
+        self._summary_source = summary
+
+    def __getitem__(self, column: str) -> np.ndarray:
+        return self.table[column]
+
+    def __repr__(self) -> str:
+        return f"Continuation({len(self.table)} orbits in {self.summary['parameter']['key']})"
+
+
 class Study(_WithSummary):
     """A study or an ensemble: its table (study.csv or ensemble.csv: id, status, the parameters,
     the figures of merit, run_time_s, error), its summary and the database it is kept in."""
@@ -403,7 +419,7 @@ class Optimization(_WithSummary):
 
 def read(folder: str | os.PathLike):
     """The results the command line wrote into `folder`: a TimeHistory (history.csv), a
-    FrequencyResponse (frf.csv), a Study (study.csv or ensemble.csv) or an Optimization
+    FrequencyResponse (frf.csv), a Continuation (orbits.csv), a Study (study.csv or ensemble.csv) or an Optimization
     (optimize.json)."""
     folder = os.fspath(folder)
 
@@ -427,11 +443,13 @@ def read(folder: str | os.PathLike):
                            events.to_records() if events is not None and len(events) else _no_events(), summary())
     if os.path.exists(path("frf.csv")):
         return FrequencyResponse(Table.read_csv(path("frf.csv")), summary())
+    if os.path.exists(path("orbits.csv")):
+        return Continuation(Table.read_csv(path("orbits.csv")), summary())
     for stem in ("study", "ensemble"):
         if os.path.exists(path(f"{stem}.csv")):
             db = path(f"{stem}.sqlite")
             return Study(Table.read_csv(path(f"{stem}.csv")), summary(), db if os.path.exists(db) else None)
-    raise ValueError(f"{folder}: no poundsim results (history.csv, frf.csv, study.csv, ensemble.csv or "
+    raise ValueError(f"{folder}: no poundsim results (history.csv, frf.csv, orbits.csv, study.csv, ensemble.csv or "
                      "optimize.json)")
 
 

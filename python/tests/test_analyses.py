@@ -63,6 +63,26 @@ def test_frequency_response_is_the_command_lines(tmp_path):
     assert fr["V1_W"].flags.c_contiguous and fr.frames == 2
 
 
+def test_continuation_is_the_command_lines(tmp_path):
+    # Fig. 2c's frames at 0.8 ω₁ as the gap opens: past δ̄ ≈ 1.05 the frames no longer touch and
+    # every orbit is the free response.
+    settings = ["parameter.max=1.2"]
+    out = cli_run(EXAMPLES / "continuation" / "fig2c_gap.toml", tmp_path / "cli", *settings)
+    c = poundsim.run(poundsim.load(EXAMPLES / "continuation" / "fig2c_gap.toml", settings=settings))
+    assert isinstance(c, poundsim.Continuation)
+    assert_table_is_csv(c.table, out / "orbits.csv")
+    assert same_summary(c.summary.to_dict(), json.load(open(out / "summary.json")))
+    assert c.table.names[0] == "parameter" and c["parameter"].min() == 0.05 and c["parameter"].max() == 1.2
+    apart = c["events"] == 0
+    assert apart.sum() > 5 and c["parameter"][apart].min() > 1.0
+    np.testing.assert_allclose(c["V1_W"][apart], c["V1_free_W"][apart], rtol=1e-9)
+    with pytest.raises(ValueError, match="out is for studies"):
+        poundsim.run(poundsim.load(EXAMPLES / "continuation" / "fig2c_gap.toml"), out=tmp_path / "x")
+    again = poundsim.read(out)
+    assert isinstance(again, poundsim.Continuation)
+    np.testing.assert_array_equal(again["V1_W"], c["V1_W"])
+
+
 def test_study_is_the_command_lines(tmp_path):
     settings = ["frf.points=7", "study.parameter[1].values=[0.0, 0.125]", "study.parameter[2].values=[0.5, 1.0]"]
     model = EXAMPLES / "study_eta_mu.toml"
