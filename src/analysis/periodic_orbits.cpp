@@ -34,6 +34,30 @@ void ShootingOptions::validate() const {
   if (const auto violation = first_violation(*this)) throw std::invalid_argument(*violation);
 }
 
+std::string periodic_orbits_refusal(const Model& model, const TimeHistoryOptions& options) {
+  if (options.separation == SeparationCriterion::force) {
+    return "periodic orbits need separation = \"displacement\": under the force criterion a separated "
+           "element's free end relaxes with a memory that the floors' state does not hold";
+  }
+  const DofLayout layout(model);
+  std::string why;
+  for (const Link& link : make_links(model, layout)) {
+    std::visit(
+        [&](const auto& law) {
+          using L = std::decay_t<decltype(law)>;
+          if constexpr (!ContactLaw<L> && !std::is_same_v<typename L::State, NoState>) {
+            if (why.empty()) {
+              why = fmt::format("periodic orbits need elastic storeys: {} keeps a state between events (its "
+                                "plastic drift) that the floors' state does not hold",
+                                describe(link, layout));
+            }
+          }
+        },
+        link.law);
+  }
+  return why;
+}
+
 void ContinuationOptions::validate() const {
   if (const auto violation = first_violation(*this)) throw std::invalid_argument(*violation);
   if (min_step > initial_step) throw std::invalid_argument("min_step must not exceed initial_step");
@@ -46,25 +70,7 @@ constexpr double kTwoPi = 2 * std::numbers::pi;
 
 /// The state x of a run is [u; u̇]; the laws' States are not in it: refuse the laws that keep one.
 void refuse_remembering_laws(const Model& model, const TimeHistoryOptions& options) {
-  if (options.separation == SeparationCriterion::force) {
-    throw std::invalid_argument(
-        "periodic orbits need separation = \"displacement\": under the force criterion a separated "
-        "element's free end relaxes with a memory that the floors' state does not hold");
-  }
-  const DofLayout layout(model);
-  for (const Link& link : make_links(model, layout)) {
-    std::visit(
-        [&](const auto& law) {
-          using L = std::decay_t<decltype(law)>;
-          if constexpr (!ContactLaw<L> && !std::is_same_v<typename L::State, NoState>) {
-            throw std::invalid_argument(fmt::format(
-                "periodic orbits need elastic storeys: {} keeps a state between events (its plastic "
-                "drift) that the floors' state does not hold",
-                describe(link, layout)));
-          }
-        },
-        link.law);
-  }
+  if (std::string why = periodic_orbits_refusal(model, options); !why.empty()) throw std::invalid_argument(why);
 }
 
 /// Scaling of the state: w = D x, D = diag(1/L, 1/(ω̄L)).

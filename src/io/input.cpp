@@ -18,6 +18,7 @@
 #include <toml++/toml.h>
 
 #include "poundsim/analysis/channels.hpp"
+#include "poundsim/analysis/periodic_orbits.hpp"
 #include "poundsim/error.hpp"
 #include "poundsim/integrate/integrator.hpp"
 #include "poundsim/io/ground_motion.hpp"
@@ -1280,6 +1281,12 @@ FrfSettings read_frf(TableReader& t, TableReader& analysis, const Model& model, 
     }
     if (t.has("sweep")) t.fail("sweep", "only for analysis.kind = \"frf\" with method = \"simulation\"");
     f.method = FrfMethod::continuation;
+  } else if (a.kind == AnalysisKind::frf && !t.has("method")) {
+    // Continuation is the default where it applies: the exact integrator, no sweep up or down
+    // asked for, and a model whose state at t = 0 is its floors' (docs/input.md).
+    const bool applies = a.options.integrator == Integrator::exact && f.sweep == SweepMode::from_rest &&
+                         periodic_orbits_refusal(model, a.options).empty();
+    f.method = applies ? FrfMethod::continuation : FrfMethod::simulation;
   }
   const bool listed = t.has("ratios");
   const bool range = t.has("ratio_min") || t.has("ratio_max") || t.has("points");
@@ -1343,6 +1350,10 @@ FrfSettings read_frf(TableReader& t, TableReader& analysis, const Model& model, 
   if (a.kind == AnalysisKind::continuation && f.ratios.size() != 1) {
     t.fail(listed ? "ratios" : "points", fmt::format("analysis.kind = \"continuation\" runs at one forcing frequency: "
                                                      "ratios = [ω̄/ω₁] (got {} ratios)", f.ratios.size()));
+  }
+  if (f.method == FrfMethod::continuation && f.sweep != SweepMode::from_rest) {
+    t.fail("sweep", "a sweep up or down is the brute force's (method = \"simulation\"): continuation follows every "
+                    "branch both ways");
   }
   if (f.method == FrfMethod::continuation && a.options.integrator != Integrator::exact) {
     analysis.fail("integrator", "must be \"exact\" for continuation: the map's Jacobian comes from the exact "

@@ -181,7 +181,10 @@ TEST_F(Cli, EveryExampleRunsWithBothIntegrators) {
       }
       const fs::path out = dir_ / (example.stem().string() + "_" + integrator);
       std::string extra = std::string(" --set analysis.integrator=") + integrator;
-      if (frf && std::string(integrator) == "exact") extra += " --set frf.points=12 --set frf.steps_per_period=16";
+      // Simulated (continuation, the exact integrator's default, has tests of its own).
+      if (frf && std::string(integrator) == "exact") {
+        extra += " --set frf.points=12 --set frf.steps_per_period=16 --set frf.method=simulation";
+      }
       if (optimize) extra += " --set optimize.global_evaluations=6 --set optimize.local_evaluations=4";
       const Result r = run("run " + example.string() + " --quiet --out " + out.string() + extra);
       EXPECT_EQ(r.code, 0) << example << "\n" << r.output;

@@ -136,5 +136,23 @@ TEST(FrequencyResponseInput, ContinuationOptionsBelongToTheContinuationMethod) {
   EXPECT_EQ(o.continuation.max_parameter_step, 0.002);
 }
 
+TEST(FrequencyResponseInput, ContinuationIsTheDefaultWhereItApplies) {
+  // The exact integrator, no sweep asked for, the displacement criterion: continuation; otherwise
+  // the brute force, as before; a method given is the method run.
+  const fs::path figure = fs::path(POUNDSIM_SOURCE_DIR) / "examples" / "paper" / "fig2c.toml";
+  const auto method = [&](std::vector<std::string> overrides) { return read_input(figure, overrides).frf->method; };
+  EXPECT_EQ(method({}), FrfMethod::simulation);  // the paper's inputs: Newmark
+  EXPECT_EQ(method({"analysis.integrator=\"exact\""}), FrfMethod::continuation);
+  EXPECT_EQ(method({"analysis.integrator=\"exact\"", "frf.sweep=\"up\""}), FrfMethod::simulation);
+  EXPECT_EQ(method({"analysis.integrator=\"exact\"", "analysis.separation=\"force\""}), FrfMethod::simulation);
+  EXPECT_EQ(method({"analysis.integrator=\"exact\"", "frf.method=\"simulation\""}), FrfMethod::simulation);
+  // A study's points keep the brute force unless they ask (their metrics take every point).
+  const fs::path study = fs::path(POUNDSIM_SOURCE_DIR) / "examples" / "study_eta_mu.toml";
+  EXPECT_EQ(read_input(study, std::vector<std::string>{"analysis.integrator=\"exact\""}).frf->method, FrfMethod::simulation);
+  // input.toml says which ran.
+  const RunInput exact = read_input(figure, std::vector<std::string>{"analysis.integrator=\"exact\""});
+  EXPECT_NE(to_toml(exact).find("method = 'continuation'"), std::string::npos) << to_toml(exact);
+}
+
 }  // namespace
 }  // namespace poundsim::io

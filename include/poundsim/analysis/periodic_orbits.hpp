@@ -45,6 +45,10 @@
 
 namespace poundsim {
 
+/// Why the periodic orbits of `model` under `options` cannot be shot (empty when they can): laws
+/// that keep a state between events, the force separation criterion (see the file comment).
+[[nodiscard]] std::string periodic_orbits_refusal(const Model& model, const TimeHistoryOptions& options);
+
 /// One periodic orbit.
 struct PeriodicOrbit {
   double parameter = 0.0;   ///< p: ω̄/ω₁ for a frequency response, else the model parameter
