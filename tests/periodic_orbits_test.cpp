@@ -357,6 +357,62 @@ TEST(ImpactOscillator, ContinuationInTheGapFollowsTheAnalyticOrbitsToTheirDoubli
   }));
 }
 
+TEST(ImpactOscillator, ContinuationRestartsAcrossTheGrazingWhereTheImpactsEnd) {
+  // At ω̄ = 2.4ω₀ the impacting period-1 orbit's impact speed falls to zero as the gap opens to
+  // the free amplitude |U| = A/|ω₀² − ω̄² + 2iζω₀ω̄|: a grazing, where the map's derivative is
+  // singular and the corrector stalls (continued in the gap in metres, as an input key gives it). The
+  // branch is restarted beyond it and goes on as the linear orbit, which never touches the stop.
+  const ImpactOscillator base;
+  const double w = 2.4 * base.omega0;
+  const double sigma_grazing = std::abs(base.response(w)) * base.omega0 * base.omega0 / base.amplitude;
+  ASSERT_GT(sigma_grazing, 0.2);
+  ASSERT_LT(sigma_grazing, 0.22);
+  const double metres = base.amplitude / (base.omega0 * base.omega0);  // per unit of σ
+  const auto model_at = [&](double gap) {
+    ImpactOscillator osc;
+    osc.gap = gap;
+    return osc.model();
+  };
+  ParameterFamily family(model_at, base.amplitude, 2.4, exact_options(), 32);
+  const double start = 0.16 * metres, end = 0.3 * metres;
+  ImpactOscillator at_start;
+  at_start.gap = start;
+  const ImpactOscillator::Orbit analytic = at_start.orbit(w);
+  ASSERT_TRUE(analytic.exists);
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(4);
+  x << analytic.at_zero(0), 0, analytic.at_zero(1), 0;
+  ShootingResult r = shoot(family.at(start), x, 1, ShootingOptions{});
+  ASSERT_TRUE(r.converged) << r.failure;
+  r.orbit.parameter = start;
+  ContinuationOptions co;
+  co.max_parameter_step = 2e-3 * metres;
+  co.max_periodicity = 1;
+  const ContinuationResult traced = continue_orbits(family, r.orbit, start, end, +1, ShootingOptions{}, co);
+  ASSERT_EQ(traced.branches.size(), 1u);
+  const Branch& branch = traced.branches.front();
+  EXPECT_GE(traced.restarts, 1);
+  EXPECT_EQ(branch.ended, "left the parameter range");
+  int beyond = 0;
+  for (const PeriodicOrbit& orbit : branch.points) {
+    if (orbit.parameter > end) continue;
+    const double sigma = orbit.parameter / metres;
+    if (sigma < sigma_grazing - 1e-3) {
+      EXPECT_EQ(orbit.impacts, 1) << orbit.parameter;
+    } else if (sigma > sigma_grazing + 1e-9) {
+      // The linear steady state, and stable (the free frame's damping).
+      ++beyond;
+      EXPECT_EQ(orbit.events, 0) << orbit.parameter;
+      const Eigen::VectorXd linear = linear_steady_state(model_at(orbit.parameter), base.amplitude, w);
+      EXPECT_LT((state_of(orbit) - linear).cwiseAbs().maxCoeff(), 1e-9 * linear.cwiseAbs().maxCoeff()) << orbit.parameter;
+      EXPECT_TRUE(orbit.stable);
+    }
+  }
+  EXPECT_GT(beyond, 20);
+  EXPECT_EQ(branch.points.back().parameter > end ? branch.points[branch.points.size() - 2].parameter
+                                                 : branch.points.back().parameter,
+            end);
+}
+
 TEST(PeriodicOrbits, LinearFramesShootToTheirClosedFormInOneStep) {
   // A joint too wide to close: the frames are linear, P is affine, and Newton lands on the closed
   // form in one step; the multipliers are e^{λT} of the frames' modes.

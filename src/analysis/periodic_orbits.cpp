@@ -297,11 +297,13 @@ FrequencyFamily::FrequencyFamily(const Model& model, double amplitude, const Tim
       difference_(model, amplitude, omega1_, options, samples_per_period) {}
 
 StroboscopicMap& FrequencyFamily::at(double ratio) {
+  if (!(ratio > 0)) throw std::invalid_argument(fmt::format("the frequency ratio {} is not positive", ratio));
   map_.set_omega(ratio * omega1_);
   return map_;
 }
 
 StroboscopicMap& FrequencyFamily::difference_at(double ratio) {
+  if (!(ratio > 0)) throw std::invalid_argument(fmt::format("the frequency ratio {} is not positive", ratio));
   difference_.set_omega(ratio * omega1_);
   return difference_;
 }
@@ -347,7 +349,7 @@ class BranchProblem {
   /// `with_fp` false keeps fp as it is (a chord: ∂F/∂p changes little within a step).
   bool evaluate(const Eigen::VectorXd& w, double p, Eigen::VectorXd& f, Eigen::MatrixXd& fw, Eigen::VectorXd& fp,
                 PeriodicOrbit& orbit, std::string& failure, bool with_fp = true) {
-    if (!(p > 0) || !std::isfinite(p) || !w.allFinite()) {
+    if (!std::isfinite(p) || !w.allFinite()) {
       failure = fmt::format("the corrector left the admissible states (parameter {})", p);
       return false;
     }
@@ -535,6 +537,48 @@ std::optional<PeriodicOrbit> refined_bifurcation(OrbitFamily& family, PeriodicOr
   return best;
 }
 
+/// Restarts of one branch across points the corrector cannot pass.
+constexpr int kMaxRestarts = 20;
+
+/// The branch beyond a point where the corrector failed at the smallest step: the orbit one
+/// parameter step (max_parameter_step, onward along the tangent) past `last`, shot from its
+/// state, kept when it lies near it (scaled distance ≤ 0.1 × the state's size: the same branch,
+/// not a coexisting one) — with its scaled state and the branch's tangent there.
+bool restart_across(OrbitFamily& family, BranchProblem& problem, const PeriodicOrbit& last,
+                    const Eigen::VectorXd& tangent, const ShootingOptions& shooting, const ContinuationOptions& options,
+                    ContinuationResult& result, PeriodicOrbit& beyond, Eigen::VectorXd& w, Eigen::VectorXd& next_tangent) {
+  const Eigen::Index m = tangent.size() - 1;
+  if (tangent(m) == 0) return false;  // no onward direction in p
+  const double p = last.parameter + std::copysign(options.max_parameter_step, tangent(m));
+  Eigen::VectorXd x(2 * last.u.size());
+  x << last.u, last.v;
+  ShootingResult shot;
+  try {
+    shot = shoot(family.at(p), x, last.periodicity, shooting);
+  } catch (const std::exception&) {
+    return false;
+  }
+  result.map_evaluations += shot.orbit.iterations + 2;  // Newton's runs and the recorded period
+  result.newton_iterations += shot.orbit.iterations;
+  if (!shot.converged) return false;
+  StroboscopicMap& map = family.at(p);
+  const Scaling s{family.length_scale(), map.omega()};
+  Eigen::VectorXd landed(x.size());
+  landed << shot.orbit.u, shot.orbit.v;
+  const Eigen::VectorXd w_last = s.to_scaled(x);
+  w = s.to_scaled(landed);
+  if ((w - w_last).cwiseAbs().maxCoeff() > 0.1 * std::max(1.0, w_last.cwiseAbs().maxCoeff())) return false;
+  Eigen::VectorXd f, fp;
+  Eigen::MatrixXd fw;
+  std::string failure;
+  if (!problem.evaluate(w, p, f, fw, fp, beyond, failure)) return false;
+  beyond.iterations = shot.orbit.iterations;
+  beyond.residual = f.cwiseAbs().maxCoeff();
+  beyond.amplitudes = shot.orbit.amplitudes;
+  next_tangent = branch_tangent(fw, fp, tangent);
+  return next_tangent.allFinite();
+}
+
 /// The orbit at p = edge of a branch whose last step went from `inside` to `outside` past it:
 /// shot at the edge from the state interpolated between the two (none when Newton fails there).
 std::optional<PeriodicOrbit> orbit_at_edge(OrbitFamily& family, const PeriodicOrbit& inside,
@@ -611,6 +655,26 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
     }
     double step = options.initial_step;
     double p = current.parameter;
+    int restarts = 0;
+    // Across a point the corrector cannot pass (a grazing, a lock): the branch goes on beyond it.
+    const auto restarted = [&] {
+      if (restarts >= kMaxRestarts) return false;
+      ++restarts;
+      PeriodicOrbit beyond;
+      Eigen::VectorXd w_beyond, t_beyond;
+      if (!restart_across(family, problem, branch.points.back(), tangent, shooting, options, result, beyond, w_beyond,
+                          t_beyond)) {
+        return false;
+      }
+      beyond.bifurcation = BifurcationKind::grazing;
+      branch.points.push_back(beyond);
+      ++result.restarts;
+      w = w_beyond;
+      p = beyond.parameter;
+      tangent = t_beyond;
+      step = options.initial_step;
+      return true;
+    };
 
     while (static_cast<int>(branch.points.size()) < options.max_points) {
       if (result.map_evaluations >= options.max_evaluations) {
@@ -643,7 +707,8 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
         const double arclength = tangent.dot(trial - predicted);
         if (f.cwiseAbs().maxCoeff() <= shooting.tolerance * std::max(1.0, trial.head(m).cwiseAbs().maxCoeff()) &&
             std::abs(arclength) <= 1e-6 * step) {
-          converged = true;
+          // A corrector that ran far along the parameter landed on another branch: a smaller step.
+          converged = std::abs(trial(m) - p) <= 2 * options.max_parameter_step;
           break;
         }
         Eigen::MatrixXd a(m + 1, m + 1);
@@ -659,6 +724,9 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
       if (!converged) {
         step *= 0.5;
         if (step < options.min_step) {
+          // The corrector cannot pass a point where the map is not smooth (a grazing, a lock):
+          // restart beyond it, shooting one parameter step further from the last orbit.
+          if (restarted()) continue;
           branch.ended = failure.empty() ? "Newton failed below the smallest step" : "a run failed: " + failure;
           branch.points.back().bifurcation = BifurcationKind::end;
           break;
@@ -725,7 +793,8 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
         step *= 0.5;
       }
       // A branch that creeps (steps at the smallest size for many points without moving in the
-      // parameter or the state) sits on a singularity the corrector cannot pass: end it.
+      // parameter or the state) sits on a singularity the corrector cannot pass: restart beyond
+      // it, or end it.
       if (branch.points.size() > 50) {
         const PeriodicOrbit& back = branch.points[branch.points.size() - 51];
         Eigen::VectorXd xb(2 * back.u.size()), xo(2 * orbit.u.size());
@@ -734,6 +803,7 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
         const Scaling s{family.length_scale(), orbit.omega};
         if (std::abs(back.parameter - orbit.parameter) < 0.01 * options.max_parameter_step &&
             (s.to_scaled(xb) - s.to_scaled(xo)).norm() < 50 * options.min_step * 10) {
+          if (restarted()) continue;
           branch.points.back().bifurcation = BifurcationKind::end;
           branch.ended = "stalled: the corrector cannot pass a singularity of the map";
           break;
@@ -992,6 +1062,9 @@ std::vector<ParameterPoint> parameter_response_by_continuation(const std::functi
   }
   seed->parameter = p_start;
   ContinuationOptions co = options.continuation;
+  // The parameter has its own units (a gap in metres, a ratio, a mass): no step longer than a
+  // hundredth of its range, so a branch is resolved alike whatever the key.
+  co.max_parameter_step = std::min(co.max_parameter_step, (p_max - p_min) / 100);
   std::vector<ParameterPoint> out;
   int offset = 0;
   for (const int direction : {+1, -1}) {

@@ -191,6 +191,8 @@ struct ContinuationResult {
   std::vector<Branch> branches;
   long map_evaluations = 0;   ///< runs of the map (with or without the monodromy)
   long newton_iterations = 0;
+  /// Branches restarted beyond a point the corrector could not pass (flagged grazing).
+  long restarts = 0;
 };
 
 /// Follows the period-k branch through `start` (a converged orbit at p = start.parameter) in
