@@ -365,6 +365,7 @@ class BranchProblem {
       orbit.parameter = p;
       orbit.periodicity = k_;
       describe_run(map, x, monodromy, orbit);
+      counts_.events += orbit.events;
       if (!with_fp) return true;
       const double dp = options_.difference_step * std::max(1.0, std::abs(p));
       StroboscopicMap& shifted = family_.difference_at(p + dp);
@@ -677,7 +678,7 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
     };
 
     while (static_cast<int>(branch.points.size()) < options.max_points) {
-      if (result.map_evaluations >= options.max_evaluations) {
+      if (result.map_evaluations >= options.max_evaluations || result.events >= options.max_events) {
         branch.ended = "the budget of map evaluations is spent";
         pending.clear();
         break;
@@ -881,9 +882,10 @@ int detected_periodicity(StroboscopicMap& map, Eigen::VectorXd& x, int settle, i
 
 /// The orbit the response from rest settles on: simulated steady.max_periods/10 + 10 periods,
 /// its periodicity read from its sections, then shot. None when Newton does not converge or a run
-/// fails (the caller simulates, or says so). `budget` is charged the runs.
+/// fails (the caller simulates, or says so). `budget` is charged the runs, `event_budget` their
+/// events (as many per period as the orbit's).
 std::optional<PeriodicOrbit> orbit_from_rest(StroboscopicMap& map, const SteadyStateOptions& steady, int max_k,
-                                             const ShootingOptions& shooting, long& budget) {
+                                             const ShootingOptions& shooting, long& budget, long& event_budget) {
   Eigen::VectorXd x = Eigen::VectorXd::Zero(2 * map.dofs());
   const int settle = steady.max_periods / 10 + 10;
   budget -= settle + 2 * max_k;
@@ -891,6 +893,7 @@ std::optional<PeriodicOrbit> orbit_from_rest(StroboscopicMap& map, const SteadyS
     const int k = detected_periodicity(map, x, settle, max_k, 1e-4);
     ShootingResult shot = shoot(map, x, k > 0 ? k : 1, shooting);
     budget -= shot.orbit.iterations + 1;
+    event_budget -= shot.orbit.events * (settle + 2 * max_k + shot.orbit.iterations + 1) / shot.orbit.periodicity;
     if (shot.converged) return std::move(shot.orbit);
   } catch (const std::exception&) {
     // the run from rest failed: the caller's simulation (or message) says why
@@ -936,6 +939,7 @@ std::vector<FrfPoint> continued_segment(const Model& model, const FrequencyRespo
   ContinuationOptions co = options.continuation;
   const int max_k = std::min(options.steady.max_periodicity, co.max_periodicity);
   long budget = static_cast<long>(co.evaluations_per_ratio) * static_cast<long>(segment.ratios.size());
+  long event_budget = static_cast<long>(co.events_per_ratio) * static_cast<long>(segment.ratios.size());
 
   std::vector<FrfPoint> out;
   int next_branch = 0;
@@ -951,8 +955,8 @@ std::vector<FrfPoint> continued_segment(const Model& model, const FrequencyRespo
     if (r <= covered) continue;
     StroboscopicMap& map = family.at(r);
     std::optional<PeriodicOrbit> seed;
-    if (budget > 0) {
-      seed = orbit_from_rest(map, options.steady, max_k, options.shooting, budget);
+    if (budget > 0 && event_budget > 0) {
+      seed = orbit_from_rest(map, options.steady, max_k, options.shooting, budget, event_budget);
       if (seed) seed->parameter = r;
     }
     if (!seed) {
@@ -964,9 +968,11 @@ std::vector<FrfPoint> continued_segment(const Model& model, const FrequencyRespo
       continue;
     }
     co.max_evaluations = budget;
+    co.max_events = event_budget;
     const ContinuationResult traced =
         continue_orbits(family, *seed, segment.lo, segment.hi, +1, options.shooting, co);
     budget -= traced.map_evaluations;
+    event_budget -= traced.events;
     for (const Branch& b : traced.branches) {
       for (const PeriodicOrbit& orbit : b.points) {
         if (orbit.parameter < segment.lo || orbit.parameter > segment.hi) continue;
@@ -1054,8 +1060,9 @@ std::vector<ParameterPoint> parameter_response_by_continuation(const std::functi
   th.integrator = Integrator::exact;
   ParameterFamily family(model_at, options.amplitude, ratio, th, options.steady.steps_per_period);
   const int max_k = std::min(options.steady.max_periodicity, options.continuation.max_periodicity);
-  long budget = options.continuation.max_evaluations;
-  std::optional<PeriodicOrbit> seed = orbit_from_rest(family.at(p_start), options.steady, max_k, options.shooting, budget);
+  long budget = options.continuation.max_evaluations, event_budget = options.continuation.max_events;
+  std::optional<PeriodicOrbit> seed =
+      orbit_from_rest(family.at(p_start), options.steady, max_k, options.shooting, budget, event_budget);
   if (!seed) {
     throw SimulationError(fmt::format("no periodic orbit to start from at {}: the response from rest does not settle on "
                                       "one that Newton's method converges to (start elsewhere)", p_start));
@@ -1070,8 +1077,10 @@ std::vector<ParameterPoint> parameter_response_by_continuation(const std::functi
   for (const int direction : {+1, -1}) {
     if ((direction > 0 && p_start >= p_max) || (direction < 0 && p_start <= p_min)) continue;
     co.max_evaluations = budget;
+    co.max_events = event_budget;
     const ContinuationResult traced = continue_orbits(family, *seed, p_min, p_max, direction, options.shooting, co);
     budget -= traced.map_evaluations;
+    event_budget -= traced.events;
     for (const Branch& b : traced.branches) {
       for (const PeriodicOrbit& orbit : b.points) {
         if (orbit.parameter < p_min || orbit.parameter > p_max) continue;

@@ -68,6 +68,10 @@ struct ContinuationOptions {
   /// frequency response: the budget of the whole continuation is this × the ratios. Where it is
   /// spent, the ratios not yet reached are simulated.
   int evaluations_per_ratio = 200;
+  /// Events the corrector's runs may cross per ratio (a second budget, beside the runs: a run of
+  /// 150 impacts costs some 75 runs of 2). Where it is spent, the piece's ratios not yet reached
+  /// are simulated.
+  int events_per_ratio = 2000;
   /// A frequency response is continued in pieces of this many ratios, each seeded at its lowest
   /// ratio, continued up to the next piece's and spending only its own share of the budget; the
   /// pieces run in parallel (FrequencyResponseOptions::threads) and are fixed by the ratios, so
@@ -76,6 +80,9 @@ struct ContinuationOptions {
   int ratios_per_segment = 12;
   /// The runs one continue_orbits call may make (the frequency response sets it from the above).
   long max_evaluations = 10'000'000;
+  /// The events one continue_orbits call's runs may cross (the frequency response sets it from
+  /// events_per_ratio).
+  long max_events = 1'000'000'000'000;
 
   static constexpr auto fields() {
     using O = ContinuationOptions;
@@ -92,6 +99,8 @@ struct ContinuationOptions {
                     "relative step of the parameter's forward difference"},
         IntegerField{"evaluations_per_ratio", &O::evaluations_per_ratio, 1, 1'000'000,
                      "runs of the map allowed per ratio; beyond, the remaining ratios are simulated"},
+        IntegerField{"events_per_ratio", &O::events_per_ratio, 1, 1'000'000'000,
+                     "events the runs may cross per ratio; beyond, the remaining ratios are simulated"},
         IntegerField{"ratios_per_segment", &O::ratios_per_segment, 1, 1'000'000,
                      "the ratios continued as one piece, on its own budget and thread"},
     };

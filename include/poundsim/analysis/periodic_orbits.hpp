@@ -191,6 +191,7 @@ struct ContinuationResult {
   std::vector<Branch> branches;
   long map_evaluations = 0;   ///< runs of the map (with or without the monodromy)
   long newton_iterations = 0;
+  long events = 0;            ///< events crossed by the corrector's runs
   /// Branches restarted beyond a point the corrector could not pass (flagged grazing).
   long restarts = 0;
 };
