@@ -657,6 +657,9 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
     double step = options.initial_step;
     double p = current.parameter;
     int restarts = 0;
+    Eigen::VectorXd first(m + 1);
+    first << w, p;
+    double farthest = 0;
     // Across a point the corrector cannot pass (a grazing, a lock): the branch goes on beyond it.
     const auto restarted = [&] {
       if (restarts >= kMaxRestarts) return false;
@@ -781,6 +784,14 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
         }
       }
       branch.points.push_back(orbit);
+      // An isola: the branch comes back to its first point (having gone further from it than a
+      // few steps) and would go round again.
+      const double from_start = (trial - first).norm(), this_step = (trial.head(m) - w).norm() + std::abs(trial(m) - p);
+      farthest = std::max(farthest, from_start);
+      if (farthest > 4 * this_step && from_start <= this_step) {
+        branch.ended = "closed on itself (an isola or a loop)";
+        break;
+      }
       w = trial.head(m);
       p = trial(m);
       // Across a grazing the map's derivative jumps: the old tangent is no guide, take the new one

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
 
 #include <fmt/format.h>
@@ -152,6 +153,37 @@ TEST(FrequencyResponseInput, ContinuationIsTheDefaultWhereItApplies) {
   // input.toml says which ran.
   const RunInput exact = read_input(figure, std::vector<std::string>{"analysis.integrator=\"exact\""});
   EXPECT_NE(to_toml(exact).find("method = 'continuation'"), std::string::npos) << to_toml(exact);
+}
+
+TEST(FrequencyResponseResult, APeriodTwoBubbleIsFollowedOnceRoundAndClosed) {
+  // Fig. 4a near 1.365: the period-1 branch doubles its period at ≈ 1.3609 and undoubles at ≈ 1.37;
+  // the period-2 branch born at the first is a closed bubble ending at the second. Followed from its
+  // birth both ways, each way goes once round and stops where it began (without the closing test
+  // it went round until its budget: hundreds of points).
+  const fs::path figure = fs::path(POUNDSIM_SOURCE_DIR) / "examples" / "paper" / "fig4a.toml";
+  const RunInput input = read_input(figure, std::vector<std::string>{
+      "analysis.integrator=\"exact\"", "frf.steps_per_period=16", "frf.ratio_min=1.36", "frf.ratio_max=1.372", "frf.points=4"});
+  ASSERT_EQ(input.frf->method, FrfMethod::continuation);
+  const FrequencyResponseResult r = analyse_frequency_response(input);
+  std::vector<double> doublings;
+  std::map<int, std::pair<double, double>> bubbles;  // period-2 branch → its ratio range
+  std::map<int, int> points;
+  for (const FrfPoint& p : r.points) {
+    if (p.periodicity == 1 && p.bifurcation == BifurcationKind::period_doubling) doublings.push_back(p.ratio);
+    if (p.periodicity != 2 || p.parent_branch < 0) continue;
+    auto [it, fresh] = bubbles.try_emplace(p.branch_id, p.ratio, p.ratio);
+    it->second.first = std::min(it->second.first, p.ratio);
+    it->second.second = std::max(it->second.second, p.ratio);
+    ++points[p.branch_id];
+  }
+  ASSERT_EQ(doublings.size(), 2u);
+  ASSERT_GE(bubbles.size(), 2u);
+  for (const auto& [id, range] : bubbles) {
+    if (points[id] < 20) continue;  // a short piece from the seed's side, not the bubble
+    EXPECT_NEAR(range.first, std::min(doublings[0], doublings[1]), 1e-3) << id;
+    EXPECT_NEAR(range.second, std::max(doublings[0], doublings[1]), 1e-3) << id;
+    EXPECT_LT(points[id], 60) << id;
+  }
 }
 
 }  // namespace
