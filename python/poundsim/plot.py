@@ -551,7 +551,7 @@ def frf(fr: FrequencyResponse, ax: Any = None, free: bool = True, *, sweep: Opti
     responses that are not periodic (periodicity 0) marked ×. A response by continuation
     (frf.method = "continuation") draws each branch in its order along the arclength, stable
     stretches solid and unstable ones dashed, its folds ○, period doublings □ and Neimark–Sacker
-    points ◇ marked, and the points it simulated +. A two-way sweep's branches "up"
+    points ◇ marked, the points it simulated +, and the free frames dotted. A two-way sweep's branches "up"
     and "down" (in `fr` itself, or in `sweep`) are drawn as markers ▲ and ▼ over the curves;
     `compare`, another response (bare pounding, say), dotted with `compare_label`; `label` names
     the solid curves. Legend labels: "<frame>, interacting", "<frame>, free". Returns the
@@ -579,7 +579,8 @@ def frf(fr: FrequencyResponse, ax: Any = None, free: bool = True, *, sweep: Opti
                        label=f"{_name(names, f)}, {label}", gid=f"V{f}_W")
             if free:
                 order = curve[np.unique(ratio[curve], return_index=True)[1]]
-                a.plot(ratio[order], table[f"V{f}_free_W"][order], "--", color=c, lw=0.8,
+                # Beside a continuation's dashed unstable branches the free frames are dotted.
+                a.plot(ratio[order], table[f"V{f}_free_W"][order], ":" if continued else "--", color=c, lw=0.8,
                        label=f"{_name(names, f)}, free", gid=f"V{f}_free_W")
             if len(chaotic):
                 a.plot(ratio[chaotic], table[f"V{f}_W"][chaotic], "x", color=c, ms=3.5,

@@ -590,4 +590,6 @@ def test_frf_by_continuation_draws_stable_solid_and_unstable_dashed(tmp_path):
     assert np.array_equal(x, t["ratio"][folds]) and np.array_equal(y, t["V1_W"][folds])
     labels = [tx.get_text() for tx in ax.get_legend().get_texts()]
     assert "frame 1, unstable" in labels and "fold" in labels
+    # The free frames are dotted, told apart from the dashed unstable branches.
+    assert line(ax, "V1_free_W").get_linestyle() == ":" and line(ax, "V2_free_W").get_linestyle() == ":"
     save(fig, tmp_path, "frf_continuation")
