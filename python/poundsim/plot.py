@@ -42,7 +42,7 @@ from typing import Any, Iterator, Optional, Sequence, Union
 import matplotlib
 import numpy as np
 
-from .results import FrequencyResponse, Optimization, Study, Table, TimeHistory
+from .results import Continuation, FrequencyResponse, Optimization, Study, Table, TimeHistory
 
 __all__ = ["COLUMN_WIDTH", "PAGE_WIDTH", "SIZES", "DPI", "STANDARD_GRAVITY", "JOURNAL_RC", "COLOURS", "colour",
            "journal_style", "to_engineering", "frame_names", "channel_label", "parameter_label", "time_history",
@@ -510,14 +510,15 @@ def _rows(table: Table, branch: Optional[str] = None) -> np.ndarray:
     return idx[np.argsort(table["ratio"][idx], kind="stable")]
 
 
-def _continued_branches(a: Any, table: Table, frames: Sequence[int], names: Any, label: str) -> None:
-    """The branches of a response by continuation: stable solid, unstable dashed, bifurcations
-    marked (see frf)."""
+def _continued_branches(a: Any, table: Table, frames: Sequence[int], names: Any, label: str,
+                        x: str = "ratio") -> None:
+    """The branches of a response by continuation against column `x`: stable solid, unstable
+    dashed, bifurcations marked (see frf)."""
     branch = np.asarray(table["branch"]).astype(str)
     ids = np.asarray(table["branch_id"])
     stable = np.asarray(table["stable"]) == 1
     kinds = np.asarray(table["bifurcation"]).astype(str)
-    ratio = np.asarray(table["ratio"])
+    ratio = np.asarray(table[x])
     for i, f in enumerate(frames):
         c = colour(f - 1)
         v = np.asarray(table[f"V{f}_W"])
@@ -606,6 +607,36 @@ def frf(fr: FrequencyResponse, ax: Any = None, free: bool = True, *, sweep: Opti
         a.set_xlabel("ω̄ / ω₁")
         a.set_ylabel("V / W")
         a.set_xlim(float(np.nanmin(ratio)), float(np.nanmax(ratio)))
+        a.set_ylim(bottom=0)
+        a.grid(True)
+        a.legend(ncol=2)
+        _finish(a, title)
+    return a.figure
+
+
+def continuation(c: Continuation, ax: Any = None, free: bool = True, *, size: SizeArg = "column",
+                 title: Optional[str] = None):
+    """V/W against the continued model parameter (analysis.kind = "continuation",
+    [periodic-orbits.md]): every frame's branches, stable solid and unstable dashed, folds ○,
+    period doublings □ and Neimark–Sacker points ◇ marked, the free frames dotted (`free=False`
+    leaves them out). The x axis is named by the parameter's key. Returns the Figure."""
+    table = c.table
+    if len(table) == 0:
+        raise ValueError("the continuation has no rows")
+    frames = _frf_frames(table)
+    names = frame_names(c, len(frames))
+    key = _summary_dict(c).get("parameter", {}).get("key", "parameter")
+    x = np.asarray(table["parameter"])
+    with _axes(ax, size if size != "column" else (COLUMN_WIDTH, 2.8)) as (a,):
+        _continued_branches(a, table, frames, names, "interacting", x="parameter")
+        if free:
+            order = np.argsort(x, kind="stable")
+            for f in frames:
+                a.plot(x[order], table[f"V{f}_free_W"][order], ":", color=colour(f - 1), lw=0.8,
+                       label=f"{_name(names, f)}, free", gid=f"V{f}_free_W")
+        a.set_xlabel(parameter_label(key))
+        a.set_ylabel("V / W")
+        a.set_xlim(float(np.nanmin(x)), float(np.nanmax(x)))
         a.set_ylim(bottom=0)
         a.grid(True)
         a.legend(ncol=2)

@@ -363,7 +363,7 @@ class Continuation(_WithSummary):
         return self.table[column]
 
     def __repr__(self) -> str:
-        return f"Continuation({len(self.table)} orbits in {self.summary['parameter']['key']})"
+        return f"Continuation({len(self.table)} orbits in {self.summary.to_dict().get('parameter', {}).get('key', '?')})"
 
 
 class Study(_WithSummary):

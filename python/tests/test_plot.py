@@ -593,3 +593,37 @@ def test_frf_by_continuation_draws_stable_solid_and_unstable_dashed(tmp_path):
     # The free frames are dotted, told apart from the dashed unstable branches.
     assert line(ax, "V1_free_W").get_linestyle() == ":" and line(ax, "V2_free_W").get_linestyle() == ":"
     save(fig, tmp_path, "frf_continuation")
+
+
+def test_a_continuation_in_a_parameter_is_drawn_against_it(tmp_path):
+    # Fig. 2c's frames at 0.8 ω₁ as the gap opens (examples/continuation): each drawn stretch is
+    # its branch's rows in arclength order against the parameter, stable solid, unstable dashed,
+    # its Neimark–Sacker points marked, the free frames dotted, the x axis named δ̄.
+    out = cli_run(EXAMPLES / "continuation" / "fig2c_gap.toml", tmp_path / "gap", "parameter.max=1.2")
+    c = poundsim.read(out)
+    t = c.table
+    fig = pp.continuation(c)
+    ax = fig.axes[0]
+    drawn = {ln.get_gid(): ln for ln in ax.get_lines() if ln.get_gid()}
+    assert any(g.endswith("_unstable") for g in drawn) and any(g.endswith("_stable") for g in drawn)
+    branch_id = np.asarray(t["branch_id"])
+    for gid, ln in drawn.items():
+        m = re.fullmatch(r"V(\d)_W_branch(\d+)_(stable|unstable)", gid)
+        if not m:
+            continue
+        f, b, kind = int(m.group(1)), int(m.group(2)), m.group(3)
+        assert ln.get_linestyle() == ("-" if kind == "stable" else "--")
+        x, y = xy(ln)
+        rows = np.flatnonzero(branch_id == b)
+        matches = [int(np.flatnonzero((t["parameter"][rows] == xi) & (t[f"V{f}_W"][rows] == yi))[0]) for xi, yi in zip(x, y)]
+        assert matches == list(range(matches[0], matches[0] + len(matches)))
+    ns = np.flatnonzero(np.asarray(t["bifurcation"]).astype(str) == "Neimark-Sacker")
+    assert len(ns) == 2
+    x, _ = xy(line(ax, "V1_W_Neimark-Sacker"))
+    assert np.array_equal(x, t["parameter"][ns])
+    assert line(ax, "V1_free_W").get_linestyle() == ":"
+    assert ax.get_xlabel() == "δ̄ = δλ² / g"
+    assert ax.get_xlim() == (0.05, 1.2)
+    save(fig, tmp_path, "continuation")
+    script("plot_continuation.py", out, tmp_path / "script.png", "--title", "gap")
+    png_size(tmp_path / "script.png")
