@@ -543,6 +543,17 @@ def _continued_branches(a: Any, table: Table, frames: Sequence[int], names: Any,
                        label=kind if i == 0 else None, gid=f"V{f}_W_{kind}")
 
 
+def _finish_shear_axes(a: Any, x: np.ndarray, xlabel: str, title: Optional[str]) -> None:
+    """V/W from 0 against `x` over its range, gridded, with the legend and the title."""
+    a.set_xlabel(xlabel)
+    a.set_ylabel("V / W")
+    a.set_xlim(float(np.nanmin(x)), float(np.nanmax(x)))
+    a.set_ylim(bottom=0)
+    a.grid(True)
+    a.legend(ncol=2)
+    _finish(a, title)
+
+
 def frf(fr: FrequencyResponse, ax: Any = None, free: bool = True, *, sweep: Optional[FrequencyResponse] = None,
         compare: Optional[FrequencyResponse] = None, compare_label: str = "compared", label: str = "interacting",
         size: SizeArg = "column", title: Optional[str] = None):
@@ -604,13 +615,7 @@ def frf(fr: FrequencyResponse, ax: Any = None, free: bool = True, *, sweep: Opti
                 for i, f in enumerate(_frf_frames(t)):
                     a.plot(t["ratio"][rows], t[f"V{f}_W"][rows], marker, ms=2.6, mfc="none", mew=0.5,
                            color=colour(f - 1), label=name if i == 0 else None, gid=f"V{f}_W_{branch}")
-        a.set_xlabel("ω̄ / ω₁")
-        a.set_ylabel("V / W")
-        a.set_xlim(float(np.nanmin(ratio)), float(np.nanmax(ratio)))
-        a.set_ylim(bottom=0)
-        a.grid(True)
-        a.legend(ncol=2)
-        _finish(a, title)
+        _finish_shear_axes(a, ratio, "ω̄ / ω₁", title)
     return a.figure
 
 
@@ -634,13 +639,7 @@ def continuation(c: Continuation, ax: Any = None, free: bool = True, *, size: Si
             for f in frames:
                 a.plot(x[order], table[f"V{f}_free_W"][order], ":", color=colour(f - 1), lw=0.8,
                        label=f"{_name(names, f)}, free", gid=f"V{f}_free_W")
-        a.set_xlabel(parameter_label(key))
-        a.set_ylabel("V / W")
-        a.set_xlim(float(np.nanmin(x)), float(np.nanmax(x)))
-        a.set_ylim(bottom=0)
-        a.grid(True)
-        a.legend(ncol=2)
-        _finish(a, title)
+        _finish_shear_axes(a, x, parameter_label(key), title)
     return a.figure
 
 
