@@ -151,28 +151,11 @@ nlohmann::json to_json(const FrequencyResponseResult& result) {
   }
   json continuation = nullptr;
   if (f.method == FrfMethod::continuation) {
-    std::map<int, json> by_branch;
-    json bifurcations = json::array();
-    for (const FrfPoint& p : result.points) {
-      if (!p.continued) continue;
-      json& b = by_branch[p.branch_id];
-      if (b.is_null()) {
-        b = {{"branch", p.branch_id}, {"periodicity", p.periodicity}, {"parent", p.parent_branch},
-             {"points", 0}, {"stable_points", 0}, {"ratio_min", p.ratio}, {"ratio_max", p.ratio}};
-      }
-      b["points"] = b["points"].get<int>() + 1;
-      if (p.stable) b["stable_points"] = b["stable_points"].get<int>() + 1;
-      b["ratio_min"] = std::min(b["ratio_min"].get<double>(), p.ratio);
-      b["ratio_max"] = std::max(b["ratio_max"].get<double>(), p.ratio);
-      if (p.bifurcation != BifurcationKind::none) {
-        bifurcations.push_back({{"branch", p.branch_id}, {"kind", std::string(to_string(p.bifurcation))},
-                                {"ratio", p.ratio}, {"max_multiplier", p.multipliers.empty() ? 0.0 : std::abs(p.multipliers.front())}});
-      }
-    }
-    json branch_list = json::array();
-    for (auto& [id, b] : by_branch) branch_list.push_back(std::move(b));
-    const auto simulated = std::count_if(result.points.begin(), result.points.end(), [](const FrfPoint& p) { return !p.continued; });
-    continuation = {{"branches", branch_list}, {"bifurcations", bifurcations}, {"simulated_points", simulated}};
+    std::vector<double> ratios;
+    for (const FrfPoint& p : result.points) ratios.push_back(p.ratio);
+    continuation = to_json(continued_branches(result.points, ratios), "ratio");
+    continuation["simulated_points"] =
+        std::count_if(result.points.begin(), result.points.end(), [](const FrfPoint& p) { return !p.continued; });
   }
   json summary{{"poundsim_version", POUNDSIM_VERSION},
                {"input", input.source.string()},
@@ -202,6 +185,44 @@ nlohmann::json to_json(const FrequencyResponseResult& result) {
     summary["dimensionless"] = fields_json(d, {"mass1"});  // a response is per unit mass: no scale
   }
   return summary;
+}
+
+ContinuedBranches continued_branches(const std::vector<FrfPoint>& points, const std::vector<double>& at) {
+  ContinuedBranches out;
+  std::map<int, ContinuedBranch> by_branch;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const FrfPoint& p = points[i];
+    if (!p.continued) continue;
+    const auto [it, fresh] = by_branch.try_emplace(p.branch_id);
+    ContinuedBranch& b = it->second;
+    if (fresh) b = {.branch = p.branch_id, .periodicity = p.periodicity, .parent = p.parent_branch, .points = 0,
+                    .stable_points = 0, .min = at[i], .max = at[i]};
+    ++b.points;
+    if (p.stable) ++b.stable_points;
+    b.min = std::min(b.min, at[i]);
+    b.max = std::max(b.max, at[i]);
+    if (p.bifurcation != BifurcationKind::none) {
+      out.bifurcations.push_back({.branch = p.branch_id, .kind = p.bifurcation, .at = at[i],
+                                  .max_multiplier = p.multipliers.empty() ? 0.0 : std::abs(p.multipliers.front())});
+    }
+  }
+  for (auto& [id, b] : by_branch) out.branches.push_back(b);
+  return out;
+}
+
+nlohmann::json to_json(const ContinuedBranches& continued, std::string_view x) {
+  using nlohmann::json;
+  const std::string name(x), lo = name + "_min", hi = name + "_max";
+  json branches = json::array(), bifurcations = json::array();
+  for (const ContinuedBranch& b : continued.branches) {
+    branches.push_back({{"branch", b.branch}, {"periodicity", b.periodicity}, {"parent", b.parent},
+                        {"points", b.points}, {"stable_points", b.stable_points}, {lo, b.min}, {hi, b.max}});
+  }
+  for (const ContinuedBifurcation& b : continued.bifurcations) {
+    bifurcations.push_back({{"branch", b.branch}, {"kind", std::string(to_string(b.kind))}, {name, b.at},
+                            {"max_multiplier", b.max_multiplier}});
+  }
+  return {{"branches", std::move(branches)}, {"bifurcations", std::move(bifurcations)}};
 }
 
 FrequencyResponseResult analyse_frequency_response(const RunInput& input,

@@ -21,6 +21,7 @@ namespace poundsim::io {
 struct ContinuationRunResult {
   RunInput input;                        ///< What was run.
   std::vector<ParameterPoint> points;    ///< Branch after branch (upward from the start, then downward).
+  Model start_model;                     ///< The model at [parameter].start (ω₁ and W₁ of the outputs).
   double run_time = 0;                   ///< [s] wall clock, reported as is.
 };
 

@@ -63,6 +63,29 @@ nlohmann::json to_json(const FrequencyResponseResult& result);
 /// The console report: the peaks per branch and frame, the files written into `out_dir`.
 std::string report(const FrequencyResponseResult& result, const std::filesystem::path& out_dir);
 
+/// The branches and bifurcations of continued points, typed: summary.json's `continuation` block
+/// of a frequency response and the branches of a continuation in a parameter are written from it.
+struct ContinuedBranch {
+  int branch = 0, periodicity = 0, parent = -1, points = 0, stable_points = 0;
+  double min = 0.0, max = 0.0;  ///< the range of the branch's x (ratio or parameter)
+};
+struct ContinuedBifurcation {
+  int branch = 0;
+  BifurcationKind kind = BifurcationKind::none;
+  double at = 0.0;              ///< x of the point
+  double max_multiplier = 0.0;  ///< its largest |μ|
+};
+struct ContinuedBranches {
+  std::vector<ContinuedBranch> branches;  ///< by branch id
+  std::vector<ContinuedBifurcation> bifurcations;  ///< in the points' order
+};
+
+/// Of the continued ones of `points`, point i at x = at[i].
+[[nodiscard]] ContinuedBranches continued_branches(const std::vector<FrfPoint>& points, const std::vector<double>& at);
+
+/// {"branches": [...], "bifurcations": [...]} with x named `x` (<x>_min, <x>_max, <x>).
+nlohmann::json to_json(const ContinuedBranches& continued, std::string_view x);
+
 /// The options of the library call that `input` describes.
 FrequencyResponseOptions frequency_response_options(const RunInput& input);
 
