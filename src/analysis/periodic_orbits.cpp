@@ -538,6 +538,23 @@ std::optional<PeriodicOrbit> refined_bifurcation(OrbitFamily& family, PeriodicOr
   return best;
 }
 
+/// The period-k orbit at p shot from x, its parameter set, its runs charged to `result`; none when
+/// Newton does not converge or a run fails.
+std::optional<PeriodicOrbit> shot_at(OrbitFamily& family, double p, const Eigen::VectorXd& x, int k,
+                                     const ShootingOptions& shooting, ContinuationResult& result) {
+  ShootingResult shot;
+  try {
+    shot = shoot(family.at(p), x, k, shooting);
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+  result.map_evaluations += shot.orbit.iterations + 2;  // Newton's runs and the recorded period
+  result.newton_iterations += shot.orbit.iterations;
+  if (!shot.converged) return std::nullopt;
+  shot.orbit.parameter = p;
+  return std::move(shot.orbit);
+}
+
 /// Restarts of one branch across points the corrector cannot pass.
 constexpr int kMaxRestarts = 20;
 
@@ -553,19 +570,11 @@ bool restart_across(OrbitFamily& family, BranchProblem& problem, const PeriodicO
   const double p = last.parameter + std::copysign(options.max_parameter_step, tangent(m));
   Eigen::VectorXd x(2 * last.u.size());
   x << last.u, last.v;
-  ShootingResult shot;
-  try {
-    shot = shoot(family.at(p), x, last.periodicity, shooting);
-  } catch (const std::exception&) {
-    return false;
-  }
-  result.map_evaluations += shot.orbit.iterations + 2;  // Newton's runs and the recorded period
-  result.newton_iterations += shot.orbit.iterations;
-  if (!shot.converged) return false;
-  StroboscopicMap& map = family.at(p);
-  const Scaling s{family.length_scale(), map.omega()};
+  const std::optional<PeriodicOrbit> shot = shot_at(family, p, x, last.periodicity, shooting, result);
+  if (!shot) return false;
+  const Scaling s{family.length_scale(), family.at(p).omega()};
   Eigen::VectorXd landed(x.size());
-  landed << shot.orbit.u, shot.orbit.v;
+  landed << shot->u, shot->v;
   const Eigen::VectorXd w_last = s.to_scaled(x);
   w = s.to_scaled(landed);
   if ((w - w_last).cwiseAbs().maxCoeff() > 0.1 * std::max(1.0, w_last.cwiseAbs().maxCoeff())) return false;
@@ -573,9 +582,9 @@ bool restart_across(OrbitFamily& family, BranchProblem& problem, const PeriodicO
   Eigen::MatrixXd fw;
   std::string failure;
   if (!problem.evaluate(w, p, f, fw, fp, beyond, failure)) return false;
-  beyond.iterations = shot.orbit.iterations;
+  beyond.iterations = shot->iterations;
   beyond.residual = f.cwiseAbs().maxCoeff();
-  beyond.amplitudes = shot.orbit.amplitudes;
+  beyond.amplitudes = shot->amplitudes;
   next_tangent = branch_tangent(fw, fp, tangent);
   return next_tangent.allFinite();
 }
@@ -589,23 +598,14 @@ std::optional<PeriodicOrbit> orbit_at_edge(OrbitFamily& family, const PeriodicOr
   const double t = (edge - inside.parameter) / (outside.parameter - inside.parameter);
   Eigen::VectorXd x(2 * inside.u.size());
   x << inside.u + t * (outside.u - inside.u), inside.v + t * (outside.v - inside.v);
-  StroboscopicMap& map = family.at(edge);
-  ShootingResult shot;
-  try {
-    shot = shoot(map, x, inside.periodicity, shooting);
-  } catch (const std::exception&) {
-    return std::nullopt;  // the run failed: the branch ends at its last point inside
-  }
-  result.map_evaluations += shot.orbit.iterations + 2;  // Newton's runs and the recorded period
-  result.newton_iterations += shot.orbit.iterations;
-  if (!shot.converged) return std::nullopt;
+  std::optional<PeriodicOrbit> shot = shot_at(family, edge, x, inside.periodicity, shooting, result);
+  if (!shot) return std::nullopt;  // the branch ends at its last point inside
   // Newton may land on a coexisting orbit: keep only one as near as the branch's step.
   Eigen::VectorXd step(x.size()), landed(x.size());
   step << outside.u - inside.u, outside.v - inside.v;
-  landed << shot.orbit.u, shot.orbit.v;
+  landed << shot->u, shot->v;
   if ((landed - x).cwiseAbs().maxCoeff() > 2 * step.cwiseAbs().maxCoeff()) return std::nullopt;
-  shot.orbit.parameter = edge;
-  return shot.orbit;
+  return shot;
 }
 
 }  // namespace
@@ -682,7 +682,7 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
 
     while (static_cast<int>(branch.points.size()) < options.max_points) {
       if (result.map_evaluations >= options.max_evaluations || result.events >= options.max_events) {
-        branch.ended = "the budget of map evaluations is spent";
+        branch.ended = "the budget of map runs or of their events is spent";
         pending.clear();
         break;
       }

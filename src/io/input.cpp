@@ -1441,6 +1441,16 @@ StudySettings read_study(TableReader& t) {
   return s;
 }
 
+/// `min` < `max` and an optional `start` in [min, max]: an optimiser's variable, a continued parameter.
+std::optional<double> read_range(TableReader& t, double& min, double& max) {
+  min = t.number("min");
+  max = t.number("max");
+  if (!(max > min)) t.fail("max", "must be larger than min");
+  const std::optional<double> start = t.optional_number("start");
+  if (start && !(*start >= min && *start <= max)) t.fail("start", "must lie in [min, max]");
+  return start;
+}
+
 /// [parameter]: a key of the model (the continuation rebuilds the model at each value) and its range.
 ContinuedParameter read_continued_parameter(TableReader& t) {
   ContinuedParameter c;
@@ -1451,11 +1461,8 @@ ContinuedParameter read_continued_parameter(TableReader& t) {
     t.fail("key", fmt::format("'{}' is not a key of the model ([model], [[frames]] or [gap_elements]): the "
                               "continuation follows orbits as the model changes", c.key));
   }
-  c.min = t.number("min");
-  c.max = t.number("max");
-  if (!(c.max > c.min)) t.fail("max", "must be larger than min");
-  c.start = t.optional_number("start").value_or(c.min);
-  if (!(c.start >= c.min && c.start <= c.max)) t.fail("start", "must lie in [min, max]");
+  const std::optional<double> start = read_range(t, c.min, c.max);
+  c.start = start.value_or(c.min);
   t.finish();
   return c;
 }
@@ -1483,11 +1490,7 @@ OptimizeSettings read_optimize(TableReader& t) {
     for (const OptimizeVariable& seen : o.variables) {
       if (seen.key == var.key) v.fail("key", fmt::format("'{}' is a variable twice", var.key));
     }
-    var.min = v.number("min");
-    var.max = v.number("max");
-    if (!(var.max > var.min)) v.fail("max", "must be larger than min");
-    var.start = v.optional_number("start");
-    if (var.start && !(*var.start >= var.min && *var.start <= var.max)) v.fail("start", "must lie in [min, max]");
+    var.start = read_range(v, var.min, var.max);
     v.finish();
     o.variables.push_back(std::move(var));
   }
