@@ -437,18 +437,24 @@ TEST(PeriodicOrbits, LinearFramesShootToTheirClosedFormInOneStep) {
   EXPECT_TRUE(r.orbit.stable);
 }
 
+/// A frequency response by continuation of Fig. 2's frames at 0.2 g, ω̄/ω₁ = 0.6, 0.65, …, 1.1.
+FrequencyResponseOptions continued_response_options(int samples_per_period) {
+  FrequencyResponseOptions o;
+  o.amplitude = 0.2 * kG;
+  o.method = FrfMethod::continuation;
+  o.steady.steps_per_period = samples_per_period;
+  for (int i = 0; i <= 10; ++i) o.ratios.push_back(0.6 + 0.05 * i);
+  o.time_history = exact_options();
+  return o;
+}
+
 TEST(PeriodicOrbits, StableContinuedOrbitsAreWhereLongSimulationsSettle) {
   // Fig. 2c's and 2b's frames: each stable continued orbit, perturbed by 1 % and simulated exactly
   // for as many periods as its largest multiplier needs to shrink the perturbation below 1e-12,
   // settles on the same peaks to 1e-8.
   for (const char panel : {'b', 'c'}) {
     const Model model = make_model(testing::fig2(panel), {1, 1});
-    FrequencyResponseOptions o;
-    o.amplitude = 0.2 * kG;
-    o.method = FrfMethod::continuation;
-    o.steady.steps_per_period = 64;
-    for (int i = 0; i <= 10; ++i) o.ratios.push_back(0.6 + 0.05 * i);
-    o.time_history = exact_options();
+    const FrequencyResponseOptions o = continued_response_options(64);
     const std::vector<FrfPoint> points = frequency_response(model, o);
     int checked = 0;
     for (std::size_t i = 0; i < points.size(); i += 7) {
@@ -484,12 +490,7 @@ TEST(PeriodicOrbits, AFrequencyResponseInPiecesIsTheSameOnAnyThreadsAndCoversThe
   // are the same bit for bit, each piece's branch ids follow the last piece's, and every ratio
   // lies on a continued branch (Fig. 2c has one stable period-1 orbit there: nothing simulated).
   const Model model = make_model(testing::fig2('c'), {1, 1});
-  FrequencyResponseOptions o;
-  o.amplitude = 0.2 * kG;
-  o.method = FrfMethod::continuation;
-  o.steady.steps_per_period = 32;
-  for (int i = 0; i <= 10; ++i) o.ratios.push_back(0.6 + 0.05 * i);
-  o.time_history = exact_options();
+  FrequencyResponseOptions o = continued_response_options(32);
   o.continuation.ratios_per_segment = 4;
   o.threads = 1;
   const std::vector<FrfPoint> one = frequency_response(model, o);

@@ -558,6 +558,26 @@ def test_the_scripts_draw_through_the_module(el_centro, bilinear, responses, stu
     png_size(tmp_path / "laws.png")
 
 
+def assert_stretches_are_branch_rows(ax, t, x: str):
+    """Each drawn stretch of a continuation is its branch's rows against column `x`, in arclength
+    order, of its stability (solid stable, dashed unstable), but for the one point a stretch shares
+    with the next."""
+    branch_id, stable = np.asarray(t["branch_id"]), np.asarray(t["stable"]) == 1
+    drawn = {ln.get_gid(): ln for ln in ax.get_lines() if ln.get_gid()}
+    assert any(g.endswith("_unstable") for g in drawn) and any(g.endswith("_stable") for g in drawn)
+    for gid, ln in drawn.items():
+        m = re.fullmatch(r"V(\d)_W_branch(\d+)_(stable|unstable)", gid)
+        if not m:
+            continue
+        f, b, kind = int(m.group(1)), int(m.group(2)), m.group(3)
+        assert ln.get_linestyle() == ("-" if kind == "stable" else "--")
+        xs, ys = xy(ln)
+        rows = np.flatnonzero(branch_id == b)
+        matches = [int(np.flatnonzero((t[x][rows] == xi) & (t[f"V{f}_W"][rows] == yi))[0]) for xi, yi in zip(xs, ys)]
+        assert all(stable[rows[i]] == (kind == "stable") for i in matches[:-1])
+        assert matches == list(range(matches[0], matches[0] + len(matches)))
+
+
 def test_frf_by_continuation_draws_stable_solid_and_unstable_dashed(tmp_path):
     # Fig. 2b between 0.55 and 0.8 by continuation: the resonance branch folds over an unstable
     # stretch; each stretch is the table's rows of that branch and stability, in arclength order.
@@ -568,22 +588,7 @@ def test_frf_by_continuation_draws_stable_solid_and_unstable_dashed(tmp_path):
     t = fr.table
     fig = pp.frf(fr)
     ax = fig.axes[0]
-    branch_id, stable = np.asarray(t["branch_id"]), np.asarray(t["stable"]) == 1
-    drawn = {ln.get_gid(): ln for ln in ax.get_lines() if ln.get_gid()}
-    assert any(g.endswith("_unstable") for g in drawn) and any(g.endswith("_stable") for g in drawn)
-    for gid, ln in drawn.items():
-        m = re.fullmatch(r"V(\d)_W_branch(\d+)_(stable|unstable)", gid)
-        if not m:
-            continue
-        f, b, kind = int(m.group(1)), int(m.group(2)), m.group(3)
-        assert ln.get_linestyle() == ("-" if kind == "stable" else "--")
-        x, y = xy(ln)
-        rows = np.flatnonzero(branch_id == b)
-        # Every drawn point is a row of that branch with that stability, but for the one point a
-        # stretch shares with the next.
-        matches = [int(np.flatnonzero((t["ratio"][rows] == xi) & (t[f"V{f}_W"][rows] == yi))[0]) for xi, yi in zip(x, y)]
-        assert all(stable[rows[i]] == (kind == "stable") for i in matches[:-1])
-        assert matches == list(range(matches[0], matches[0] + len(matches)))
+    assert_stretches_are_branch_rows(ax, t, "ratio")
     folds = np.flatnonzero(np.asarray(t["bifurcation"]).astype(str) == "fold")
     assert len(folds) >= 1
     x, y = xy(line(ax, "V1_W_fold"))
@@ -604,19 +609,7 @@ def test_a_continuation_in_a_parameter_is_drawn_against_it(tmp_path):
     t = c.table
     fig = pp.continuation(c)
     ax = fig.axes[0]
-    drawn = {ln.get_gid(): ln for ln in ax.get_lines() if ln.get_gid()}
-    assert any(g.endswith("_unstable") for g in drawn) and any(g.endswith("_stable") for g in drawn)
-    branch_id = np.asarray(t["branch_id"])
-    for gid, ln in drawn.items():
-        m = re.fullmatch(r"V(\d)_W_branch(\d+)_(stable|unstable)", gid)
-        if not m:
-            continue
-        f, b, kind = int(m.group(1)), int(m.group(2)), m.group(3)
-        assert ln.get_linestyle() == ("-" if kind == "stable" else "--")
-        x, y = xy(ln)
-        rows = np.flatnonzero(branch_id == b)
-        matches = [int(np.flatnonzero((t["parameter"][rows] == xi) & (t[f"V{f}_W"][rows] == yi))[0]) for xi, yi in zip(x, y)]
-        assert matches == list(range(matches[0], matches[0] + len(matches)))
+    assert_stretches_are_branch_rows(ax, t, "parameter")
     ns = np.flatnonzero(np.asarray(t["bifurcation"]).astype(str) == "Neimark-Sacker")
     assert len(ns) == 2
     x, _ = xy(line(ax, "V1_W_Neimark-Sacker"))
