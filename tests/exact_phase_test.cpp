@@ -3,6 +3,9 @@
 #include "poundsim/integrate/exact_phase.hpp"
 
 #include <cmath>
+#include <complex>
+#include <cstring>
+#include <random>
 
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
@@ -64,6 +67,39 @@ TEST(ExactPhase, CriticallyDampedModeUsesTheMatrixExponential) {
     worst = std::max(worst, std::abs(sim.state().u(0) - (u0 + (v0 + w * u0) * t) * std::exp(-w * t)));
   }
   EXPECT_LT(worst, 1e-14);
+}
+
+// The guard search and the trajectory take e^{λs} from complex_exp and reuse it for the conjugate
+// eigenvalue: both must give std::exp's bits, or every exact result (and the golden outputs)
+// would move in its last bits.
+TEST(ExactPhase, ItsExponentialsAreStdExpBitForBit) {
+  std::mt19937_64 generator(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const auto same = [](std::complex<double> a, std::complex<double> b) {
+    return std::memcmp(&a, &b, sizeof a) == 0;
+  };
+  long differing = 0;
+  for (int i = 0; i < 200000; ++i) {
+    const double x = unit(generator) * std::pow(10.0, 3 * unit(generator));
+    const double y = i % 7 == 0 ? 0.0 : unit(generator) * std::pow(10.0, 8 * unit(generator));
+    const std::complex<double> z(x, y);
+    if (!same(complex_exp(z), std::exp(z))) ++differing;
+    if (!same(std::conj(std::exp(z)), std::exp(std::conj(z)))) ++differing;
+  }
+  EXPECT_EQ(differing, 0);
+  EXPECT_TRUE(std::isinf(complex_exp({800.0, 0.5}).real()));  // past 709: std::exp's own overflow
+
+  const Model model = make_model(testing::fig2('c'), {3, 3});
+  const DofLayout layout(model);
+  const LinearPhase phase(model, layout, ContactConfiguration(model.gap_count(), PaperGap::link_mode(GapMode::open)), 1e-3);
+  const ExactPhase exact(phase);
+  ASSERT_TRUE(exact.modal());
+  Eigen::VectorXcd e;
+  for (const double s : {0.0, 1e-9, 0.37, 12.5}) {
+    exact.exponentials(s, e);
+    ASSERT_EQ(e.size(), exact.eigenvalues().size());
+    for (Eigen::Index k = 0; k < e.size(); ++k) EXPECT_TRUE(same(e(k), std::exp(exact.eigenvalues()(k) * s))) << k;
+  }
 }
 
 // The propagator is the state's sensitivity to its start: e^{As} on both paths, a semigroup, and

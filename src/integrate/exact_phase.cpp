@@ -82,6 +82,11 @@ ExactPhase::ExactPhase(const LinearPhase& phase) : n_(phase.reduced_size()) {
     v_ = scale_.cast<std::complex<double>>().asDiagonal() * eig.eigenvectors();
     modal_ = v_lu_.rcond() > kMinModeConditioning && !singular_;
     spectral_radius_ = lambda_.cwiseAbs().maxCoeff();
+    conjugate_of_previous_.assign(static_cast<std::size_t>(lambda_.size()), false);
+    for (Eigen::Index k = 1; k < lambda_.size(); ++k) {
+      conjugate_of_previous_[static_cast<std::size_t>(k)] =
+          lambda_(k).imag() != 0.0 && lambda_(k) == std::conj(lambda_(k - 1)) && !conjugate_of_previous_[static_cast<std::size_t>(k - 1)];
+    }
   }
   if (!modal_) {
     // Only the matrix-exponential path bounds e^{As} by norms (the modal path bounds each mode
@@ -97,6 +102,13 @@ ExactPhase::ExactPhase(const LinearPhase& phase) : n_(phase.reduced_size()) {
                                                              Eigen::EigenvaluesOnly);
     log_norm_ = sym.eigenvalues().maxCoeff();
     spectral_radius_ = norm_;
+  }
+}
+
+void ExactPhase::exponentials(double s, Eigen::VectorXcd& out) const {
+  out.resize(lambda_.size());
+  for (Eigen::Index k = 0; k < lambda_.size(); ++k) {
+    out(k) = conjugate_of_previous_[static_cast<std::size_t>(k)] ? std::conj(out(k - 1)) : complex_exp(lambda_(k) * s);
   }
 }
 
@@ -172,8 +184,17 @@ void ExactTrajectory::start(const ExactPhase& phase, const Eigen::VectorXd& mass
   }
   r0_ = x0 - x_p0;
   if (phase.modal()) c_ = phase.modal_coordinates(r0_);
+  exponentials_at_ = std::numeric_limits<double>::quiet_NaN();
   work_.resize(2 * n);
   product_.resize(2 * n);
+}
+
+const Eigen::VectorXcd& ExactTrajectory::exponentials(double s) const {
+  if (s != exponentials_at_) {
+    phase_->exponentials(s, exponentials_);
+    exponentials_at_ = s;
+  }
+  return exponentials_;
 }
 
 Eigen::MatrixXd ExactPhase::propagator(double s) const {
@@ -195,14 +216,14 @@ void ExactTrajectory::evaluate(double s, Eigen::VectorXd& x, Eigen::VectorXd& x_
     x_rate += (2 * s) * quadratic_ + (3 * s * s) * cubic_;
   }
   if (piece_.kind == ForcingPiece::Kind::harmonic) {
-    const Complex phase_factor = std::exp(Complex(0.0, piece_.omega * (t0_ + s)));
+    const Complex phase_factor = complex_exp(Complex(0.0, piece_.omega * (t0_ + s)));
     const double sine = phase_factor.imag(), cosine = phase_factor.real(), w = piece_.omega;
     // Im(h e^{iφ}) = Re h sin φ + Im h cos φ, and its rate ω (Re h cos φ − Im h sin φ).
     x += sine * harmonic_.real() + cosine * harmonic_.imag();
     x_rate += (w * cosine) * harmonic_.real() - (w * sine) * harmonic_.imag();
   }
   if (ph.modal()) {
-    work_ = (ph.eigenvalues() * s).array().exp() * c_.array();
+    work_ = exponentials(s).cwiseProduct(c_);
     product_.noalias() = ph.modes() * work_;
     x += product_.real();
     work_.array() *= ph.eigenvalues().array();

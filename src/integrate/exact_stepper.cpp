@@ -131,7 +131,9 @@ void ExactStepper::start_segment(Loop& loop) {
   segment_powers_ = it->second.powers.get();
   segment_guard_rows_ = &it->second.guard_rows;
   if (TangentFlow* tangent = loop.tangent()) tangent->start_segment(loop.phase(), exact, loop.state().t);
-  if (segment_powers_ != nullptr) segment_powers_->start(trajectory_);
+  // The power integrals serve the energy balance only: a run that records nothing (a shooting
+  // run of the periodic orbits) never needs them, so they start with the first recorded step.
+  powers_started_ = false;
   for (std::size_t p = 0; p < loop.contact().config.size(); ++p) {
     const Link& link = loop.system().tracked_links()[p];
     const Relaxation relaxation = with_event_law<Relaxation>(
@@ -159,6 +161,10 @@ void ExactStepper::state_at(const Loop& loop, double s, KinematicState& out) {
 
 void ExactStepper::accept(Loop& loop, KinematicState& next) {
   if (loop.recording()) {
+    if (segment_powers_ != nullptr && !powers_started_) {
+      segment_powers_->start(trajectory_);
+      powers_started_ = true;
+    }
     const double t0 = trajectory_.start_time();
     const double a = loop.state().t - t0, b = next.t - t0;
     const EnergyMeter::Powers integral =

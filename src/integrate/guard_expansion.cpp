@@ -51,8 +51,11 @@ void GuardExpansion::build(const ExactTrajectory& trajectory, const Eigen::Matri
     cubic_.resize(0);
   }
   harmonic_ = rows.cast<Complex>() * trajectory.harmonic_part();
+  harmonic_size_ = harmonic_.cwiseAbs();
   if (phase.modal()) {
     modal_ = (rows.cast<Complex>() * phase.modes()) * trajectory.modal_coefficients().asDiagonal();
+    modal_size_ = modal_.cwiseAbs();
+    rate_size_ = phase.eigenvalues().cwiseAbs();
   } else {
     rows_ = rows;
     row_norm_ = rows.rowwise().norm();
@@ -97,7 +100,8 @@ std::pair<double, double> GuardExpansion::value_and_rate(int j, double s) const 
 
 std::pair<double, double> GuardExpansion::compute(int j, double s) const {
   const ExactTrajectory& tr = *trajectory_;
-  const double decay = std::exp(-memory_rate_(j) * s);
+  // e^{−0·s} = 1 exactly: no exponential for the guards without a relaxing end (nearly all).
+  const double decay = memory_rate_(j) != 0.0 ? std::exp(-memory_rate_(j) * s) : 1.0;
   double g = constant_(j) + slope_(j) * s - memory_(j) * decay;
   double d = slope_(j) + memory_(j) * memory_rate_(j) * decay;
   if (quadratic_.size() > 0) {
@@ -105,15 +109,16 @@ std::pair<double, double> GuardExpansion::compute(int j, double s) const {
     d += s * (2 * quadratic_(j) + 3 * s * cubic_(j));
   }
   if (tr.omega() != 0.0) {
-    const Complex rotation = std::exp(Complex(0.0, tr.omega() * (tr.start_time() + s)));
+    const Complex rotation = complex_exp(Complex(0.0, tr.omega() * (tr.start_time() + s)));
     g += (harmonic_(j) * rotation).imag();
     d += (harmonic_(j) * Complex(0.0, tr.omega()) * rotation).imag();
   }
   if (tr.phase().modal()) {
     const Eigen::VectorXcd& lambda = tr.phase().eigenvalues();
+    const Eigen::VectorXcd& exponentials = tr.exponentials(s);
     Complex sum = 0.0, sum_rate = 0.0;
     for (Eigen::Index k = 0; k < lambda.size(); ++k) {
-      const Complex term = modal_(j, k) * std::exp(lambda(k) * s);
+      const Complex term = modal_(j, k) * exponentials(k);
       sum += term;
       sum_rate += lambda(k) * term;
     }
@@ -139,14 +144,17 @@ double GuardExpansion::derivative_bound(int j, int order, double a, double b) co
     if (order == 2) bound += 2 * q + 6 * p * b;
     if (order == 3) bound += 6 * p;
   }
-  bound += std::abs(harmonic_(j)) * power(tr.omega(), order);
-  bound += std::abs(memory_(j)) * power(memory_rate_(j), order) * std::exp(-memory_rate_(j) * a);
+  bound += harmonic_size_(j) * power(tr.omega(), order);
+  bound += std::abs(memory_(j)) * power(memory_rate_(j), order) *
+           (memory_rate_(j) != 0.0 ? std::exp(-memory_rate_(j) * a) : 1.0);
   if (tr.phase().modal()) {
     const Eigen::VectorXcd& lambda = tr.phase().eigenvalues();
+    double growth = 0.0;  // e^{Re λ_k s} at the interval's end where it is largest
     for (Eigen::Index k = 0; k < lambda.size(); ++k) {
       const double re = lambda(k).real();
-      bound += std::abs(modal_(j, k)) * power(std::abs(lambda(k)), order) *
-               std::exp(re * (re > 0 ? b : a));
+      // A conjugate pair shares its real part: one exponential for both.
+      if (k == 0 || re != lambda(k - 1).real()) growth = std::exp(re * (re > 0 ? b : a));
+      bound += modal_size_(j, k) * power(rate_size_(k), order) * growth;
     }
   } else {
     // r Aᵖ e^{As} h = (r D) Âᵖ e^{Âs} (D⁻¹ h) and ‖e^{Âs}‖ ≤ e^{μ s}, μ the logarithmic norm of Â.

@@ -97,6 +97,7 @@ class ExactStepper final : public Stepper {
   ExactTrajectory trajectory_;
   GuardExpansion expansion_;
   bool segment_valid_ = false;
+  bool powers_started_ = false;  ///< segment_powers_ started on this segment (recording runs only)
   Eigen::VectorXd x_work_, x_rate_work_;
   std::vector<double> memory_amplitude_, memory_rate_;
   KinematicState node_, upper_;

@@ -56,6 +56,9 @@ class GuardExpansion {
   Eigen::VectorXd quadratic_, cubic_;
   Eigen::VectorXcd harmonic_;
   Eigen::MatrixXcd modal_;            // γ (modal path)
+  // |γ_jk|, |λ_k|, |H_j| of the segment: the derivative bounds ask for them at every interval.
+  Eigen::MatrixXd modal_size_;
+  Eigen::VectorXd rate_size_, harmonic_size_;
   Eigen::MatrixXd rows_;              // R (matrix-exponential path)
   Eigen::VectorXd row_norm_;
   Eigen::VectorXd balanced_row_norm_;  // ‖r_j D‖, D the phase's balancing (derivative bounds)
