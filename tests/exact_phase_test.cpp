@@ -102,6 +102,31 @@ TEST(ExactPhase, ItsExponentialsAreStdExpBitForBit) {
   }
 }
 
+// The monitor's extremum searches take the state without its rate (half the work): the same bits
+// as the state taken with it, on the modal path and on the matrix exponential's.
+TEST(ExactPhase, TheStateAloneIsTheStateWithItsRateBitForBit) {
+  const Model modal_model = make_model(testing::fig2('c'), {3, 3});
+  const Model critical_model = make_model({make_uniform_frame(1, 1.0, 100.0, 20.0)}, GapProperties{});
+  for (const Model* model : {&modal_model, &critical_model}) {
+    const DofLayout layout(*model);
+    const LinearPhase phase(*model, layout, ContactConfiguration(model->gap_count(), PaperGap::link_mode(GapMode::open)), 1e-3);
+    const ExactPhase exact(phase);
+    EXPECT_EQ(exact.modal(), model == &modal_model);
+    const auto n = 2 * exact.groups();
+    const Eigen::VectorXd mass = Eigen::VectorXd::Ones(n / 2), load = Eigen::VectorXd::Zero(n / 2);
+    const ForcingPiece piece{.kind = ForcingPiece::Kind::harmonic, .amplitude = 2.0, .omega = 9.0};
+    ExactTrajectory trajectory;
+    trajectory.start(exact, mass, load, 0.3, Eigen::VectorXd::LinSpaced(n, -0.01, 0.02), piece);
+    Eigen::VectorXd with_rate, rate, alone;
+    for (const double s : {0.0, 0.013, 0.37, 2.5}) {
+      trajectory.evaluate(s, with_rate, rate);
+      trajectory.evaluate(s, alone);
+      ASSERT_EQ(alone.size(), n);
+      EXPECT_EQ(std::memcmp(alone.data(), with_rate.data(), sizeof(double) * static_cast<std::size_t>(n)), 0) << s;
+    }
+  }
+}
+
 // The propagator is the state's sensitivity to its start: e^{As} on both paths, a semigroup, and
 // (the system being linear) the difference of two trajectories from nearby starts, under forcing.
 TEST(ExactPhase, ThePropagatorIsTheSensitivityOfTheStateToItsStart) {

@@ -206,34 +206,42 @@ Eigen::MatrixXd ExactPhase::propagator(double s) const {
   return (v_ * (lambda_ * s).array().exp().matrix().asDiagonal() * inverse_modes_).real();
 }
 
-void ExactTrajectory::evaluate(double s, Eigen::VectorXd& x, Eigen::VectorXd& x_rate) const {
+void ExactTrajectory::evaluate(double s, Eigen::VectorXd& x, Eigen::VectorXd& x_rate) const { evaluate(s, x, &x_rate); }
+
+void ExactTrajectory::evaluate(double s, Eigen::VectorXd& x) const { evaluate(s, x, nullptr); }
+
+void ExactTrajectory::evaluate(double s, Eigen::VectorXd& x, Eigen::VectorXd* x_rate) const {
   using Complex = std::complex<double>;
   const ExactPhase& ph = *phase_;
+  // x is computed by the same operations whether or not the rate is wanted: the two overloads
+  // agree bit for bit on x.
   x = xc_ + s * beta_;
-  x_rate = beta_;
+  if (x_rate != nullptr) *x_rate = beta_;
   if (ph.singular()) {
     x += (s * s) * quadratic_ + (s * s * s) * cubic_;
-    x_rate += (2 * s) * quadratic_ + (3 * s * s) * cubic_;
+    if (x_rate != nullptr) *x_rate += (2 * s) * quadratic_ + (3 * s * s) * cubic_;
   }
   if (piece_.kind == ForcingPiece::Kind::harmonic) {
     const Complex phase_factor = complex_exp(Complex(0.0, piece_.omega * (t0_ + s)));
     const double sine = phase_factor.imag(), cosine = phase_factor.real(), w = piece_.omega;
     // Im(h e^{iφ}) = Re h sin φ + Im h cos φ, and its rate ω (Re h cos φ − Im h sin φ).
     x += sine * harmonic_.real() + cosine * harmonic_.imag();
-    x_rate += (w * cosine) * harmonic_.real() - (w * sine) * harmonic_.imag();
+    if (x_rate != nullptr) *x_rate += (w * cosine) * harmonic_.real() - (w * sine) * harmonic_.imag();
   }
   if (ph.modal()) {
     work_ = exponentials(s).cwiseProduct(c_);
     product_.noalias() = ph.modes() * work_;
     x += product_.real();
-    work_.array() *= ph.eigenvalues().array();
-    product_.noalias() = ph.modes() * work_;
-    x_rate += product_.real();
+    if (x_rate != nullptr) {
+      work_.array() *= ph.eigenvalues().array();
+      product_.noalias() = ph.modes() * work_;
+      *x_rate += product_.real();
+    }
   } else {
     const Eigen::MatrixXd propagator = (ph.matrix() * s).exp();
     const Eigen::VectorXd h = propagator * r0_;
     x += h;
-    x_rate.noalias() += ph.matrix() * h;
+    if (x_rate != nullptr) x_rate->noalias() += ph.matrix() * h;
   }
 }
 

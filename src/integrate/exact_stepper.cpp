@@ -159,6 +159,14 @@ void ExactStepper::state_at(const Loop& loop, double s, KinematicState& out) {
   out.ground = trajectory_.piece().at(out.t);
 }
 
+void ExactStepper::motion_at(const Loop& loop, double s, KinematicState& out) {
+  trajectory_.evaluate(s, x_work_);
+  const Eigen::Index n = trajectory_.phase().groups();
+  loop.phase().scatter(x_work_.head(n), out.u, true);
+  loop.phase().scatter(x_work_.tail(n), out.v, false);
+  out.t = trajectory_.start_time() + s;
+}
+
 void ExactStepper::accept(Loop& loop, KinematicState& next) {
   if (loop.recording()) {
     if (segment_powers_ != nullptr && !powers_started_) {

@@ -181,10 +181,16 @@ void ResponseMonitor::observe_step(const KinematicState& from, const KinematicSt
   // Extrema of a floor displacement (and of the base shear k u₁) or of a drift between samples
   // lie where its rate changes sign: find that instant on the trajectory.
   const double t0 = origin;
-  const auto extremum = [&](auto rate, double a, double b, double ra) {
+  // `needs_acceleration`: the rate reads ü (the storey shear's); the others read u̇ alone, which
+  // the trajectory gives for half the work.
+  const auto extremum = [&](auto rate, double a, double b, double ra, bool needs_acceleration) {
     for (int i = 0; i < 60 && b - a > 1e-12 * std::max(1.0, b + t0); ++i) {
       const double m = 0.5 * (a + b);
-      trajectory.state_at(m, node_);
+      if (needs_acceleration) {
+        trajectory.state_at(m, node_);
+      } else {
+        trajectory.motion_at(m, node_);
+      }
       if ((rate(node_) > 0) == (ra > 0)) {
         a = m;
       } else {
@@ -199,7 +205,7 @@ void ResponseMonitor::observe_step(const KinematicState& from, const KinematicSt
     const auto rate = [&points](const KinematicState& x) { return approach_rate(std::false_type{}, x, points); };
     const double ra = rate(from), rb = rate(to);
     if (!(ra > 0 && rb < 0)) continue;
-    extremum(rate, a, b, ra);
+    extremum(rate, a, b, ra, false);
     stats_.neighbours[k].update(approach(std::false_type{}, node_, points), node_.t);
   }
   for (int i = 0; i < layout_.size(); ++i) {
@@ -208,7 +214,7 @@ void ResponseMonitor::observe_step(const KinematicState& from, const KinematicSt
     const bool first = layout_.floor_of(i) == 0;
     const auto f = static_cast<std::size_t>(layout_.frame_of(i));
     if (va * vb < 0) {
-      extremum([i](const KinematicState& x) { return x.v(i); }, a, b, va);
+      extremum([i](const KinematicState& x) { return x.v(i); }, a, b, va, false);
       fr.displacement.update(node_.u(i), node_.t);
       if (first) stats_.base_shear[f].update(base_shear(node_, static_cast<int>(f)), node_.t);
     }
@@ -216,7 +222,7 @@ void ResponseMonitor::observe_step(const KinematicState& from, const KinematicSt
       const double k = first_storey_[f].stiffness, c = first_storey_[f].damping;
       const double sa = k * va + c * from.a(i), sb = k * vb + c * to.a(i);
       if (sa * sb < 0) {
-        extremum([i, k, c](const KinematicState& x) { return k * x.v(i) + c * x.a(i); }, a, b, sa);
+        extremum([i, k, c](const KinematicState& x) { return k * x.v(i) + c * x.a(i); }, a, b, sa, true);
         stats_.storey_shear[f].update(storey_shear(node_, static_cast<int>(f)), node_.t);
       }
     }
@@ -224,7 +230,7 @@ void ResponseMonitor::observe_step(const KinematicState& from, const KinematicSt
     if (below < 0) continue;
     const double da = va - from.v(below), db = vb - to.v(below);
     if (da * db < 0) {
-      extremum([i, below](const KinematicState& x) { return x.v(i) - x.v(below); }, a, b, da);
+      extremum([i, below](const KinematicState& x) { return x.v(i) - x.v(below); }, a, b, da, false);
       fr.drift.update(node_.u(i) - node_.u(below), node_.t);
     }
   }

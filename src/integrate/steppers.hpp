@@ -75,6 +75,7 @@ class ExactStepper final : public Stepper {
    public:
     Output(ExactStepper& stepper, Loop& loop) : stepper_(stepper), loop_(loop) {}
     void state_at(double s, KinematicState& out) override { stepper_.state_at(loop_, s, out); }
+    void motion_at(double s, KinematicState& out) override { stepper_.motion_at(loop_, s, out); }
 
    private:
     ExactStepper& stepper_;
@@ -83,6 +84,7 @@ class ExactStepper final : public Stepper {
 
   void start_segment(Loop& loop);
   void state_at(const Loop& loop, double s, KinematicState& out);
+  void motion_at(const Loop& loop, double s, KinematicState& out);
   void accept(Loop& loop, KinematicState& next);
   /// ∫ of the powers over [a, b] of the segment by quadrature (phases without modes).
   EnergyMeter::Powers quadrature_powers(const Loop& loop, double a, double b);

@@ -154,6 +154,8 @@ class ExactTrajectory {
 
   /// x(t₀+s) and ẋ(t₀+s).
   void evaluate(double s, Eigen::VectorXd& x, Eigen::VectorXd& x_rate) const;
+  /// x(t₀+s) alone, the same bits as the overload above (half its work on the modal path).
+  void evaluate(double s, Eigen::VectorXd& x) const;
   /// e^{λ_k s} (modal path; ExactPhase::exponentials), kept for the last s: the guard search asks
   /// every guard at the same ends of a step, and the state is then taken at one of them.
   [[nodiscard]] const Eigen::VectorXcd& exponentials(double s) const;
@@ -178,6 +180,8 @@ class ExactTrajectory {
   Eigen::VectorXd xc_, beta_, quadratic_, cubic_, r0_;
   std::array<Eigen::VectorXd, 4> polynomial_work_;
   Eigen::VectorXcd harmonic_, c_;
+  void evaluate(double s, Eigen::VectorXd& x, Eigen::VectorXd* x_rate) const;
+
   mutable Eigen::VectorXcd work_, product_, exponentials_;
   mutable double exponentials_at_ = std::numeric_limits<double>::quiet_NaN();
 };

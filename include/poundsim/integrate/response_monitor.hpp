@@ -107,6 +107,10 @@ struct ResponseStatistics {
 class DenseOutput {
  public:
   virtual void state_at(double s, KinematicState& out) = 0;
+  /// t, u and u̇ at s, the same values state_at gives (ü and the ground acceleration may be left
+  /// as they were): the searches for extrema of displacements and drifts need no more, and the
+  /// exact integrator then skips half its work.
+  virtual void motion_at(double s, KinematicState& out) { state_at(s, out); }
 
  protected:
   ~DenseOutput() = default;
