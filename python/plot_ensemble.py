@@ -9,11 +9,10 @@ poundsim.plot.ensemble_amplification and ensemble_floor_amplification from pound
     plot_ensemble.py DIR [--title TEXT]
 """
 
-import argparse
 import os
 import sys
 
-from poundsim_results import use_matplotlib
+from poundsim_results import folder_arguments, use_matplotlib
 
 plt = use_matplotlib()
 
@@ -25,10 +24,7 @@ from poundsim import plot  # noqa: E402
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("dir")
-    parser.add_argument("--title", default="")
-    args = parser.parse_args()
+    args = folder_arguments(__doc__)
     ensemble = poundsim.read(args.dir)
     if not isinstance(ensemble, poundsim.Study):
         sys.exit(f"{args.dir}: not an ensemble ({type(ensemble).__name__})")

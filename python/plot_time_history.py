@@ -13,11 +13,10 @@ Drawn by poundsim.plot (time_history, gap_forces, energy, envelopes) from pounds
     plot_time_history.py DIR [--title TEXT]
 """
 
-import argparse
 import os
 import sys
 
-from poundsim_results import use_matplotlib
+from poundsim_results import folder_arguments, use_matplotlib
 
 plt = use_matplotlib()
 
@@ -32,10 +31,7 @@ def note(ax, text):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("dir")
-    parser.add_argument("--title", default="")
-    args = parser.parse_args()
+    args = folder_arguments(__doc__)
     th = poundsim.read(args.dir)
     if not isinstance(th, poundsim.TimeHistory):
         sys.exit(f"{args.dir}: not a time history ({type(th).__name__})")

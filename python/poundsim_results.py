@@ -1,8 +1,10 @@
 """What the scripts beside it share before they may import the package poundsim (which needs
 NumPy): finding a python3 with Matplotlib (`use_matplotlib`), and, with Python's standard library
 only, reading frf.csv for paper_report.py and a study database's finished points for
-plot_study.py. The figures themselves are poundsim.plot's."""
+plot_study.py; and the arguments of the scripts that draw one results folder (`folder_arguments`).
+The figures themselves are poundsim.plot's."""
 
+import argparse
 import csv
 import os
 import sqlite3
@@ -68,3 +70,12 @@ def use_matplotlib():
     matplotlib.use("Agg")
     import matplotlib.pyplot
     return matplotlib.pyplot
+
+
+def folder_arguments(doc):
+    """The command line of a script that draws one results folder: DIR and --title (its docstring
+    `doc` is the help)."""
+    parser = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("dir")
+    parser.add_argument("--title", default="")
+    return parser.parse_args()

@@ -403,6 +403,7 @@ ContinuationRun run_continuation(const io::RunInput& input) {
 struct StudyRun {
   py::dict table, units, summary;
   std::string database;
+  py::object spectra = py::none();  ///< (columns, units) of spectra.csv, or None
 };
 
 StudyRun run_study(const io::RunInput& input, const std::filesystem::path& out_dir, long max_points,
@@ -426,6 +427,11 @@ StudyRun run_study(const io::RunInput& input, const std::filesystem::path& out_d
   run.summary = to_python(io::to_json(result));
   table_to_python(io::study_table(result.parameters, result.rows), run.table, run.units);
   run.database = result.database.string();
+  if (result.spectra) {
+    py::dict columns, spectrum_units;
+    table_to_python(std::move(*result.spectra), columns, spectrum_units);
+    run.spectra = py::make_tuple(columns, spectrum_units);
+  }
   return run;
 }
 
@@ -563,7 +569,8 @@ PYBIND11_MODULE(_core, m) {
       .def_readonly("table", &StudyRun::table, "column → NumPy array")
       .def_readonly("units", &StudyRun::units, "column → unit")
       .def_readonly("summary", &StudyRun::summary, "summary.json's content")
-      .def_readonly("database", &StudyRun::database, "the SQLite database the points are kept in");
+      .def_readonly("database", &StudyRun::database, "the SQLite database the points are kept in")
+      .def_readonly("spectra", &StudyRun::spectra, "(columns, units) of spectra.csv (an ensemble with scaling), or None");
   m.def("run_study", &run_study, py::arg("input"), py::arg("out"), py::arg("max_points") = 0,
         py::arg("progress") = py::none(), py::arg("progress_interval") = 0.1,
         "Runs a study or an ensemble into the folder `out` (its database, table, summary), as the command line "

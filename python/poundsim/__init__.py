@@ -171,7 +171,8 @@ def run(
             summary = r.summary
             if out is None:
                 summary["database"] = None  # it was in the temporary folder, now removed
-            return Study(Table(r.table, r.units), summary, r.database if out is not None else None)
+            spectra = Table(*r.spectra) if r.spectra is not None else None
+            return Study(Table(r.table, r.units), summary, r.database if out is not None else None, spectra)
         if kind == "optimize":
             r = core.run_optimization(input, folder, progress, progress_interval)
             frf = {name: Table(*getattr(r, name)) if getattr(r, name) is not None else None

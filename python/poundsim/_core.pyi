@@ -71,6 +71,7 @@ class StudyRun:
     units: dict[str, str]
     summary: dict
     database: str
+    spectra: Optional[tuple[dict[str, np.ndarray], dict[str, str]]]
 
 def run_study(input: Input, out: str | os.PathLike[str], max_points: int = ...,
               progress: Optional[Callable[[int, int], None]] = ..., progress_interval: float = ...) -> StudyRun: ...

@@ -846,6 +846,43 @@ def ensemble_floor_amplification(study: Study, ax: Any = None, *, size: SizeArg 
     return a.figure
 
 
+_DESIGN_NAMES = {"ec8_type1": "EN 1998-1 type 1", "ec8_type2": "EN 1998-1 type 2", "table": "design spectrum"}
+
+
+def spectra(study: Study, ax: Any = None, *, size: SizeArg = "page", title: Optional[str] = None):
+    """The 5 % (or the scaling's damping) pseudo-acceleration spectra of an ensemble's records as
+    scaled by [ensemble.scaling] (study.spectra, spectra.csv): each record thin, their mean thick,
+    the design spectrum dashed, and what was matched — the period range shaded, or the period of
+    S_a marked. Log period axis. Returns the Figure."""
+    if study.spectra is None:
+        raise ValueError("the ensemble has no spectra (it was not run with [ensemble.scaling])")
+    t = study.spectra
+    period = np.asarray(t["period_s"], dtype=float)
+    records = sorted((int(m.group(1)) for m in (re.fullmatch(r"sa_(\d+)_g", n) for n in t.names) if m))
+    scaling = _summary_dict(study).get("scaling", {})
+    files = [r.get("record", "") for r in scaling.get("records", [])]
+    with _axes(ax, size) as (a,):
+        for i in records:
+            name = os.path.splitext(os.path.basename(files[i - 1]))[0] if i <= len(files) else f"record {i}"
+            a.plot(period, t[f"sa_{i}_g"], lw=0.7, color=colour(i - 1), alpha=0.8, label=name, gid=f"record_{i}")
+        a.plot(period, t["mean_g"], lw=1.8, color="black", label="mean", gid="mean")
+        if "target_g" in t:
+            a.plot(period, t["target_g"], lw=1.2, ls="--", color="black",
+                   label=_DESIGN_NAMES.get(scaling.get("design", ""), "target"), gid="target")
+        if "range_s" in scaling:
+            lo, hi = scaling["range_s"]
+            a.axvspan(lo, hi, color="0.85", zorder=0, label="matched range", gid="range")
+        elif "period_s" in scaling:
+            a.axvline(scaling["period_s"], color="0.5", lw=0.8, ls=":", label="period of S_a", gid="period")
+        a.set_xscale("log")
+        a.set_xlabel("period T [s]")
+        a.set_ylabel(f"S_a [g], ζ = {scaling.get('damping', 0.05):g}")
+        a.grid(True, which="both", lw=0.3)
+        a.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), borderaxespad=0.3)  # beside: record names are long
+        _finish(a, title)
+    return a.figure
+
+
 def optimization(opt: Optimization, ax: Any = None, *, size: SizeArg = "column", title: Optional[str] = None):
     """An optimisation's outcome. With a frequency-response objective (opt.optimum_frf and
     opt.bare_frf): V/W against ω̄/ω₁ of every frame for the optimum gap elements (solid), for

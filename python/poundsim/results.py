@@ -370,11 +370,14 @@ class Study(_WithSummary):
     """A study or an ensemble: its table (study.csv or ensemble.csv: id, status, the parameters,
     the figures of merit, run_time_s, error), its summary and the database it is kept in."""
 
-    def __init__(self, table: Table, summary: Any, database: Optional[str] = None):
+    def __init__(self, table: Table, summary: Any, database: Optional[str] = None, spectra: Optional[Table] = None):
         self.table = table
         self._summary_source = summary
         self.database = database
         """The SQLite database (study.sqlite, ensemble.sqlite), when it was kept."""
+        self.spectra = spectra
+        """An ensemble with [ensemble.scaling]: spectra.csv (period_s, target_g, mean_g, sa_<i>_g of record i
+        scaled), else None."""
 
     def __getitem__(self, column: str) -> np.ndarray:
         return self.table[column]
@@ -448,7 +451,8 @@ def read(folder: str | os.PathLike):
     for stem in ("study", "ensemble"):
         if os.path.exists(path(f"{stem}.csv")):
             db = path(f"{stem}.sqlite")
-            return Study(Table.read_csv(path(f"{stem}.csv")), summary(), db if os.path.exists(db) else None)
+            spectra = Table.read_csv(path("spectra.csv")) if os.path.exists(path("spectra.csv")) else None
+            return Study(Table.read_csv(path(f"{stem}.csv")), summary(), db if os.path.exists(db) else None, spectra)
     raise ValueError(f"{folder}: no poundsim results (history.csv, frf.csv, orbits.csv, study.csv, ensemble.csv or "
                      "optimize.json)")
 

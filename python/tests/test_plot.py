@@ -527,6 +527,28 @@ def script(name: str, *args) -> subprocess.CompletedProcess:
     return r
 
 
+def test_a_scaled_ensembles_spectra_are_drawn_as_written(tmp_path):
+    out = cli_run(EXAMPLES / "ensemble_ec8_spectrum.toml", tmp_path / "scaled")
+    result = poundsim.read(out)
+    t = result.spectra
+    fig = pp.spectra(result)
+    ax = fig.axes[0]
+    for i in range(1, 5):
+        x, y = xy(line(ax, f"record_{i}"))
+        assert np.array_equal(x, t["period_s"]) and np.array_equal(y, t[f"sa_{i}_g"])
+    assert np.array_equal(xy(line(ax, "mean"))[1], t["mean_g"])
+    assert np.array_equal(xy(line(ax, "target"))[1], t["target_g"])
+    assert line(ax, "target").get_linestyle() == "--"
+    lo, hi = result.summary.to_dict()["scaling"]["range_s"]
+    span = next(p for p in ax.patches if p.get_gid() == "range")
+    np.testing.assert_allclose(sorted({v[0] for v in span.get_xy()}), [lo, hi], rtol=1e-15)
+    assert ax.get_xscale() == "log"
+    assert "EN 1998-1 type 1" in [x.get_text() for x in ax.get_legend().get_texts()]
+    save(fig, tmp_path, "spectra")
+    with pytest.raises(ValueError, match="no spectra"):
+        pp.spectra(poundsim.read(cli_run(EXAMPLES / "ensemble_fig2_frames.toml", tmp_path / "plain")))
+
+
 def test_the_scripts_draw_through_the_module(el_centro, bilinear, responses, study, ensemble, optimum, tmp_path):
     rest_dir, _, sweep_dir, _ = responses
     script("plot_frf.py", "--figure", rest_dir / "frf.csv", tmp_path / "fig.png", sweep_dir / "frf.csv", "Fig. 2c",
@@ -548,6 +570,9 @@ def test_the_scripts_draw_through_the_module(el_centro, bilinear, responses, stu
     out, _ = ensemble
     script("plot_ensemble.py", out)
     png_size(out / "amplification.png")
+    scaled = cli_run(EXAMPLES / "ensemble_ec8_spectrum.toml", tmp_path / "scaled")
+    script("plot_spectra.py", scaled)
+    png_size(scaled / "spectra.png")
     out, _ = el_centro
     script("plot_time_history.py", out)
     for name in ("response", "energy", "profiles"):

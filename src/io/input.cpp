@@ -1102,6 +1102,13 @@ void read_excitation(TableReader& t, const Model& model, const std::filesystem::
       o.scale = *scale;
     }
     if (auto target = t.optional_number("target_pga_g")) o.target_pga_g = t.positive("target_pga_g", *target);
+    if (run.ensemble && run.ensemble->scaling) {
+      // Each record's factor comes from [ensemble.scaling], set as the record's own scale (with
+      // its file) when it runs: one given here would be overridden, or fight it.
+      const bool record_point = origin.overrides.contains("excitation.file") && origin.overrides.contains("excitation.scale");
+      if (t.has("target_pga_g")) t.fail("target_pga_g", "not with [ensemble.scaling], which scales every record");
+      if (t.has("scale") && !record_point) t.fail("scale", "not with [ensemble.scaling], which scales every record");
+    }
     if (t.has("acceleration")) {
       // Samples given in the input (the Python module's arrays): no file, its format or column.
       for (const char* key : {"file", "format", "column"}) {
@@ -1519,7 +1526,84 @@ bool matches(const std::string& pattern, const std::string& name) {
   return p == pattern.size();
 }
 
-EnsembleSettings read_ensemble(TableReader& t, const std::filesystem::path& base_dir) {
+/// [ensemble.scaling]: every key that does not apply to its kind (or design) is refused.
+EnsembleScaling read_scaling(TableReader& t, int frames) {
+  EnsembleScaling s;
+  read_fields(t, s);
+  read_fields(t, s.spectrum);
+  if (s.frame > frames) t.fail("frame", fmt::format("the model has {} frame(s)", frames));
+  const auto only = [&](std::initializer_list<const char*> keys, const std::string& rule) {
+    for (const char* key : keys) {
+      if (t.has(key)) t.fail(key, rule);
+    }
+  };
+  if (auto v = t.optional_number("target_g")) s.target_g = t.positive("target_g", *v);
+  if (auto v = t.optional_number("period")) s.period = t.positive("period", *v);
+  if (auto v = t.optional_number("period_min")) s.period_min = t.positive("period_min", *v);
+  if (auto v = t.optional_number("period_max")) s.period_max = t.positive("period_max", *v);
+  if (t.has("design")) {
+    const std::string design = t.choice("design", {"ec8_type1", "ec8_type2", "table"});
+    s.design_name = design;
+    if (design == "table") {
+      only({"ground_type", "ag_g"}, "only for design = \"ec8_type1\" or \"ec8_type2\"");
+      TabulatedSpectrum table;
+      const std::vector<std::vector<double>> rows = t.number_rows("table");
+      s.table_g = rows;
+      for (std::size_t i = 0; i < rows.size(); ++i) {
+        if (rows[i].size() != 2) t.fail("table", fmt::format("row {}: expected [period in s, S_a in g]", i + 1));
+        table.period.push_back(rows[i][0]);
+        table.acceleration.push_back(rows[i][1] * standard_gravity);
+      }
+      try {
+        validate(DesignSpectrum{table});
+      } catch (const std::invalid_argument& e) {
+        t.fail("table", e.what());
+      }
+      s.design = table;
+    } else {
+      only({"table"}, "only for design = \"table\"");
+      Eurocode8Spectrum ec8;
+      ec8.type = design == "ec8_type1" ? Eurocode8Type::type1 : Eurocode8Type::type2;
+      const std::string ground = t.choice("ground_type", {"A", "B", "C", "D", "E"});
+      for (const auto& [name, value] : ground_type_names) {
+        if (name == ground) ec8.ground = value;
+      }
+      s.ag_g = t.positive("ag_g", t.number("ag_g"));
+      ec8.ag = s.ag_g * standard_gravity;
+      ec8.damping = s.spectrum.damping;
+      s.design = ec8;
+    }
+  } else {
+    only({"ground_type", "ag_g", "table"}, "only with design");
+  }
+  switch (s.kind) {
+    case ScalingKind::pga:
+      if (!s.target_g) t.fail_table("missing key: target_g (the peak ground acceleration each record is scaled to)");
+      only({"design", "period", "frame", "period_min", "period_max", "match", "fraction", "points"}, "not for kind = \"pga\"");
+      break;
+    case ScalingKind::sa:
+      if (s.target_g.has_value() == s.design.has_value()) {
+        t.fail_table("kind = \"sa\" takes its target from target_g or from a design spectrum: give exactly one");
+      }
+      if (s.period && t.has("frame")) t.fail("frame", "not with period (which it would set)");
+      only({"period_min", "period_max", "match", "fraction", "points"}, "not for kind = \"sa\" (one period)");
+      break;
+    case ScalingKind::spectrum:
+      if (!s.design) t.fail_table("missing key: design (the spectrum the suite's mean is matched to)");
+      only({"target_g", "period"}, "not for kind = \"spectrum\" (the design spectrum is the target over a range)");
+      if (s.period_min.has_value() != s.period_max.has_value()) {
+        t.fail(s.period_min ? "period_min" : "period_max", "give both ends of the range, or neither ([0.2 T₁, 2 T₁])");
+      }
+      if (s.period_min && !(*s.period_min < *s.period_max)) t.fail("period_min", "must be below period_max");
+      if (s.period_min && (t.has("frame"))) t.fail("frame", "not with period_min and period_max (which it would set)");
+      if (t.has("fraction") && s.match != SuiteMatch::not_below) t.fail("fraction", "only for match = \"not_below\"");
+      break;
+  }
+  t.finish("for this kind of scaling");
+  return s;
+}
+
+EnsembleSettings read_ensemble(TableReader& t, const std::filesystem::path& base_dir, int frames) {
   EnsembleSettings e;
   const auto resolve = [&](const std::string& file) {
     std::filesystem::path p(file);
@@ -1553,6 +1637,11 @@ EnsembleSettings read_ensemble(TableReader& t, const std::filesystem::path& base
     if (!std::filesystem::is_regular_file(r)) t.fail(listed ? "records" : "folder", fmt::format("{}: no such file", r.string()));
   }
   read_fields(t, e);
+  if (t.has("scaling")) {
+    TableReader scaling = t.table("scaling");
+    scaling.declare<EnsembleScaling, SpectrumOptions>();
+    e.scaling = read_scaling(scaling, frames);
+  }
   t.finish();
   return e;
 }
@@ -1621,7 +1710,7 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
   if (each == PointRun::ensemble) {
     TableReader ensemble = top.table("ensemble");
     ensemble.declare<EnsembleSettings>();
-    run.ensemble = read_ensemble(ensemble, base_dir);
+    run.ensemble = read_ensemble(ensemble, base_dir, run.model.frame_count());
     each = PointRun::time_history;
   } else if (top.has("ensemble")) {
     top.fail("ensemble", "only for analysis.kind = \"ensemble\" or each = \"ensemble\"");
@@ -1834,6 +1923,42 @@ toml::array number_rows(const std::vector<std::vector<double>>& rows) {
   return a;
 }
 
+/// [ensemble.scaling] with the keys of its kind only (the reader refuses the others).
+toml::table scaling_table(const EnsembleScaling& s) {
+  toml::table t;
+  t.insert("kind", std::string(name_in(scaling_kind_names, s.kind)));
+  write_fields(t, s.spectrum);
+  if (s.target_g) t.insert("target_g", *s.target_g);
+  if (s.design) {
+    t.insert("design", s.design_name);
+    if (s.design_name == "table") {
+      t.insert("table", number_rows(s.table_g));
+    } else {
+      t.insert("ground_type", std::string(name_in(ground_type_names, std::get<Eurocode8Spectrum>(*s.design).ground)));
+      t.insert("ag_g", s.ag_g);
+    }
+  }
+  if (s.kind == ScalingKind::sa) {
+    if (s.period) {
+      t.insert("period", *s.period);
+    } else {
+      t.insert("frame", static_cast<std::int64_t>(s.frame));
+    }
+  }
+  if (s.kind == ScalingKind::spectrum) {
+    if (s.period_min) {
+      t.insert("period_min", *s.period_min);
+      t.insert("period_max", *s.period_max);
+    } else {
+      t.insert("frame", static_cast<std::int64_t>(s.frame));
+    }
+    t.insert("match", std::string(name_in(suite_match_names, s.match)));
+    if (s.match == SuiteMatch::not_below) t.insert("fraction", s.fraction);
+    t.insert("points", static_cast<std::int64_t>(s.points));
+  }
+  return t;
+}
+
 toml::table model_tables(const RunInput& in, toml::table& root) {
   toml::array frames;
   for (const Frame& f : in.model.frames) {
@@ -1918,7 +2043,7 @@ toml::table excitation_table(const RunInput& in) {
     if (!o.units.empty()) e.insert("units", o.units);
     if (o.target_pga_g) {
       e.insert("target_pga_g", *o.target_pga_g);
-    } else {
+    } else if (!(in.ensemble && in.ensemble->scaling)) {  // [ensemble.scaling] gives each its own
       e.insert("scale", o.scale);
     }
     if (!info.record_samples.empty()) {
@@ -2032,6 +2157,7 @@ std::string to_toml(const RunInput& in) {
       records.push_back(std::filesystem::absolute(r).lexically_normal().string());
     }
     t.insert("records", std::move(records));
+    if (in.ensemble->scaling) t.insert("scaling", scaling_table(*in.ensemble->scaling));
     root.insert("ensemble", std::move(t));
   }
   std::ostringstream out;

@@ -17,6 +17,7 @@
 #include "poundsim/analysis/frequency_response.hpp"
 #include "poundsim/io/frequency_response_run.hpp"
 #include "poundsim/io/output_files.hpp"
+#include "poundsim/io/record_scaling.hpp"
 #include "poundsim/io/study_database.hpp"
 #include "poundsim/analysis/parallel.hpp"
 #include "poundsim/analysis/response_metrics.hpp"
@@ -263,11 +264,15 @@ Aggregate aggregate(const std::vector<json>& per_record) {
 
 EnsembleFigures ensemble_figures_of(const RunInput& point, int threads) {
   const std::vector<std::filesystem::path>& records = point.ensemble->records;
+  // The factors depend on the point's model (T₁ of a frame), so each point scales its records.
+  std::vector<double> factors;
+  if (point.ensemble->scaling) factors = suite_scaling(point).factors;
   std::vector<TimeHistoryFigures> per_record(records.size());
   parallel_for(static_cast<int>(records.size()), threads, [&](int k) {
     const auto r = static_cast<std::size_t>(k);
-    const Setting record = make_setting("excitation.file", {records[r].string()});
-    RunInput one = with_settings(point, {&record, 1});
+    std::vector<Setting> record{make_setting("excitation.file", {records[r].string()})};
+    if (!factors.empty()) record.push_back(make_setting("excitation.scale", {factors[r]}));
+    RunInput one = with_settings(point, record);
     one.model = point.model;  // the point's model as given (e.g. made bare), the record from the file
     per_record[r] = time_history_figures_of(one);
   });
@@ -302,7 +307,7 @@ PointFigures baseline_figures(const RunInput& point, int threads) {
 
 namespace {
 StudyResult run_points(const RunInput& input, const std::filesystem::path& out_dir, const StudyRunOptions& options,
-                       AnalysisKind kind);
+                       AnalysisKind kind, const SuiteScaling* scaling = nullptr);
 }
 
 StudyResult run_study(const RunInput& input, const std::filesystem::path& out_dir,
@@ -325,8 +330,18 @@ StudyResult run_ensemble(const RunInput& input, const std::filesystem::path& out
   records.key = "excitation.file";
   for (const auto& r : input.ensemble->records) records.values.push_back({r.string()});
   study.parameters.push_back(std::move(records));
+  // Scaled records run with their factors as excitation.scale, a second list beside the files:
+  // the database and ensemble.csv keep each record's factor.
+  std::optional<SuiteScaling> scaling;
+  if (input.ensemble->scaling) {
+    scaling = suite_scaling(input);
+    StudyParameter scales;
+    scales.key = "excitation.scale";
+    for (const double f : scaling->factors) scales.values.push_back({f});
+    study.parameters.push_back(std::move(scales));
+  }
   as_study.study = study;
-  return run_points(as_study, out_dir, options, AnalysisKind::ensemble);
+  return run_points(as_study, out_dir, options, AnalysisKind::ensemble, scaling ? &*scaling : nullptr);
 }
 
 json to_json(const StudyResult& result) {
@@ -367,6 +382,7 @@ json to_json(const StudyResult& result) {
       per_record.push_back(std::move(entry));
     }
     summary["records"] = per_record;
+    if (!result.scaling.is_null()) summary["scaling"] = result.scaling;
     if (!result.mean.is_null()) {
       summary["mean"] = result.mean;
       summary["max"] = result.max;
@@ -430,7 +446,7 @@ void add_json_column(Table& table, std::string name, const std::vector<const jso
 }
 
 StudyResult run_points(const RunInput& input, const std::filesystem::path& out_dir, const StudyRunOptions& options,
-                       AnalysisKind kind) {
+                       AnalysisKind kind, const SuiteScaling* scaling) {
   const std::string stem(to_string(kind));  // the files' names: study.sqlite, ensemble.csv
   const StudySettings& study = *input.study;
   const auto start = std::chrono::steady_clock::now();
@@ -561,6 +577,11 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
     Aggregate all_records = aggregate(done_metrics);
     result.mean = std::move(all_records.mean);
     result.max = std::move(all_records.max);
+  }
+  if (scaling != nullptr) {
+    result.scaling = to_json(input, *scaling);
+    result.spectra = scaled_spectra_table(input, *scaling);
+    write_csv(out.open("spectra.csv"), *result.spectra);
   }
   out.write_json("summary.json", to_json(result));
   // A study's axes name keys of the file's own form (a dimensionless key, excitation.ratio, an

@@ -40,6 +40,7 @@ CASES = [
     ("different_storey_heights", "examples/different_storey_heights.toml", []),
     ("slab_to_column", "examples/slab_to_column.toml", []),
     ("ensemble_fig2_frames", "examples/ensemble_fig2_frames.toml", []),
+    ("ensemble_ec8_spectrum", "examples/ensemble_ec8_spectrum.toml", []),
 ] + [(f"contact_laws_{law}", f"examples/contact_laws/{law}.toml", [])
      for law in ("paper", "kelvin_voigt", "hertz", "hertzdamp", "jankowski")] + [
     ("study_eta_mu", "examples/study_eta_mu.toml", []),

@@ -248,6 +248,9 @@ TEST(InputDocs, StudyAndEnsembleKeysAreDocumentedAsDeclared) {
   expect_documented<io::EnsembleSettings>("## Ensembles", {}, "docs/records.md");
   expect_exactly_documented<io::StudySettings>("## `analysis.kind = \"study\"`", "docs/studies.md");
   expect_exactly_documented<io::EnsembleSettings>("## Ensembles", "docs/records.md");
+  expect_documented<io::EnsembleScaling>("`[ensemble.scaling]`:", {}, "docs/records.md");
+  expect_documented<SpectrumOptions>("`[ensemble.scaling]`:", {}, "docs/records.md");
+  expect_exactly_documented<io::EnsembleScaling, SpectrumOptions>("`[ensemble.scaling]`:", "docs/records.md");
 }
 // Each storey law has its paragraph under its `storey_law = "key"` and, when it has parameters,
 // their table with exactly those keys.

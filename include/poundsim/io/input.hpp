@@ -23,6 +23,7 @@
 #include "poundsim/model/dimensionless.hpp"
 #include "poundsim/model/excitation.hpp"
 #include "poundsim/analysis/frequency_response.hpp"
+#include "poundsim/analysis/response_spectrum.hpp"
 #include "poundsim/model/model.hpp"
 #include "poundsim/integrate/simulator.hpp"
 #include "poundsim/io/ground_motion.hpp"
@@ -274,11 +275,65 @@ struct ExcitationInfo {
   std::vector<double> record_samples;
 };
 
+/// How [ensemble.scaling] scales the records (docs/records.md#scaling-to-a-target).
+enum class ScalingKind : std::uint8_t {
+  pga,       ///< each record to a peak ground acceleration
+  sa,        ///< each record to a spectral acceleration at one period (T₁ of a frame, or given)
+  spectrum,  ///< one factor for the suite: its mean spectrum against a design spectrum over a range
+};
+inline constexpr std::array<std::pair<std::string_view, ScalingKind>, 3> scaling_kind_names{{
+    {"pga", ScalingKind::pga},
+    {"sa", ScalingKind::sa},
+    {"spectrum", ScalingKind::spectrum},
+}};
+
+/// [ensemble.scaling]: the factor each record of an ensemble is scaled by before it runs (its
+/// excitation.scale), from its elastic spectrum (analysis/response_spectrum.hpp). Accelerations
+/// in g (9.81 m/s²), periods in s.
+struct EnsembleScaling {
+  ScalingKind kind = ScalingKind::spectrum;
+  std::optional<double> target_g;         ///< pga; sa when no design spectrum gives the target.
+  std::optional<DesignSpectrum> design;   ///< sa (its value at the period) or spectrum (required).
+  std::optional<double> period;           ///< sa: the period [s]; default T₁ of `frame`.
+  int frame = 1;                          ///< Whose T₁ (alone, fixed base) sets sa's period and spectrum's range.
+  std::optional<double> period_min, period_max;  ///< spectrum: the range; default [0.2 T₁, 2 T₁] (EC8 §3.2.3.1.2).
+  SuiteMatch match = SuiteMatch::least_squares;
+  double fraction = 0.9;                  ///< not_below: the mean ≥ fraction × target over the range.
+  int points = 50;                        ///< spectrum: periods of the range, log-spaced.
+  SpectrumOptions spectrum;               ///< damping and sub-steps of the records' spectra.
+  /// The design spectrum as the file gave it (in g), written back by input.toml.
+  std::string design_name;
+  double ag_g = 0.0;
+  std::vector<std::vector<double>> table_g;
+
+  static constexpr auto fields() {
+    using S = EnsembleScaling;
+    using C = CustomField<S>;
+    return std::tuple{
+        ChoiceField{"kind", &S::kind, scaling_kind_names, "what each record is scaled to", true},
+        C{"target_g", "the target PGA or S_a [g]"},
+        C{"design", "the design spectrum: \"ec8_type1\", \"ec8_type2\" or \"table\""},
+        C{"ground_type", "Eurocode 8 ground type A … E"},
+        C{"ag_g", "Eurocode 8 design ground acceleration a_g on type A ground [g]"},
+        C{"table", "rows [T, S_a in g] of a tabulated design spectrum"},
+        C{"period", "the period of S_a [s] (sa)"},
+        IntegerField{"frame", &S::frame, 1, limits::frames, "the frame whose T₁ sets the period or the range"},
+        C{"period_min", "the range's shortest period [s] (spectrum)"},
+        C{"period_max", "the range's longest period [s] (spectrum)"},
+        ChoiceField{"match", &S::match, suite_match_names, "how the suite's factor is chosen (spectrum)"},
+        NumberField{"fraction", &S::fraction, "", Interval{.lo = 0.0, .hi = 1.0, .lo_open = true},
+                    "not_below: the fraction of the target the mean may not fall below"},
+        IntegerField{"points", &S::points, 2, 10000, "periods of the range (spectrum)"},
+    };
+  }
+};
+
 /// [ensemble]: the records one model is run against.
 struct EnsembleSettings {
   std::vector<std::filesystem::path> records;  ///< Resolved, in the order given (or sorted).
   int threads = 0;                             ///< 0: all cores.
   bool baseline = false;                       ///< Also run bare pounding for each record.
+  std::optional<EnsembleScaling> scaling;      ///< [ensemble.scaling]: none keeps [excitation]'s scale.
 
   /// The fields of [ensemble] read as declared (fields.hpp); the records have rules of their own.
   static constexpr auto fields() {
@@ -290,6 +345,7 @@ struct EnsembleSettings {
         C{"pattern", "the names of its files to run (* and ?)"},
         threads_field(&E::threads, "records run in parallel"),
         BoolField{"baseline", &E::baseline, "also run bare pounding for each record"},
+        C{"scaling", "how each record is scaled (a table of its own)", true},
     };
   }
 };

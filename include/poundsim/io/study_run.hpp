@@ -92,6 +92,10 @@ struct StudyResult {
   /// Ensembles: the mean and the maximum of every numeric metric over the finished records
   /// (objects metric → value); null when no record finished.
   nlohmann::json mean, max;
+  /// Ensembles with [ensemble.scaling]: the factors, the target and the range (record_scaling.hpp).
+  nlohmann::json scaling;
+  /// And the records' scaled spectra with their mean and the target (spectra.csv).
+  std::optional<Table> spectra;
 };
 
 /// Runs the study of `input` into `out_dir`: study.sqlite (resumable), then study.csv and
