@@ -7,10 +7,12 @@
 
 #include <algorithm>
 #include <charconv>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <mutex>
+#include <optional>
 #include <exception>
 #include <limits>
 #include <string>
@@ -20,6 +22,7 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "poundsim/analysis/progress.hpp"
 #include "poundsim/error.hpp"
 #include "poundsim/io/input.hpp"
 #include "poundsim/io/continuation_run.hpp"
@@ -55,9 +58,13 @@ class ProgressBar {
   void update(int done, int total) {
     if (!enabled_) return;
     const std::lock_guard lock(mutex_);
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    const std::optional<double> left = time_left_.update(done, total, elapsed);
     const int width = 40, filled = width * done / std::max(total, 1);
-    fmt::print(stderr, "\r  [{}{}] {}/{} points", std::string(static_cast<std::size_t>(filled), '#'),
-               std::string(static_cast<std::size_t>(width - filled), '.'), done, total);
+    // Padded: a shorter estimate must overwrite a longer one on the same line.
+    fmt::print(stderr, "\r  [{}{}] {}/{} points, {} {:<16}", std::string(static_cast<std::size_t>(filled), '#'),
+               std::string(static_cast<std::size_t>(width - filled), '.'), done, total,
+               poundsim::readable_duration(elapsed), left ? "— " + poundsim::readable_duration(*left) + " left" : "");
     std::fflush(stderr);
   }
   void finish() {
@@ -67,6 +74,8 @@ class ProgressBar {
  private:
   bool enabled_;
   std::mutex mutex_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  poundsim::TimeLeft time_left_;
 };
 
 /// Stops cleanly on SIGINT, SIGTERM and SIGHUP. The signals are blocked in every thread (the

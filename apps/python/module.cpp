@@ -31,6 +31,7 @@
 #include <nlohmann/json.hpp>
 
 #include "poundsim/analysis/channels.hpp"
+#include "poundsim/analysis/progress.hpp"
 #include "poundsim/error.hpp"
 #include "poundsim/io/continuation_run.hpp"
 #include "poundsim/io/frequency_response_run.hpp"
@@ -571,6 +572,12 @@ PYBIND11_MODULE(_core, m) {
       .def_readonly("summary", &StudyRun::summary, "summary.json's content")
       .def_readonly("database", &StudyRun::database, "the SQLite database the points are kept in")
       .def_readonly("spectra", &StudyRun::spectra, "(columns, units) of spectra.csv (an ensemble with scaling), or None");
+  py::class_<TimeLeft>(m, "TimeLeft",
+                       "The time left of a run of many items, from the rate since the first update (analysis/progress.hpp).")
+      .def(py::init<>())
+      .def("update", &TimeLeft::update, py::arg("done"), py::arg("total"), py::arg("elapsed"),
+           "Seconds left with `done` of `total` items at `elapsed` s since the first update; None before a rate.");
+  m.def("readable_duration", &readable_duration, py::arg("seconds"), "\"45 s\", \"3 min 20 s\", \"2 h 05 min\".");
   m.def("run_study", &run_study, py::arg("input"), py::arg("out"), py::arg("max_points") = 0,
         py::arg("progress") = py::none(), py::arg("progress_interval") = 0.1,
         "Runs a study or an ensemble into the folder `out` (its database, table, summary), as the command line "

@@ -33,6 +33,7 @@ import os
 import pkgutil
 import sys
 import tempfile
+import time
 from typing import Any, Callable, Optional, Sequence
 
 # A package imported from a source tree (python/ beside the plotting scripts) finds the extension
@@ -89,14 +90,23 @@ def from_dict(document: dict, name: str = "model", base_dir: str | os.PathLike =
     return _extension().from_dict(document, name, base_dir, list(settings))
 
 
-def _console_progress(unit: str) -> Callable[[float, float], None]:
-    """A one-line progress bar on stderr."""
+def _console_progress(unit: str, clock: Callable[[], float] = time.monotonic) -> Callable[[float, float], None]:
+    """A one-line progress bar on stderr, with the time taken and, once there is a rate, the time
+    left (the C++ TimeLeft of the command line's bar: points done since the run began)."""
+    core = _extension()
+    start = clock()
+    left = core.TimeLeft()
 
     def show(done: float, total: float) -> None:
         fraction = 1.0 if total <= 0 else min(1.0, done / total)
         bar = "#" * int(30 * fraction)
         where = f"t = {done:.3f} s" if unit == "s" else f"{int(done)}/{int(total)} {unit}"
-        sys.stderr.write(f"\rpoundsim [{bar:<30}] {100 * fraction:5.1f} %  {where}")
+        elapsed = clock() - start
+        # A time history reports simulated seconds: its rate is of them, as the items of the others.
+        estimate = left.update(int(round(done * 1000)), int(round(total * 1000)), elapsed) if unit == "s" \
+            else left.update(int(done), int(total), elapsed)
+        timing = core.readable_duration(elapsed) + (f" — {core.readable_duration(estimate)} left" if estimate else "")
+        sys.stderr.write(f"\rpoundsim [{bar:<30}] {100 * fraction:5.1f} %  {where}, {timing:<24}")
         if fraction >= 1.0:
             sys.stderr.write("\n")
         sys.stderr.flush()

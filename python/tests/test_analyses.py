@@ -136,6 +136,22 @@ def test_a_scaled_ensembles_spectra_are_the_command_lines(tmp_path):
     np.testing.assert_array_equal(np.asarray(ensemble["excitation.scale"], dtype=float), list(factors) * 4)
 
 
+def test_the_console_bar_shows_the_time_left(capsys):
+    # The bar of poundsim.run(progress=True): the items done since it began give the rate.
+    now = [100.0]
+    show = poundsim._console_progress("points", clock=lambda: now[0])
+    show(5, 25)  # done by an earlier run: no rate yet
+    assert "left" not in capsys.readouterr().err
+    now[0] = 110.0
+    show(15, 25)  # 10 points in 10 s, 10 left
+    err = capsys.readouterr().err
+    assert "15/25 points, 10 s — 10 s left" in err
+    now[0] = 120.0
+    show(25, 25)
+    err = capsys.readouterr().err
+    assert "25/25 points, 20 s" in err and "left" not in err and err.endswith("\n")
+
+
 def test_optimization_is_the_command_lines(tmp_path):
     settings = ["frf.points=9", "optimize.global_evaluations=5", "optimize.local_evaluations=4"]
     model = EXAMPLES / "optimize_gap_elements.toml"

@@ -522,6 +522,8 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
   std::atomic<int> done{0};
   std::atomic<int> failed{0};
   const int total = static_cast<int>(todo.size());
+  // The run begins: a progress bar's clock and rate start here, not at the first point's end.
+  if (options.progress) options.progress(0, total);
   parallel_for(total, study.threads, [&](int k) {
     check_stop();
     const Todo& t = todo[static_cast<std::size_t>(k)];
