@@ -117,6 +117,9 @@ TEST(ResponseSpectrum, BadPeriodsAndOptionsAreRefused) {
   const double fine[] = {1.0};
   EXPECT_THROW((void)response_spectrum(pulse, fine, {.damping = 1.5}), std::invalid_argument);
   EXPECT_THROW((void)response_spectrum(pulse, fine, {.steps_per_period = 2}), std::invalid_argument);
+  // So short a period that one step of the record would need more sub-steps than a count holds.
+  const double tiny[] = {1e-20};
+  EXPECT_THROW((void)response_spectrum(pulse, tiny), std::invalid_argument);
   EXPECT_EQ(peak_ground_acceleration(RecordExcitation{{0.0, 1.0, 2.0}, {0.5, -2.5, 1.0}, "p"}), 2.5);
 }
 

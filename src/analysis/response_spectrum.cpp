@@ -51,11 +51,18 @@ struct Recurrence {
 class Oscillator {
  public:
   Oscillator(double period, double zeta, int steps_per_period)
-      : omega_(2 * std::numbers::pi / period), zeta_(zeta), longest_(period / steps_per_period) {}
+      : omega_(2 * std::numbers::pi / period), zeta_(zeta), longest_(period / steps_per_period),
+        steps_per_period_(steps_per_period) {}
 
   /// From x over a step of length `length` on which a_g goes from a0 to a1.
   void advance(double length, double a0, double a1) {
-    const auto n = static_cast<long>(std::ceil(length / longest_));
+    const double steps = std::ceil(length / longest_);
+    if (!(steps <= 1e9)) {
+      throw std::invalid_argument(fmt::format("a step of {} s of the record needs {:.3g} sub-steps at a period of {} s "
+                                              "(at most 1e9): the period is too short",
+                                              length, steps, longest_ * steps_per_period_));
+    }
+    const auto n = static_cast<long>(steps);
     const double h = length / static_cast<double>(n);
     // Steps of a record sampled at a fixed dt differ by round-off only: one recurrence serves.
     if (!(std::abs(h - recurrence_.h) <= 1e-12 * h)) recurrence_.make(omega_, zeta_, h);
@@ -99,6 +106,7 @@ class Oscillator {
   }
 
   double omega_, zeta_, longest_;
+  int steps_per_period_;
   Recurrence recurrence_;
   Eigen::Vector2d x_ = Eigen::Vector2d::Zero();
   double peak_u_ = 0.0, peak_a_ = 0.0;

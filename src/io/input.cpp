@@ -1538,9 +1538,18 @@ EnsembleScaling read_scaling(TableReader& t, int frames) {
     }
   };
   if (auto v = t.optional_number("target_g")) s.target_g = t.positive("target_g", *v);
-  if (auto v = t.optional_number("period")) s.period = t.positive("period", *v);
-  if (auto v = t.optional_number("period_min")) s.period_min = t.positive("period_min", *v);
-  if (auto v = t.optional_number("period_max")) s.period_max = t.positive("period_max", *v);
+  // An oscillator's sub-steps grow as 1/T over the record: below a millisecond they would run to
+  // billions (and a period of 1e-20 s past what a step count can hold).
+  const auto oscillator_period = [&](const char* key) -> std::optional<double> {
+    const std::optional<double> v = t.optional_number(key);
+    if (v && !(*v >= kShortestSpectrumPeriod && *v <= kLongestSpectrumPeriod)) {
+      t.fail(key, fmt::format("must be in [{}, {}] s (got {})", kShortestSpectrumPeriod, kLongestSpectrumPeriod, *v));
+    }
+    return v;
+  };
+  s.period = oscillator_period("period");
+  s.period_min = oscillator_period("period_min");
+  s.period_max = oscillator_period("period_max");
   if (t.has("design")) {
     const std::string design = t.choice("design", {"ec8_type1", "ec8_type2", "table"});
     s.design_name = design;

@@ -29,6 +29,16 @@ double design_at(const RunInput& input, const DesignSpectrum& design, double per
   }
 }
 
+/// The spectrum, its refusals (a period too short for the record) as the input's.
+ResponseSpectrum spectrum_of(const RunInput& input, const RecordExcitation& record, std::span<const double> periods,
+                             const SpectrumOptions& options) {
+  try {
+    return response_spectrum(record, periods, options);
+  } catch (const std::invalid_argument& e) {
+    fail(input, fmt::format("{}: {}", record.source, e.what()));
+  }
+}
+
 }  // namespace
 
 SuiteScaling suite_scaling(const RunInput& input) {
@@ -63,7 +73,7 @@ SuiteScaling suite_scaling(const RunInput& input) {
       out.target_g = target / standard_gravity;
       const double periods[] = {period};
       for (std::size_t r = 0; r < out.unscaled.size(); ++r) {
-        const double sa = response_spectrum(out.unscaled[r], periods, s.spectrum).pseudo_acceleration[0];
+        const double sa = spectrum_of(input, out.unscaled[r], periods, s.spectrum).pseudo_acceleration[0];
         if (!(sa > 0)) fail(input, fmt::format("record {} ({}) has S_a = 0 at {} s", r + 1, record_name(r), period));
         out.factors.push_back(target / sa);
       }
@@ -76,7 +86,7 @@ SuiteScaling suite_scaling(const RunInput& input) {
       std::vector<double> target;
       for (const double t : periods) target.push_back(design_at(input, *s.design, t));
       std::vector<ResponseSpectrum> spectra;
-      for (const RecordExcitation& record : out.unscaled) spectra.push_back(response_spectrum(record, periods, s.spectrum));
+      for (const RecordExcitation& record : out.unscaled) spectra.push_back(spectrum_of(input, record, periods, s.spectrum));
       double factor = 0.0;
       try {
         factor = suite_scale_factor(spectra, target, s.match, s.fraction);

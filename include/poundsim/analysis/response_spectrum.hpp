@@ -67,8 +67,14 @@ struct ResponseSpectrum {
   std::vector<double> absolute_acceleration;  ///< max |ü + a_g| [m/s²]
 };
 
+/// The periods an input may ask a spectrum at [s]: below a millisecond the sub-steps over a record
+/// run to billions.
+inline constexpr double kShortestSpectrumPeriod = 1e-3;
+inline constexpr double kLongestSpectrumPeriod = 100.0;
+
 /// The spectrum of `record` at `periods` (each finite and > 0). Throws std::invalid_argument for
-/// a bad period or options.
+/// a bad period or options, and for a period so short that a step of the record would need more
+/// than 1e9 sub-steps.
 [[nodiscard]] ResponseSpectrum response_spectrum(const RecordExcitation& record, std::span<const double> periods,
                                                  const SpectrumOptions& options = {});
 
