@@ -13,14 +13,7 @@
 
 namespace poundsim {
 
-void SpectrumOptions::validate() const {
-  if (!(damping >= 0.0 && damping <= 1.0)) {
-    throw std::invalid_argument(fmt::format("spectrum damping must lie in [0, 1] (got {})", damping));
-  }
-  if (steps_per_period < 8 || steps_per_period > 10000) {
-    throw std::invalid_argument(fmt::format("spectrum steps_per_period must lie in [8, 10000] (got {})", steps_per_period));
-  }
-}
+void SpectrumOptions::validate() const { validate_fields(*this, "spectrum"); }
 
 namespace {
 
@@ -183,6 +176,11 @@ void validate(const DesignSpectrum& spectrum) {
       throw std::invalid_argument(fmt::format("row {}: S_a must be finite and ≥ 0 (got {})", i + 1, table.acceleration[i]));
     }
   }
+}
+
+std::string_view design_name(const DesignSpectrum& spectrum) {
+  if (const auto* ec8 = std::get_if<Eurocode8Spectrum>(&spectrum)) return name_in(eurocode8_type_names, ec8->type);
+  return tabulated_design_name;
 }
 
 double spectral_acceleration(const DesignSpectrum& spectrum, double period) {

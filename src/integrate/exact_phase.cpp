@@ -203,7 +203,9 @@ Eigen::MatrixXd ExactPhase::propagator(double s) const {
   if (inverse_modes_.size() == 0) {
     inverse_modes_ = v_lu_.solve(scale_.cwiseInverse().cast<std::complex<double>>().asDiagonal().toDenseMatrix());
   }
-  return (v_ * (lambda_ * s).array().exp().matrix().asDiagonal() * inverse_modes_).real();
+  Eigen::VectorXcd e;
+  exponentials(s, e);
+  return (v_ * e.asDiagonal() * inverse_modes_).real();
 }
 
 void ExactTrajectory::evaluate(double s, Eigen::VectorXd& x, Eigen::VectorXd& x_rate) const { evaluate(s, x, &x_rate); }

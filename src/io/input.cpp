@@ -1551,9 +1551,11 @@ EnsembleScaling read_scaling(TableReader& t, int frames) {
   s.period_min = oscillator_period("period_min");
   s.period_max = oscillator_period("period_max");
   if (t.has("design")) {
-    const std::string design = t.choice("design", {"ec8_type1", "ec8_type2", "table"});
-    s.design_name = design;
-    if (design == "table") {
+    std::vector<std::string_view> designs;
+    for (const auto& [name, type] : eurocode8_type_names) designs.push_back(name);
+    designs.push_back(tabulated_design_name);
+    const std::string design = t.choice("design", designs);
+    if (design == tabulated_design_name) {
       only({"ground_type", "ag_g"}, "only for design = \"ec8_type1\" or \"ec8_type2\"");
       TabulatedSpectrum table;
       const std::vector<std::vector<double>> rows = t.number_rows("table");
@@ -1572,8 +1574,12 @@ EnsembleScaling read_scaling(TableReader& t, int frames) {
     } else {
       only({"table"}, "only for design = \"table\"");
       Eurocode8Spectrum ec8;
-      ec8.type = design == "ec8_type1" ? Eurocode8Type::type1 : Eurocode8Type::type2;
-      const std::string ground = t.choice("ground_type", {"A", "B", "C", "D", "E"});
+      for (const auto& [name, type] : eurocode8_type_names) {
+        if (name == design) ec8.type = type;
+      }
+      std::vector<std::string_view> grounds;
+      for (const auto& [name, ground] : ground_type_names) grounds.push_back(name);
+      const std::string ground = t.choice("ground_type", grounds);
       for (const auto& [name, value] : ground_type_names) {
         if (name == ground) ec8.ground = value;
       }
@@ -1939,8 +1945,8 @@ toml::table scaling_table(const EnsembleScaling& s) {
   write_fields(t, s.spectrum);
   if (s.target_g) t.insert("target_g", *s.target_g);
   if (s.design) {
-    t.insert("design", s.design_name);
-    if (s.design_name == "table") {
+    t.insert("design", std::string(design_name(*s.design)));
+    if (std::holds_alternative<TabulatedSpectrum>(*s.design)) {
       t.insert("table", number_rows(s.table_g));
     } else {
       t.insert("ground_type", std::string(name_in(ground_type_names, std::get<Eurocode8Spectrum>(*s.design).ground)));

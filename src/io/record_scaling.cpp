@@ -159,7 +159,7 @@ nlohmann::json to_json(const RunInput& input, const SuiteScaling& scaling) {
     j["match"] = name_in(suite_match_names, s.match);
     if (s.match == SuiteMatch::not_below) j["fraction"] = s.fraction;
   }
-  if (s.design) j["design"] = s.design_name;
+  if (s.design) j["design"] = design_name(*s.design);
   return j;
 }
 

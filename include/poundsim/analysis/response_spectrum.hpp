@@ -55,7 +55,7 @@ struct SpectrumOptions {
                      "exact sub-steps per oscillator period at least (peaks between them from the cubic)"},
     };
   }
-  /// Throws std::invalid_argument naming the field that is out of range.
+  /// Throws std::invalid_argument naming the field that is out of range (its declared range).
   void validate() const;
 };
 
@@ -120,6 +120,12 @@ struct TabulatedSpectrum {
 };
 
 using DesignSpectrum = std::variant<Eurocode8Spectrum, TabulatedSpectrum>;
+
+/// The name of a tabulated design spectrum where an input chooses one (the EC8 ones are
+/// eurocode8_type_names').
+inline constexpr std::string_view tabulated_design_name = "table";
+/// "ec8_type1", "ec8_type2" or "table".
+[[nodiscard]] std::string_view design_name(const DesignSpectrum& spectrum);
 
 /// S_a(T) [m/s²]. Throws std::invalid_argument outside the spectrum's periods ([0, 4] s for
 /// Eurocode 8, the table's first to last period).

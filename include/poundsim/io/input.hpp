@@ -301,8 +301,8 @@ struct EnsembleScaling {
   double fraction = 0.9;                  ///< not_below: the mean ≥ fraction × target over the range.
   int points = 50;                        ///< spectrum: periods of the range, log-spaced.
   SpectrumOptions spectrum;               ///< damping and sub-steps of the records' spectra.
-  /// The design spectrum as the file gave it (in g), written back by input.toml.
-  std::string design_name;
+  /// The design spectrum's accelerations as the file gave them (in g): input.toml writes them
+  /// back to the bit, which a conversion from m/s² need not.
   double ag_g = 0.0;
   std::vector<std::vector<double>> table_g;
 
