@@ -4,11 +4,14 @@
 #include "poundsim/analysis/figures_of_merit.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
+#include <numbers>
 #include <string>
 
 #include <gtest/gtest.h>
 
+#include "poundsim/analysis/time_history.hpp"
 #include "poundsim/units.hpp"
 #include "test_models.hpp"
 
@@ -120,8 +123,106 @@ TEST(FiguresOfMerit, AnEnsemblesMeanAndMaximumFigureByFigure) {
   // One record's columns: the count is a count.
   const PointFigures one{.response = records[0], .bare = std::nullopt};
   EXPECT_TRUE(by_name(one).at("impacts").count);
-  EXPECT_EQ(by_name(one).size(), 2U + 3 + 5 + 1 + 5);
+  // Per frame 9 figures (no storey heights: no drift ratios), per floor 7, per joint 1, and 9
+  // of the whole (no element with a stroke: no stroke use).
+  EXPECT_EQ(by_name(one).size(), 2U + 9 + 7 + 1 + 9);
   EXPECT_THROW(static_cast<void>(ensemble_figures({})), std::invalid_argument);
+}
+
+constexpr double kMass = 2.0e5;        // [kg]
+constexpr double kStiffness = 8.0e7;   // K [N/m]: ω = 20 rad/s
+constexpr double kYieldForce = 4.0e5;  // F_y [N]: u_y = 5 mm
+constexpr double kHeight = 3.5;        // h [m]
+
+// An elastic–perfectly-plastic storey of height h released at rest position with v0 (no
+// damping, no excitation): elastic up to u_y at t₁ = asin(ω u_y / v0)/ω with speed
+// v₁ = √(v0² − ω²u_y²), then decelerated by F_y/m to its peak u_max = u_y/2 + m v0²/(2F_y) at
+// t_p = t₁ + m v₁/F_y, then elastic about d_p = u_max − u_y with amplitude u_y. At T = 0.3 s it
+// has not yielded again. Its figures: the peak drift ratio u_max/h, the hysteretic energy
+// F_y (u_max − u_y), the drift at the end d_p + u_y cos ω(T − t_p), the peak absolute
+// acceleration F_y/m (no ground motion).
+TEST(FiguresOfMerit, AYieldingStoreysDriftRatioResidualDriftAndHystereticEnergyAreTheClosedForms) {
+  Frame frame = make_uniform_frame(1, kMass, kStiffness, 0.0, "yielding");
+  frame.storey_law = PerStorey<BilinearStorey>{std::vector<BilinearStorey::Parameters>(
+      1, {.yield_force = kYieldForce, .post_yield_ratio = 0.0})};
+  frame.storey_height = {kHeight};
+  const double v0 = 0.4, duration = 0.3, omega = std::sqrt(kStiffness / kMass);
+  const double uy = kYieldForce / kStiffness, u_max = uy / 2 + kMass * v0 * v0 / (2 * kYieldForce);
+  const double t1 = std::asin(omega * uy / v0) / omega;
+  const double t_peak = t1 + kMass * std::sqrt(v0 * v0 - omega * omega * uy * uy) / kYieldForce;
+  ASSERT_LT(t_peak, duration);
+  ASSERT_LT(omega * (duration - t_peak), std::numbers::pi);  // not back to the other side's yield
+  for (const Integrator integrator : {Integrator::exact, Integrator::newmark}) {
+    SCOPED_TRACE(integrator == Integrator::exact ? "exact" : "newmark");
+    TimeHistoryProblem problem{.model = make_model({frame}, PaperGap{}),
+                               .excitation = NoExcitation{},
+                               .options = {.dt = 1e-3, .integrator = integrator},
+                               .initial = {.displacement = {}, .velocity = {{v0}}},
+                               .duration = duration,
+                               .output_dt = 0.1};
+    const TimeHistoryAnalysis run = analyse_time_history(problem);
+    const PointFigures figures{.response = time_history_figures(run.model, run, 0.0), .bare = std::nullopt};
+    const auto columns = by_name(figures);
+    EXPECT_NEAR(columns.at("peak_drift_ratio_1").value, u_max / kHeight, 1e-9 * u_max / kHeight);
+    EXPECT_NEAR(columns.at("peak_drift_ratio_1_1").value, u_max / kHeight, 1e-9 * u_max / kHeight);
+    EXPECT_EQ(columns.at("max_peak_drift_ratio").value, columns.at("peak_drift_ratio_1").value);
+    EXPECT_NEAR(columns.at("peak_drift_1_m").value, u_max, 1e-9 * u_max);
+    EXPECT_NEAR(columns.at("hysteretic_energy_1_J").value, kYieldForce * (u_max - uy), 1e-8 * kYieldForce * u_max);
+    EXPECT_EQ(columns.at("hysteretic_energy_J").value, columns.at("hysteretic_energy_1_J").value);
+    const double residual = u_max - uy + uy * std::cos(omega * (duration - t_peak));
+    // Newmark's elastic swing lags by its period error (ω dt)²/12 per radian.
+    const double wdt = omega * 1e-3;
+    const double lag = integrator == Integrator::exact ? 1e-8 * u_max / uy : 1.5 * wdt * wdt / 12 * omega * (duration - t_peak);
+    EXPECT_NEAR(columns.at("residual_drift_1_m").value, residual, lag * uy);
+    EXPECT_NEAR(columns.at("residual_drift_ratio_1").value, residual / kHeight, lag * uy / kHeight);
+    EXPECT_NEAR(columns.at("peak_abs_acc_1_g").value, kYieldForce / kMass / standard_gravity, 1e-8);
+    EXPECT_EQ(columns.at("max_peak_abs_acc_g").value, columns.at("peak_abs_acc_1_g").value);
+    EXPECT_EQ(columns.count("max_stroke_use"), 0U);  // no gap element
+    EXPECT_EQ(figures.figure("residual_drift_1_m"), columns.at("residual_drift_1_m").value);
+    EXPECT_EQ(figures.figure("no_such_figure"), std::nullopt);
+  }
+}
+
+// The paper's element uses its stroke up to the stop: an element that reached it (an impact)
+// used all of it, s ÷ ε = 1; a softer push uses the share max s ÷ ε of it, which the monitor's
+// largest shortening gives. Elements without a stroke (a rigid stop) have no stroke use.
+TEST(FiguresOfMerit, StrokeUseIsTheLargestShorteningOverTheStroke) {
+  const double epsilon = 0.01;
+  const auto run_with = [&](double v0, GapProperties gap) {
+    TimeHistoryProblem problem{.model = testing::two_oscillators(1e4, 4e6, 0.0, 1e4, 4e6, 0.0, gap),
+                               .excitation = NoExcitation{},
+                               .options = {.dt = 1e-3, .integrator = Integrator::exact},
+                               .initial = {.displacement = {}, .velocity = {{v0}, {0.0}}},
+                               .duration = 0.5,
+                               .output_dt = 0.1};
+    return analyse_time_history(problem);
+  };
+  const GapProperties element{.stiffness = 1e6, .damping = 0.0, .gap = 0.005, .shortening = epsilon, .restitution = 0.5};
+  for (const double v0 : {0.3, 1.5}) {
+    SCOPED_TRACE(v0);
+    const TimeHistoryAnalysis run = run_with(v0, element);
+    const PointFigures figures{.response = time_history_figures(run.model, run, 0.0), .bare = std::nullopt};
+    const auto columns = by_name(figures);
+    const GapResponse& g = run.statistics.gaps[0];
+    ASSERT_GT(g.contacts, 0);
+    EXPECT_EQ(columns.at("stroke_use_1_1").value, g.shortening.value / epsilon);
+    EXPECT_EQ(columns.at("max_stroke_use").value, columns.at("stroke_use_1_1").value);
+    EXPECT_EQ(columns.at("gap_force_1_1_N").value, g.force.value);
+    if (g.impacts > 0) {
+      EXPECT_NEAR(columns.at("stroke_use_1_1").value, 1.0, 1e-9);
+    } else {
+      EXPECT_LT(columns.at("stroke_use_1_1").value, 1.0);
+      EXPECT_GT(columns.at("stroke_use_1_1").value, 0.0);
+    }
+  }
+  EXPECT_GT(run_with(1.5, element).statistics.gaps[0].impacts, 0);  // the faster push hits the stop
+  EXPECT_EQ(run_with(0.3, element).statistics.gaps[0].impacts, 0);
+  const TimeHistoryAnalysis bare = run_with(1.5, GapProperties{.gap = 0.005, .restitution = 0.5});
+  const auto columns = by_name(PointFigures{.response = time_history_figures(bare.model, bare, 0.0), .bare = std::nullopt});
+  EXPECT_EQ(columns.count("stroke_use_1_1"), 0U);
+  EXPECT_EQ(columns.count("max_stroke_use"), 0U);
+  EXPECT_GT(bare.statistics.gaps[0].impacts, 0);
+  EXPECT_EQ(columns.at("gap_force_1_1_N").value, bare.statistics.gaps[0].force.value);
 }
 
 }  // namespace

@@ -440,6 +440,7 @@ StudyRun run_study(const io::RunInput& input, const std::filesystem::path& out_d
 struct OptimizationRun {
   py::dict summary, evaluations, evaluation_units;
   py::object optimum_frf, bare_frf;  ///< (columns, units), or None
+  py::object pareto;                 ///< (columns, units) of pareto.csv, or None
 };
 
 OptimizationRun run_optimization(const io::RunInput& input, const std::filesystem::path& out_dir,
@@ -461,6 +462,7 @@ OptimizationRun run_optimization(const io::RunInput& input, const std::filesyste
   };
   run.optimum_frf = pair(result.optimum_frf);
   run.bare_frf = pair(result.bare_frf);
+  run.pareto = pair(result.pareto_table);
   return run;
 }
 
@@ -588,7 +590,8 @@ PYBIND11_MODULE(_core, m) {
       .def_readonly("evaluations", &OptimizationRun::evaluations, "evaluations.csv's columns")
       .def_readonly("evaluation_units", &OptimizationRun::evaluation_units)
       .def_readonly("optimum_frf", &OptimizationRun::optimum_frf, "(columns, units) of optimum_frf.csv, or None")
-      .def_readonly("bare_frf", &OptimizationRun::bare_frf, "(columns, units) of bare_frf.csv, or None");
+      .def_readonly("bare_frf", &OptimizationRun::bare_frf, "(columns, units) of bare_frf.csv, or None")
+      .def_readonly("pareto", &OptimizationRun::pareto, "(columns, units) of pareto.csv, or None");
   m.def("run_optimization", &run_optimization, py::arg("input"), py::arg("out"), py::arg("progress") = py::none(),
         py::arg("progress_interval") = 0.1, "Runs an optimisation into the folder `out`, as the command line does.");
 

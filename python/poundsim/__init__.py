@@ -186,6 +186,6 @@ def run(
         if kind == "optimize":
             r = core.run_optimization(input, folder, progress, progress_interval)
             frf = {name: Table(*getattr(r, name)) if getattr(r, name) is not None else None
-                   for name in ("optimum_frf", "bare_frf")}
+                   for name in ("optimum_frf", "bare_frf", "pareto")}
             return Optimization(r.summary, Table(r.evaluations, r.evaluation_units), **frf)
     raise ValueError(f"{input.source}: analysis.kind = {kind!r} cannot be run")

@@ -82,6 +82,7 @@ class OptimizationRun:
     evaluation_units: dict[str, str]
     optimum_frf: Optional[tuple[dict[str, np.ndarray], dict[str, str]]]
     bare_frf: Optional[tuple[dict[str, np.ndarray], dict[str, str]]]
+    pareto: Optional[tuple[dict[str, np.ndarray], dict[str, str]]]
 
 def run_optimization(input: Input, out: str | os.PathLike[str], progress: Optional[Callable[[int, int], None]] = ...,
                      progress_interval: float = ...) -> OptimizationRun: ...

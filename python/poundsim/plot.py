@@ -47,7 +47,7 @@ from .results import Continuation, FrequencyResponse, Optimization, Study, Table
 __all__ = ["COLUMN_WIDTH", "PAGE_WIDTH", "SIZES", "DPI", "STANDARD_GRAVITY", "JOURNAL_RC", "COLOURS", "colour",
            "journal_style", "to_engineering", "frame_names", "channel_label", "parameter_label", "time_history",
            "gap_forces", "hysteresis", "gap_hysteresis", "envelopes", "energy", "frf", "study_map",
-           "ensemble_amplification", "ensemble_floor_amplification", "optimization", "compare_runs"]
+           "ensemble_amplification", "ensemble_floor_amplification", "optimization", "pareto", "compare_runs"]
 
 COLUMN_WIDTH = 3.5
 """A journal's single column [in]."""
@@ -918,6 +918,40 @@ def optimization(opt: Optimization, ax: Any = None, *, size: SizeArg = "column",
         a.set_xlabel("evaluation")
         a.set_ylabel(metric)
         a.grid(True)
+        a.legend()
+        _finish(a, title)
+    return a.figure
+
+
+def pareto(opt: Optimization, ax: Any = None, *, size: SizeArg = "column", title: Optional[str] = None,
+           reference: Optional[dict[str, tuple[float, float]]] = None):
+    """The Pareto front of an optimisation with [optimize.pareto] (opt.pareto, pareto.csv): the
+    objective against the second figure at each point, the non-dominated ones joined (●), the
+    dominated or infeasible ones apart (○), and each point's limit on the second figure as a
+    dotted vertical. `reference`: other designs to mark, label → (second figure, objective), e.g.
+    bare pounding and the free frames. Returns the Figure."""
+    if opt.pareto is None:
+        raise ValueError("the optimisation has no Pareto front (no [optimize.pareto])")
+    t = opt.pareto
+    names = [n for n in t.names if n not in ("point", "limit", "feasible", "dominated")]
+    objective, metric = names[0], names[1]
+    x = np.asarray(t[metric], dtype=float)
+    y = np.asarray(t[objective], dtype=float)
+    front = (np.asarray(t["dominated"]) == 0) & (np.asarray(t["feasible"]) == 1)
+    limit = np.asarray(t["limit"], dtype=float)
+    with _axes(ax, size) as (a,):
+        order = np.argsort(x[front])
+        a.plot(x[front][order], y[front][order], "o-", color=colour(0), ms=4, lw=1.2, label="Pareto front", gid="front")
+        if (~front).any():
+            a.plot(x[~front], y[~front], "o", color=colour(0), mfc="none", ms=4, ls="none",
+                   label="dominated or infeasible", gid="dominated")
+        for e in limit[np.isfinite(limit)]:
+            a.axvline(e, color="0.6", lw=0.5, ls=":", zorder=0)
+        for k, (label, (rx, ry)) in enumerate((reference or {}).items()):
+            a.plot([rx], [ry], "sD^v"[k % 4], color=colour(k + 1), ms=5, ls="none", label=label, gid=f"reference_{k}")
+        a.set_xlabel(metric)
+        a.set_ylabel(objective)
+        a.grid(True, lw=0.3)
         a.legend()
         _finish(a, title)
     return a.figure

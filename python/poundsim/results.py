@@ -400,16 +400,18 @@ class Study(_WithSummary):
 
 
 class Optimization(_WithSummary):
-    """An optimisation: optimize.json (the optimum, its figures against bare pounding, the stages),
-    every evaluation (evaluations.csv) and, for a frequency-response objective, the optimum's and
-    bare pounding's responses (optimum_frf.csv, bare_frf.csv)."""
+    """An optimisation: optimize.json (the optimum, its figures against bare pounding, the stages,
+    the constraints), every evaluation (evaluations.csv), for a frequency-response objective the
+    optimum's and bare pounding's responses (optimum_frf.csv, bare_frf.csv), and with
+    [optimize.pareto] the front (pareto.csv)."""
 
     def __init__(self, summary: Any, evaluations: Table, optimum_frf: Optional[Table] = None,
-                 bare_frf: Optional[Table] = None):
+                 bare_frf: Optional[Table] = None, pareto: Optional[Table] = None):
         self._summary_source = summary
         self.evaluations = evaluations
         self.optimum_frf = optimum_frf
         self.bare_frf = bare_frf
+        self.pareto = pareto
 
     @property
     def optimum(self) -> dict[str, float]:
@@ -435,7 +437,7 @@ def read(folder: str | os.PathLike):
 
     if os.path.exists(path("optimize.json")):
         frf = {n: Table.read_csv(path(f"{n}.csv")) if os.path.exists(path(f"{n}.csv")) else None
-               for n in ("optimum_frf", "bare_frf")}
+               for n in ("optimum_frf", "bare_frf", "pareto")}
         return Optimization(summary("optimize.json"), Table.read_csv(path("evaluations.csv")), **frf)
     if os.path.exists(path("history.csv")):
         with open(path("history.csv"), newline="") as f:

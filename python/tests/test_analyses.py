@@ -167,6 +167,36 @@ def test_optimization_is_the_command_lines(tmp_path):
     assert set(opt.optimum) == {"model.dimensionless.eta", "model.dimensionless.mu", "model.dimensionless.epsilon"}
 
 
+DESIGN_SETTINGS = ["analysis.duration=2", "optimize.global_evaluations=4", "optimize.local_evaluations=4",
+                   "optimize.pareto.points=3"]
+
+
+def test_a_constrained_optimisations_front_is_the_command_lines(tmp_path):
+    model = EXAMPLES / "design_5_and_8_storeys.toml"
+    out = cli_run(model, tmp_path / "cli", *DESIGN_SETTINGS)
+    opt = poundsim.run(poundsim.load(model, settings=DESIGN_SETTINGS), progress=False)
+    assert_table_is_csv(opt.evaluations, out / "evaluations.csv")
+    assert_table_is_csv(opt.pareto, out / "pareto.csv")
+    assert same_summary(opt.summary.to_dict(), json.load(open(out / "optimize.json")))
+    summary = opt.summary.to_dict()
+    # The optimum meets both constraints, and is the best feasible evaluation.
+    assert summary["feasible"] and all(c["holds"] for c in summary["constraints"])
+    ev = opt.evaluations
+    feasible = (np.asarray(ev["feasible"]) == 1) & (np.asarray(ev["status"]).astype(str) == "done")
+    assert summary["objective"] == np.min(np.asarray(ev["objective"])[feasible])
+    assert np.all(np.asarray(ev["max_max_stroke_use"])[feasible] <= 0.95 * (1 + 1e-6))
+    # Along the front, a lower 8-storey drift costs a higher 5-storey one.
+    front = opt.pareto
+    keep = np.asarray(front["dominated"]) == 0
+    x = np.asarray(front["peak_drift_ratio_2"])[keep]
+    y = np.asarray(front["peak_drift_ratio_1"])[keep]
+    order = np.argsort(x)
+    assert len(x) >= 2 and np.all(np.diff(y[order]) < 0)
+    limit = np.asarray(front["limit"])
+    bounded = np.isfinite(limit)
+    assert np.all(np.asarray(front["peak_drift_ratio_2"])[bounded] <= limit[bounded] * (1 + 1e-6))
+
+
 STUDY_SETTINGS = ["study.threads=2", "frf.points=30", "study.parameter[1].values=[0.0, 0.0625, 0.125, 0.25, 0.5, 0.75]"]
 
 

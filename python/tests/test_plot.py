@@ -527,6 +527,27 @@ def script(name: str, *args) -> subprocess.CompletedProcess:
     return r
 
 
+def test_a_pareto_front_is_drawn_as_written(tmp_path):
+    out = cli_run(EXAMPLES / "design_5_and_8_storeys.toml", tmp_path / "design", "analysis.duration=2",
+                  "optimize.global_evaluations=4", "optimize.local_evaluations=4", "optimize.pareto.points=3")
+    opt = poundsim.read(out)
+    fig = pp.pareto(opt, reference={"bare pounding": (0.02, 0.01)})
+    ax = fig.axes[0]
+    front = next(line for line in ax.lines if line.get_gid() == "front")
+    keep = np.asarray(opt.pareto["dominated"]) == 0
+    x = np.asarray(opt.pareto["peak_drift_ratio_2"])[keep]
+    order = np.argsort(x)
+    assert np.array_equal(front.get_xdata(), x[order])
+    assert np.array_equal(front.get_ydata(), np.asarray(opt.pareto["peak_drift_ratio_1"])[keep][order])
+    assert ax.get_xlabel() == "peak_drift_ratio_2" and ax.get_ylabel() == "peak_drift_ratio_1"
+    assert any(line.get_gid() == "reference_0" for line in ax.lines)
+    plt.close(fig)
+    script("plot_pareto.py", out)
+    png_size(out / "pareto.png")
+    with pytest.raises(ValueError, match="no Pareto front"):
+        pp.pareto(poundsim.Optimization({}, opt.evaluations))
+
+
 def test_a_scaled_ensembles_spectra_are_drawn_as_written(tmp_path):
     out = cli_run(EXAMPLES / "ensemble_ec8_spectrum.toml", tmp_path / "scaled")
     result = poundsim.read(out)

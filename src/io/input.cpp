@@ -1489,6 +1489,57 @@ OptimizeSettings read_optimize(TableReader& t) {
   if (o.global_algorithm == "none" && o.local_algorithm == "none") {
     t.fail(t.has("local") ? "local" : "global", "both stages are \"none\": nothing would be optimised");
   }
+  if (t.has("objective")) {
+    o.objective = t.string("objective");
+    o.objective_where = t.where("objective");
+    if (o.objective == objective_alias) o.objective = "max_peak_V_W";
+    if (o.objective.empty()) t.fail("objective", "is empty: name a figure (a study column)");
+  }
+  for (TableReader& c : t.has("constraint") ? t.tables("constraint") : std::vector<TableReader>{}) {
+    c.declare<keys::OptimizeConstraint>();
+    OptimizeConstraint constraint;
+    constraint.metric = c.string("metric");
+    constraint.where = c.where("metric");
+    if (constraint.metric.empty()) c.fail("metric", "is empty: name a figure (a study column)");
+    constraint.min = c.optional_number("min");
+    constraint.max = c.optional_number("max");
+    if (!constraint.min && !constraint.max) c.fail("metric", "needs a limit: min, max or both");
+    if (constraint.min && constraint.max && !(*constraint.max > *constraint.min)) c.fail("max", "must be larger than min");
+    c.finish();
+    o.constraints.push_back(std::move(constraint));
+  }
+  if (std::optional<TableReader> p = t.optional_table("pareto")) {
+    p->declare<keys::ParetoFront>();
+    ParetoSettings pareto;
+    pareto.metric = p->string("metric");
+    pareto.where = p->where("metric");
+    pareto.objective = o.objective;
+    if (p->has("objective")) {
+      pareto.objective = p->string("objective");
+      pareto.objective_where = p->where("objective");
+      if (pareto.objective == objective_alias) pareto.objective = "max_peak_V_W";
+    }
+    if (pareto.metric.empty()) p->fail("metric", "is empty: name a figure (a study column)");
+    if (pareto.objective.empty()) p->fail("objective", "is empty: name a figure (a study column)");
+    if (pareto.metric == pareto.objective) {
+      p->fail("metric", fmt::format("is the front's objective, {}: name a second figure", pareto.objective));
+    }
+    if (p->has("limits") == p->has("points")) p->fail("metric", "needs either limits or points");
+    if (p->has("limits")) {
+      pareto.limits = p->numbers("limits");
+      if (pareto.limits.size() > static_cast<std::size_t>(limits::pareto_points)) {
+        p->fail("limits", fmt::format("{} limits: at most {}", pareto.limits.size(), limits::pareto_points));
+      }
+      if (!std::is_sorted(pareto.limits.begin(), pareto.limits.end()) ||
+          std::adjacent_find(pareto.limits.begin(), pareto.limits.end()) != pareto.limits.end()) {
+        p->fail("limits", "must increase");
+      }
+    } else {
+      pareto.points = p->integer("points", 2, limits::pareto_points);
+    }
+    p->finish();
+    o.pareto = std::move(pareto);
+  }
   for (TableReader& v : t.tables("variable")) {
     v.declare<keys::OptimizeVariable>();
     OptimizeVariable var;
@@ -2104,8 +2155,27 @@ toml::table study_table(const StudySettings& s) {
 }
 
 toml::table optimize_table(const OptimizeSettings& o) {
-  toml::table t{{"global", o.global_algorithm}, {"local", o.local_algorithm}};
+  toml::table t{{"global", o.global_algorithm}, {"local", o.local_algorithm}, {"objective", o.objective}};
   write_fields(t, o);
+  if (!o.constraints.empty()) {
+    toml::array constraints;
+    for (const OptimizeConstraint& c : o.constraints) {
+      toml::table constraint{{"metric", c.metric}};
+      if (c.min) constraint.insert("min", *c.min);
+      if (c.max) constraint.insert("max", *c.max);
+      constraints.push_back(std::move(constraint));
+    }
+    t.insert("constraint", std::move(constraints));
+  }
+  if (o.pareto) {
+    toml::table pareto{{"objective", o.pareto->objective}, {"metric", o.pareto->metric}};
+    if (o.pareto->limits.empty()) {
+      pareto.insert("points", o.pareto->points);
+    } else {
+      pareto.insert("limits", number_array(o.pareto->limits));
+    }
+    t.insert("pareto", std::move(pareto));
+  }
   if (o.each == PointRun::frf) t.insert("band", band(o.band_min, o.band_max));
   toml::array variables;
   for (const OptimizeVariable& v : o.variables) {

@@ -1,5 +1,7 @@
 #include "poundsim/optimize/optimize_run.hpp"
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -43,14 +45,6 @@ nlopt::algorithm algorithm(const std::string& name, const RunInput& input, const
   return static_cast<nlopt::algorithm>(a);
 }
 
-/// The column of the figure that `objective` minimises, and what it measures.
-std::pair<std::string, std::string> objective_metric(Objective objective) {
-  if (objective == Objective::max_peak) {
-    return {std::string(column_names::max_peak_V_W), "the larger of the frames' peak base shear V/W"};
-  }
-  return {std::string(column_names::max_ratio_to_free), "the larger of the frames' peak V/W divided by the same frame's peak without gap elements"};
-}
-
 /// The overrides that set the design variables to `x`.
 PointValues point_values(const OptimizeSettings& settings, const std::vector<double>& x) {
   PointValues values;
@@ -58,25 +52,56 @@ PointValues point_values(const OptimizeSettings& settings, const std::vector<dou
   return values;
 }
 
+constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+
+/// One design evaluated: its figures and the values of the figures the goals ask for.
 struct Evaluation {
   std::vector<double> x;
-  double objective = kRejected;
   std::string stage, status, error;
   PointFigures figures;
+  std::vector<double> metrics;  ///< Per Problem::metrics(); NaN when not done or not a figure.
+};
+
+/// A limit on metric `metric` (an index into Problem::metrics()), as NLopt's c(x) ≤ 0.
+struct Bound {
+  std::size_t metric = 0;
+  double limit = 0;
+  bool upper = true;
+  /// How far `value` breaks the limit, relative to it (absolute for a limit of 0); kRejected
+  /// when there is no value.
+  [[nodiscard]] double violation(double value) const {
+    if (std::isnan(value)) return kRejected;
+    const double scale = limit != 0 ? std::abs(limit) : 1.0;
+    return (upper ? value - limit : limit - value) / scale;
+  }
+};
+
+/// What one optimisation minimises, subject to what.
+struct Goal {
+  std::size_t objective = 0;  ///< An index into Problem::metrics().
+  std::vector<Bound> bounds;
+  std::string label;          ///< Prefix of its stages' names ("" for the main one).
 };
 
 class Problem {
  public:
-  Problem(const RunInput& input, const std::function<void(int, int)>& progress, int budget)
-      : input_(input), settings_(*input.optimize), progress_(progress), budget_(budget) {}
+  Problem(const RunInput& input, std::vector<std::string> metrics, const std::function<void(int, int)>& progress,
+          int budget)
+      : input_(input), settings_(*input.optimize), metrics_(std::move(metrics)), progress_(progress), budget_(budget) {}
 
-  double operator()(const std::vector<double>& x, const std::string& stage) {
-    if (auto it = memo_.find(x); it != memo_.end()) return it->second;
-    Evaluation e{x, kRejected, stage, "done", "", {}};
+  /// The evaluation at x, run unless it was before.
+  const Evaluation& operator()(const std::vector<double>& x, const std::string& stage) {
+    if (auto it = memo_.find(x); it != memo_.end()) return evaluations_[it->second];
+    Evaluation e{x, stage, "done", "", {}, std::vector<double>(metrics_.size(), kNone)};
     try {
       const RunInput point = with_settings(input_, point_values(settings_, x));
       e.figures = point_figures(point, settings_.threads, nullptr);
-      e.objective = objective_of(e.figures, settings_.objective);
+      const std::vector<FigureColumn> columns = e.figures.columns();
+      for (std::size_t m = 0; m < metrics_.size(); ++m) {
+        for (const FigureColumn& c : columns) {
+          if (c.name == metrics_[m]) e.metrics[m] = c.value;
+        }
+      }
     } catch (const InputError& err) {
       e.status = "rejected";
       e.error = err.what();
@@ -84,64 +109,233 @@ class Problem {
       e.status = "failed";
       e.error = err.what();
     }
-    memo_[x] = e.objective;
-    evaluations_.push_back(e);
+    memo_[x] = evaluations_.size();
+    evaluations_.push_back(std::move(e));
     if (progress_) progress_(static_cast<int>(evaluations_.size()), budget_);
-    return e.objective;
+    return evaluations_.back();
   }
 
-  [[nodiscard]] const std::vector<Evaluation>& evaluations() const { return evaluations_; }
-  [[nodiscard]] const Evaluation* best() const {
+  [[nodiscard]] double objective(const Evaluation& e, const Goal& goal) const {
+    const double value = e.metrics[goal.objective];
+    return e.status == "done" && !std::isnan(value) ? value : kRejected;
+  }
+  /// The largest relative violation of the goal's bounds (≤ 0: all hold), kRejected for an
+  /// evaluation that did not run.
+  [[nodiscard]] double violation(const Evaluation& e, const Goal& goal) const {
+    if (e.status != "done") return kRejected;
+    double worst = -std::numeric_limits<double>::infinity();
+    for (const Bound& b : goal.bounds) worst = std::max(worst, b.violation(e.metrics[b.metric]));
+    return worst;
+  }
+  [[nodiscard]] bool feasible(const Evaluation& e, const Goal& goal) const {
+    return e.status == "done" && (goal.bounds.empty() || violation(e, goal) <= settings_.constraint_tolerance);
+  }
+
+  /// The goal's best design among every evaluation so far: the feasible one of least objective,
+  /// or, when none is feasible, the one that breaks the bounds least.
+  [[nodiscard]] const Evaluation* best(const Goal& goal) const {
     const Evaluation* b = nullptr;
     for (const Evaluation& e : evaluations_) {
-      if (e.status == "done" && (b == nullptr || e.objective < b->objective)) b = &e;
+      if (e.status != "done") continue;
+      if (b == nullptr) {
+        b = &e;
+        continue;
+      }
+      const bool fe = feasible(e, goal), fb = feasible(*b, goal);
+      if (fe != fb) {
+        if (fe) b = &e;
+      } else if (fe ? objective(e, goal) < objective(*b, goal) : violation(e, goal) < violation(*b, goal)) {
+        b = &e;
+      }
     }
     return b;
   }
 
+  [[nodiscard]] const std::vector<Evaluation>& evaluations() const { return evaluations_; }
+  [[nodiscard]] const std::vector<std::string>& metrics() const { return metrics_; }
+
  private:
   const RunInput& input_;
   const OptimizeSettings& settings_;
+  std::vector<std::string> metrics_;
   std::function<void(int, int)> progress_;
   int budget_;
-  std::map<std::vector<double>, double> memo_;
+  std::map<std::vector<double>, std::size_t> memo_;
   std::vector<Evaluation> evaluations_;
 };
 
+/// What NLopt's callbacks of one stage share.
 struct Stage {
   Problem* problem;
+  const Goal* goal;
   std::string name;
   bool stopped = false;  ///< The caller asked the run to stop (RunStopped from its progress).
 };
 
-double objective(const std::vector<double>& x, std::vector<double>& /*gradient*/, void* data) {
-  auto* stage = static_cast<Stage*>(data);
+struct BoundCallback {
+  Stage* stage;
+  const Bound* bound;
+};
+
+/// Runs `f` for NLopt: RunStopped (the caller's progress stops the run) becomes forced_stop,
+/// which ends the stage (NLopt's C++ wrapper turns any other exception into a generic failure).
+template <class F>
+double nlopt_guarded(Stage& stage, F&& f) {
   try {
-    return (*stage->problem)(x, stage->name);
+    return f();
   } catch (const RunStopped&) {
-    // NLopt's C++ wrapper turns any other exception into a generic failure: forced_stop ends the
-    // stage, and run_stage stops the run.
-    stage->stopped = true;
+    stage.stopped = true;
     throw nlopt::forced_stop();
   }
 }
 
-/// Runs one NLopt stage from x; returns NLopt's outcome as text.
-std::string run_stage(nlopt::opt& opt, Problem& problem, const std::string& name, std::vector<double>& x) {
-  Stage stage{&problem, name};
-  opt.set_min_objective(objective, &stage);
+double objective_callback(const std::vector<double>& x, std::vector<double>& /*gradient*/, void* data) {
+  auto* stage = static_cast<Stage*>(data);
+  return nlopt_guarded(*stage, [&] { return stage->problem->objective((*stage->problem)(x, stage->name), *stage->goal); });
+}
+
+double bound_callback(unsigned n, const double* x, double* /*gradient*/, void* data) {
+  auto* c = static_cast<BoundCallback*>(data);
+  const std::vector<double> point(x, x + n);
+  return nlopt_guarded(*c->stage, [&] {
+    const Evaluation& e = (*c->stage->problem)(point, c->stage->name);
+    return e.status == "done" ? c->bound->violation(e.metrics[c->bound->metric]) : kRejected;
+  });
+}
+
+/// One NLopt stage of `goal` from x: the algorithm alone when it takes constraints (or there
+/// are none), else inside AUGLAG. Returns the stage as it ran.
+OptimizationStage run_stage(const nlopt::algorithm algorithm, const std::string& algorithm_name, bool global,
+                            const std::vector<double>& lower, const std::vector<double>& upper, int budget,
+                            const OptimizeSettings& s, Problem& problem, const Goal& goal, const std::string& name,
+                            std::vector<double>& x) {
+  const auto n = static_cast<unsigned>(x.size());
+  // A start from another stage may lie outside the box by rounding (COBYLA's steps can cross a
+  // bound by an ulp), which NLopt refuses.
+  for (unsigned i = 0; i < n; ++i) x[i] = std::clamp(x[i], lower[i], upper[i]);
+  Stage stage{&problem, &goal, goal.label + name};
+  std::vector<BoundCallback> callbacks;
+  callbacks.reserve(goal.bounds.size());
+  for (const Bound& b : goal.bounds) callbacks.push_back({&stage, &b});
+  const auto configure = [&](nlopt::opt& opt, int evaluations) {
+    opt.set_lower_bounds(lower);
+    opt.set_upper_bounds(upper);
+    opt.set_maxeval(evaluations);
+    if (!global) {
+      opt.set_ftol_rel(s.relative_tolerance);
+      std::vector<double> step;
+      for (unsigned i = 0; i < n; ++i) step.push_back(0.1 * (upper[i] - lower[i]));
+      opt.set_initial_step(step);
+    }
+  };
+  nlopt::opt opt(algorithm, n);
+  configure(opt, budget);
+  std::string ran = algorithm_name;
+  try {
+    for (BoundCallback& c : callbacks) opt.add_inequality_constraint(bound_callback, &c, 0.0);
+  } catch (const std::invalid_argument&) {
+    // The algorithm takes no constraints: the augmented Lagrangian minimises penalised
+    // objectives with it, each subproblem to the relative tolerance. A global one has no such
+    // test: it searches the first penalised objective with the whole budget (its next ones
+    // would sample the same points again), and the local stage then meets the constraints.
+    nlopt::opt sub(algorithm, n);
+    configure(sub, budget);
+    sub.set_ftol_rel(s.relative_tolerance);
+    opt = nlopt::opt(nlopt::AUGLAG, n);
+    opt.set_lower_bounds(lower);
+    opt.set_upper_bounds(upper);
+    opt.set_maxeval(budget);
+    opt.set_ftol_rel(s.relative_tolerance);
+    opt.set_local_optimizer(sub);
+    for (BoundCallback& c : callbacks) opt.add_inequality_constraint(bound_callback, &c, 0.0);
+    ran = fmt::format("AUGLAG({})", algorithm_name);
+  }
+  opt.set_min_objective(objective_callback, &stage);
+  const std::size_t before = problem.evaluations().size();
+  std::string outcome;
   double value = 0;
   try {
-    const nlopt::result r = opt.optimize(x, value);
-    return nlopt_result_to_string(static_cast<nlopt_result>(r));
+    outcome = nlopt_result_to_string(static_cast<nlopt_result>(opt.optimize(x, value)));
   } catch (const nlopt::roundoff_limited&) {
-    return "ROUNDOFF_LIMITED";
+    outcome = "ROUNDOFF_LIMITED";
   } catch (const nlopt::forced_stop&) {
     if (stage.stopped) throw RunStopped();
-    return "FORCED_STOP";
+    outcome = "FORCED_STOP";
   } catch (const std::invalid_argument& e) {
-    throw SimulationError(fmt::format("NLopt rejected the {} stage: {}", name, e.what()));
+    throw SimulationError(fmt::format("NLopt rejected the {} stage: {}", stage.name, e.what()));
   }
+  return {stage.name, ran, outcome, static_cast<long>(problem.evaluations().size() - before)};
+}
+
+/// The algorithms and budgets of the two stages.
+struct Stages {
+  std::optional<std::pair<nlopt::algorithm, std::string>> global, local;
+  std::vector<double> lower, upper;
+};
+
+/// Minimises `goal` from x with the global stage, then the local one from the goal's best point;
+/// returns the goal's best evaluation.
+const Evaluation& optimise(const Stages& stages, const OptimizeSettings& s, Problem& problem, const Goal& goal,
+                           const std::vector<double>& x, std::vector<OptimizationStage>& ran) {
+  if (stages.global) {
+    std::vector<double> g = x;
+    ran.push_back(run_stage(stages.global->first, stages.global->second, true, stages.lower, stages.upper,
+                            s.global_evaluations, s, problem, goal, "global", g));
+  }
+  if (stages.local) {
+    const Evaluation* best = problem.best(goal);
+    std::vector<double> l = best != nullptr ? best->x : x;
+    ran.push_back(run_stage(stages.local->first, stages.local->second, false, stages.lower, stages.upper,
+                            s.local_evaluations, s, problem, goal, "local", l));
+  }
+  const Evaluation* best = problem.best(goal);
+  if (best == nullptr) throw SimulationError("optimize: no evaluation succeeded");
+  return *best;
+}
+
+/// "{where}: "name" is not a figure …" unless every evaluation of this kind has it.
+void require_figure(const std::string& name, const std::string& where, const Evaluation& start,
+                    const OptimizeSettings& s, const RunInput& input) {
+  for (const FigureColumn& c : start.figures.columns()) {
+    if (c.name == name) return;
+  }
+  std::vector<std::string> names;
+  for (const FigureColumn& c : start.figures.columns()) names.push_back(c.name);
+  std::sort(names.begin(), names.end());
+  throw InputError(fmt::format("{}: \"{}\" is not a figure of an evaluation (each = \"{}\") of this model; its "
+                               "figures are: {}",
+                               where.empty() ? input.source.string() + ": optimize.objective" : where, name,
+                               to_string(s.each), fmt::join(names, ", ")));
+}
+
+/// Marks the points of the front that another point dominates (no worse in both figures,
+/// better in one); infeasible points neither dominate nor count.
+void mark_dominated(std::vector<ParetoPoint>& points) {
+  for (ParetoPoint& p : points) {
+    p.dominated = !p.feasible;
+    for (const ParetoPoint& q : points) {
+      if (&p == &q || !q.feasible || p.dominated) continue;
+      if (q.objective <= p.objective && q.metric <= p.metric && (q.objective < p.objective || q.metric < p.metric)) {
+        p.dominated = true;
+      }
+    }
+  }
+}
+
+std::vector<ConstraintOutcome> constraint_outcomes(const OptimizeSettings& s, const PointFigures& figures) {
+  std::vector<ConstraintOutcome> out;
+  for (const io::OptimizeConstraint& c : s.constraints) {
+    ConstraintOutcome o{c, figures.figure(c.metric), false};
+    if (o.value) {
+      const double tolerance = s.constraint_tolerance;
+      const auto within = [&](double limit, bool upper) {
+        return Bound{0, limit, upper}.violation(*o.value) <= tolerance;
+      };
+      o.holds = (!c.min || within(*c.min, false)) && (!c.max || within(*c.max, true));
+    }
+    out.push_back(std::move(o));
+  }
+  return out;
 }
 
 }  // namespace
@@ -156,22 +350,44 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
   const bool global = s.global_algorithm != "none", local = s.local_algorithm != "none";
   if (!global && !local) throw InputError(fmt::format("{}: optimize: both stages are \"none\"", input.source.string()));
   const auto start = std::chrono::steady_clock::now();
-  const auto n = static_cast<unsigned>(s.variables.size());
-  std::vector<double> lower, upper, x;
+  const std::size_t n = s.variables.size();
+  Stages stages;
+  std::vector<double> x;
   for (const OptimizeVariable& v : s.variables) {
-    lower.push_back(v.min);
-    upper.push_back(v.max);
+    stages.lower.push_back(v.min);
+    stages.upper.push_back(v.max);
     x.push_back(v.start.value_or(0.5 * (v.min + v.max)));
   }
   // Both algorithms are resolved first, so that a bad name is reported before any evaluation.
-  const nlopt::algorithm global_algorithm = global ? algorithm(s.global_algorithm, input, "global") : nlopt::NUM_ALGORITHMS;
-  const nlopt::algorithm local_algorithm = local ? algorithm(s.local_algorithm, input, "local") : nlopt::NUM_ALGORITHMS;
-  // The starting point, then each stage's evaluations.
-  const int budget = 1 + (global ? s.global_evaluations : 0) + (local ? s.local_evaluations : 0);
-  Problem problem(input, progress, budget);
-  // The starting point is evaluated first, so that a bad key is reported before any search.
-  problem(x, "start");
-  if (const Evaluation& first = problem.evaluations().back(); first.status == "rejected") {
+  if (global) stages.global.emplace(algorithm(s.global_algorithm, input, "global"), s.global_algorithm);
+  if (local) stages.local.emplace(algorithm(s.local_algorithm, input, "local"), s.local_algorithm);
+
+  // The figures the goals ask for: the objective, each constraint's, the front's second one.
+  std::vector<std::string> metrics{s.objective};
+  const auto metric_index = [&](const std::string& name) {
+    const auto it = std::find(metrics.begin(), metrics.end(), name);
+    if (it != metrics.end()) return static_cast<std::size_t>(it - metrics.begin());
+    metrics.push_back(name);
+    return metrics.size() - 1;
+  };
+  Goal main_goal{.objective = 0, .bounds = {}, .label = ""};
+  for (const io::OptimizeConstraint& c : s.constraints) {
+    const std::size_t m = metric_index(c.metric);
+    if (c.min) main_goal.bounds.push_back({m, *c.min, false});
+    if (c.max) main_goal.bounds.push_back({m, *c.max, true});
+  }
+  const std::size_t front_objective = s.pareto ? metric_index(s.pareto->objective) : 0;
+  const std::size_t front_metric = s.pareto ? metric_index(s.pareto->metric) : 0;
+  // The starting point, then each optimisation's stages: the main one, and for a front its
+  // objective's own optimum (unless the main one's), the second figure's (points) and one per limit.
+  const int runs = !s.pareto ? 1
+                             : 1 + (front_objective != 0 ? 1 : 0) +
+                                   (s.pareto->limits.empty() ? s.pareto->points : static_cast<int>(s.pareto->limits.size()));
+  const int budget = 1 + runs * ((global ? s.global_evaluations : 0) + (local ? s.local_evaluations : 0));
+  Problem problem(input, metrics, progress, budget);
+  // The starting point is evaluated first, so that a bad key or figure is reported before any search.
+  const Evaluation& first = problem(x, "start");
+  if (first.status == "rejected") {
     // Reported where the file defines the variable whose value was rejected, else at the file.
     std::string where = input.source.string(), values;
     for (std::size_t i = 0; i < n; ++i) {
@@ -183,40 +399,65 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
     }
     throw InputError(fmt::format("{}: the starting point ({}) is rejected: {}", where, values, first.error));
   }
+  if (first.status == "done") {
+    require_figure(s.objective, s.objective_where, first, s, input);
+    for (const io::OptimizeConstraint& c : s.constraints) require_figure(c.metric, c.where, first, s, input);
+    if (s.pareto) {
+      require_figure(s.pareto->objective, s.pareto->objective_where.empty() ? s.objective_where : s.pareto->objective_where,
+                     first, s, input);
+      require_figure(s.pareto->metric, s.pareto->where, first, s, input);
+    }
+  }
   nlopt::srand(s.seed);
-  std::vector<OptimizationStage> stages;
-  if (global) {
-    nlopt::opt opt(global_algorithm, n);
-    opt.set_lower_bounds(lower);
-    opt.set_upper_bounds(upper);
-    opt.set_maxeval(s.global_evaluations);
-    const std::size_t before = problem.evaluations().size();
-    std::vector<double> g = x;
-    const std::string outcome = run_stage(opt, problem, "global", g);
-    stages.push_back({"global", s.global_algorithm, outcome,
-                      static_cast<long>(problem.evaluations().size() - before)});
+  std::vector<OptimizationStage> ran;
+  // Kept by value: the evaluations grow as the front's runs go on.
+  const Evaluation first_optimum = optimise(stages, s, problem, main_goal, x, ran);
+
+  std::optional<ParetoResult> pareto;
+  if (s.pareto) {
+    // The front's objective minimised under the constraints alone: the main optimum, or its own.
+    Goal front_goal{.objective = front_objective, .bounds = main_goal.bounds, .label = "pareto_objective."};
+    const Evaluation front_optimum =
+        front_objective == 0 ? first_optimum : optimise(stages, s, problem, front_goal, first_optimum.x, ran);
+    std::vector<double> limits = s.pareto->limits;
+    if (limits.empty()) {
+      // The ε-constraint method between the two anchors: the second figure at the objective's
+      // optimum (its largest useful limit) and its own least value.
+      Goal anchor{.objective = front_metric, .bounds = main_goal.bounds, .label = "pareto_metric."};
+      const Evaluation least = optimise(stages, s, problem, anchor, front_optimum.x, ran);
+      const double hi = front_optimum.metrics[front_metric], lo = least.metrics[front_metric];
+      const int points = s.pareto->points;
+      for (int j = 0; j + 1 < points; ++j) limits.push_back(lo + (hi - lo) * j / (points - 1));
+    }
+    std::vector<Goal> goals;
+    for (std::size_t j = 0; j < limits.size(); ++j) {
+      Goal goal = front_goal;
+      goal.bounds.push_back({front_metric, limits[j], true});
+      goal.label = fmt::format("pareto[{}].", j + 1);
+      static_cast<void>(optimise(stages, s, problem, goal, front_optimum.x, ran));
+      goals.push_back(std::move(goal));
+    }
+    goals.push_back(front_goal);
+    // Each point is its goal's best design of every evaluation the runs made (a later run may
+    // have found a better one for an earlier limit).
+    pareto.emplace();
+    pareto->objective = s.pareto->objective;
+    pareto->metric = s.pareto->metric;
+    for (std::size_t j = 0; j < goals.size(); ++j) {
+      const Evaluation& e = *problem.best(goals[j]);
+      pareto->points.push_back({.limit = j < limits.size() ? std::optional<double>(limits[j]) : std::nullopt,
+                                .optimum = e.x,
+                                .objective = e.metrics[front_objective],
+                                .metric = e.metrics[front_metric],
+                                .feasible = problem.feasible(e, goals[j])});
+    }
+    mark_dominated(pareto->points);
   }
-  if (local) {
-    const Evaluation* best = problem.best();
-    std::vector<double> l = best != nullptr ? best->x : x;
-    nlopt::opt opt(local_algorithm, n);
-    opt.set_lower_bounds(lower);
-    opt.set_upper_bounds(upper);
-    opt.set_maxeval(s.local_evaluations);
-    opt.set_ftol_rel(s.relative_tolerance);
-    std::vector<double> step;
-    for (unsigned i = 0; i < n; ++i) step.push_back(0.1 * (upper[i] - lower[i]));
-    opt.set_initial_step(step);
-    const std::size_t before = problem.evaluations().size();
-    const std::string outcome = run_stage(opt, problem, "local", l);
-    stages.push_back({"local", s.local_algorithm, outcome,
-                      static_cast<long>(problem.evaluations().size() - before)});
-  }
-  const Evaluation* best = problem.best();
-  if (best == nullptr) throw SimulationError("optimize: no evaluation succeeded");
+  // The optimum: the best design for the main goal of every evaluation, the front's included.
+  const Evaluation& optimum = *problem.best(main_goal);
 
   // The optimum's response against bare pounding and the free frames.
-  const RunInput best_point = with_settings(input, point_values(s, best->x));
+  const RunInput best_point = with_settings(input, point_values(s, optimum.x));
   PointFigures bare_figures;
   std::optional<io::Table> optimum_frf, bare_frf;
   // The responses below report as the last evaluation did, so that a caller's progress (which
@@ -248,39 +489,74 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
       number.push_back(static_cast<std::int64_t>(k + 1));
       stage.push_back(all[k].stage);
     }
-    for (std::size_t i = 0; i < s.variables.size(); ++i) {
+    for (std::size_t i = 0; i < n; ++i) {
       auto& values = table.numbers(s.variables[i].key, io::column_unit(s.variables[i].key));
       for (const Evaluation& e : all) values.push_back(e.x[i]);
     }
-    auto& objective = table.numbers("objective", io::column_unit(objective_metric(s.objective).first));
+    for (std::size_t m = 0; m < metrics.size(); ++m) {
+      auto& values = table.numbers(m == 0 ? "objective" : metrics[m], io::column_unit(metrics[m]));
+      for (const Evaluation& e : all) values.push_back(e.status == "done" ? e.metrics[m] : kNone);  // none: an empty field
+    }
+    if (!main_goal.bounds.empty()) {
+      auto& feasible = table.integers("feasible");
+      for (const Evaluation& e : all) feasible.push_back(problem.feasible(e, main_goal) ? 1 : 0);
+    }
     auto& status = table.texts("status");
     auto& error = table.texts("error");
     for (const Evaluation& e : all) {
-      objective.push_back(e.status == "done" ? e.objective : std::nan(""));  // none: an empty field
       status.push_back(e.status);
       error.push_back(e.error);
     }
   }
+  std::optional<io::Table> pareto_table;
+  if (pareto) {
+    io::Table t;
+    auto& point = t.integers("point");
+    auto& limit = t.numbers("limit", io::column_unit(pareto->metric));
+    auto& objective = t.numbers(pareto->objective, io::column_unit(pareto->objective));
+    auto& metric = t.numbers(pareto->metric, io::column_unit(pareto->metric));
+    auto& feasible = t.integers("feasible");
+    auto& dominated = t.integers("dominated");
+    for (std::size_t j = 0; j < pareto->points.size(); ++j) {
+      const ParetoPoint& p = pareto->points[j];
+      point.push_back(static_cast<std::int64_t>(j + 1));
+      limit.push_back(p.limit.value_or(kNone));  // the objective's own optimum: no limit
+      objective.push_back(p.objective);
+      metric.push_back(p.metric);
+      feasible.push_back(p.feasible ? 1 : 0);
+      dominated.push_back(p.dominated ? 1 : 0);
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      auto& values = t.numbers(s.variables[i].key, io::column_unit(s.variables[i].key));
+      for (const ParetoPoint& p : pareto->points) values.push_back(p.optimum[i]);
+    }
+    pareto_table = std::move(t);
+  }
   const double run_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const auto [metric, meaning] = objective_metric(s.objective);
   OptimizationResult result{.source = input.source,
                             .title = input.title,
                             .settings = s,
-                            .optimum = best->x,
-                            .objective = best->objective,
-                            .optimum_figures = best->figures,
+                            .optimum = optimum.x,
+                            .objective = optimum.metrics[0],
+                            .feasible = problem.feasible(optimum, main_goal),
+                            .constraints = constraint_outcomes(s, optimum.figures),
+                            .bare_constraints = constraint_outcomes(s, bare_figures),
+                            .optimum_figures = optimum.figures,
                             .bare_figures = std::move(bare_figures),
-                            .metric = metric,
-                            .meaning = meaning,
-                            .stages = std::move(stages),
+                            .metric = s.objective,
+                            .meaning = figure_meaning(s.objective),
+                            .stages = std::move(ran),
                             .evaluations = static_cast<long>(problem.evaluations().size()),
                             .run_time = run_time,
                             .evaluation_table = std::move(table),
                             .optimum_frf = std::move(optimum_frf),
-                            .bare_frf = std::move(bare_frf)};
+                            .bare_frf = std::move(bare_frf),
+                            .pareto = std::move(pareto),
+                            .pareto_table = std::move(pareto_table)};
   OutputTransaction out(out_dir);
   if (result.optimum_frf) write_csv(out.open("optimum_frf.csv"), *result.optimum_frf);
   if (result.bare_frf) write_csv(out.open("bare_frf.csv"), *result.bare_frf);
+  if (result.pareto_table) write_csv(out.open("pareto.csv"), *result.pareto_table);
   write_csv(out.open("evaluations.csv"), result.evaluation_table);
   out.write_json("optimize.json", to_json(result));
   // Its variables name keys of the file's own form: the file as written (to_toml_as_written).
@@ -289,14 +565,50 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
   return result;
 }
 
+std::string figure_meaning(std::string_view name) {
+  // The figures an engineer designs against; a per-frame, per-floor or per-element column
+  // (peak_drift_ratio_2, stroke_use_1_3) is the same figure of one frame, floor or element.
+  static constexpr std::array<std::pair<std::string_view, std::string_view>, 13> meanings{{
+      {"max_peak_V_W", "the larger of the frames' peak base shear V/W"},
+      {"max_ratio_to_free", "the larger of the frames' peak V/W divided by the same frame's peak without gap elements"},
+      {"max_peak_drift_ratio", "the worse frame's peak storey drift ratio |u_i − u_{i−1}|/h_i"},
+      {"max_peak_drift_m", "the worse frame's peak storey drift |u_i − u_{i−1}| [m]"},
+      {"max_peak_abs_acc_g", "the largest peak absolute floor acceleration [g]"},
+      {"max_residual_drift_ratio", "the worse frame's storey drift ratio at the end of the run"},
+      {"max_residual_drift_m", "the worse frame's storey drift at the end of the run [m]"},
+      {"max_stroke_use", "the largest share of a gap element's stroke used, max s/ε (1: it reached its stop)"},
+      {"max_gap_force_N", "the largest gap-element force [N]"},
+      {"max_impact_impulse_Ns", "the largest impulse of one impact [N·s]"},
+      {"hysteretic_energy_J", "the energy the yielding storeys dissipated [J]"},
+      {"impacts", "the number of impacts"},
+      {"max_ratio_to_bare", "the larger of the frames' peak V/W divided by bare pounding's"},
+  }};
+  for (const auto& [figure, meaning] : meanings) {
+    if (figure == name) return std::string(meaning);
+  }
+  return {};
+}
+
 namespace {
 /// The optimum as key → value.
-json optimum_values(const OptimizationResult& result) {
+json optimum_values(const OptimizeSettings& s, const std::vector<double>& x) {
   json optimum = json::object();
-  for (std::size_t i = 0; i < result.settings.variables.size(); ++i) {
-    optimum[result.settings.variables[i].key] = result.optimum[i];
-  }
+  for (std::size_t i = 0; i < s.variables.size(); ++i) optimum[s.variables[i].key] = x[i];
   return optimum;
+}
+
+json optional_number(const std::optional<double>& value) { return value ? json(*value) : json(nullptr); }
+
+json constraints_json(const std::vector<ConstraintOutcome>& outcomes) {
+  json out = json::array();
+  for (const ConstraintOutcome& o : outcomes) {
+    out.push_back({{"metric", o.constraint.metric},
+                   {"min", optional_number(o.constraint.min)},
+                   {"max", optional_number(o.constraint.max)},
+                   {"value", optional_number(o.value)},
+                   {"holds", o.holds}});
+  }
+  return out;
 }
 }  // namespace
 
@@ -309,7 +621,7 @@ json to_json(const OptimizationResult& result) {
                         {"objective", {{"metric", result.metric},
                                        {"meaning", result.meaning},
                                        {"optimum", result.objective},
-                                       {"bare_pounding", result.bare_objective()}}}};
+                                       {"bare_pounding", optional_number(result.bare_objective())}}}};
   json stages = json::array();
   for (const OptimizationStage& g : result.stages) {
     stages.push_back({{"stage", g.stage}, {"algorithm", g.algorithm}, {"outcome", g.outcome},
@@ -318,10 +630,10 @@ json to_json(const OptimizationResult& result) {
   json summary{{"poundsim_version", POUNDSIM_VERSION},
                {"input", result.source.string()},
                {"title", result.title},
-               {"analysis", {{"kind", "optimize"}, {"each", to_string(s.each)}, {"objective", to_string(s.objective)},
+               {"analysis", {{"kind", "optimize"}, {"each", to_string(s.each)}, {"objective", s.objective},
                              {"band", {s.band_min, s.band_max}}}},
                {"variables", json::array()},
-               {"optimum", optimum_values(result)},
+               {"optimum", optimum_values(s, result.optimum)},
                {"objective", result.objective},
                {"optimum_metrics", optimum_figures},
                {"comparison", comparison},
@@ -329,18 +641,57 @@ json to_json(const OptimizationResult& result) {
                {"evaluations", result.evaluations},
                {"run_time_s", result.run_time}};
   for (const OptimizeVariable& v : s.variables) summary["variables"].push_back({{"key", v.key}, {"min", v.min}, {"max", v.max}});
+  if (!s.constraints.empty()) {
+    summary["feasible"] = result.feasible;
+    summary["constraints"] = constraints_json(result.constraints);
+    summary["comparison"]["constraints"] = {{"optimum", constraints_json(result.constraints)},
+                                            {"bare_pounding", constraints_json(result.bare_constraints)}};
+  }
+  if (result.pareto) {
+    json points = json::array();
+    for (const ParetoPoint& p : result.pareto->points) {
+      points.push_back({{"limit", optional_number(p.limit)},
+                        {"objective", p.objective},
+                        {"metric", p.metric},
+                        {"feasible", p.feasible},
+                        {"dominated", p.dominated},
+                        {"optimum", optimum_values(s, p.optimum)}});
+    }
+    summary["pareto"] = {{"objective", result.pareto->objective}, {"metric", result.pareto->metric}, {"points", points}};
+  }
   return summary;
 }
 
 std::string report(const OptimizationResult& r, const std::filesystem::path& out_dir) {
   std::string text = fmt::format("poundsim {}: {} (optimisation, {} evaluations, {:.3f} s)\n", POUNDSIM_VERSION,
                                  r.source.string(), r.evaluations, r.run_time);
-  text += fmt::format("  objective {}: {} (lower is better)\n", r.metric, r.meaning);
-  text += fmt::format("  optimum {}: {} = {:.4f}\n", optimum_values(r).dump(), r.metric, r.objective);
-  text += fmt::format("  bare pounding at the joint width and restitution: {} = {:.4f}\n", r.metric,
-                      r.bare_objective());
-  text += fmt::format("  wrote {}/optimize.json, evaluations.csv, input.toml{}\n", out_dir.string(),
-                      r.settings.each == PointRun::frf ? ", optimum_frf.csv, bare_frf.csv" : "");
+  text += fmt::format("  objective {}: {} (lower is better)\n", r.metric, r.meaning.empty() ? "a figure of each evaluation" : r.meaning);
+  text += fmt::format("  optimum {}: {} = {:.4f}{}\n", optimum_values(r.settings, r.optimum).dump(), r.metric, r.objective,
+                      r.feasible ? "" : " (no evaluation met the constraints: this one breaks them least)");
+  for (std::size_t c = 0; c < r.constraints.size(); ++c) {
+    const ConstraintOutcome& o = r.constraints[c];
+    const ConstraintOutcome& b = r.bare_constraints[c];
+    const auto value = [](const ConstraintOutcome& x) {
+      return x.value ? fmt::format("{:.4g} ({})", *x.value, x.holds ? "holds" : "broken") : std::string("none");
+    };
+    const std::string limit = o.constraint.min && o.constraint.max
+                                  ? fmt::format("in [{}, {}]", *o.constraint.min, *o.constraint.max)
+                                  : o.constraint.max ? fmt::format("≤ {}", *o.constraint.max)
+                                                     : fmt::format("≥ {}", *o.constraint.min);
+    text += fmt::format("  constraint {} {}: optimum {}, bare pounding {}\n", o.constraint.metric, limit, value(o), value(b));
+  }
+  const std::optional<double> bare = r.bare_objective();
+  text += fmt::format("  bare pounding at the joint width and restitution: {} = {}\n", r.metric,
+                      bare ? fmt::format("{:.4f}", *bare) : std::string("none (not a figure of bare pounding)"));
+  if (r.pareto) {
+    text += fmt::format("  Pareto front of {} against {}: {} points, {} not dominated\n", r.pareto->objective,
+                        r.pareto->metric, r.pareto->points.size(),
+                        std::count_if(r.pareto->points.begin(), r.pareto->points.end(),
+                                      [](const ParetoPoint& p) { return !p.dominated; }));
+  }
+  text += fmt::format("  wrote {}/optimize.json, evaluations.csv, input.toml{}{}\n", out_dir.string(),
+                      r.settings.each == PointRun::frf ? ", optimum_frf.csv, bare_frf.csv" : "",
+                      r.pareto ? ", pareto.csv" : "");
   return text;
 }
 

@@ -46,6 +46,10 @@ CASES = [
     ("study_eta_mu", "examples/study_eta_mu.toml", []),
     ("optimize_gap_elements", "examples/optimize_gap_elements.toml", []),
     ("optimize_ensemble", "examples/optimize_ensemble.toml", []),
+    # The design example at a smaller budget and 4 s of each record (the whole of it: 24 s).
+    ("design_5_and_8_storeys", "examples/design_5_and_8_storeys.toml",
+     ["--set", "analysis.duration=4", "--set", "optimize.global_evaluations=6",
+      "--set", "optimize.local_evaluations=5", "--set", "optimize.pareto.points=3"]),
 ] + [(f"paper_fig{f}", f"examples/paper/fig{f}.toml", [])
      for f in ("2a", "2b", "2c", "3a", "3b", "4a", "4b")] + [
     ("paper_fig2c_sweep", "examples/paper/fig2c.toml", ["--set", "frf.sweep=both"]),

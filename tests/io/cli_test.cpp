@@ -186,6 +186,8 @@ TEST_F(Cli, EveryExampleRunsWithBothIntegrators) {
         extra += " --set frf.points=12 --set frf.steps_per_period=16 --set frf.method=simulation";
       }
       if (optimize) extra += " --set optimize.global_evaluations=6 --set optimize.local_evaluations=4";
+      // An optimisation over a suite of records with a front: 2 s of each record (the sanitizers).
+      if (optimize && text.find("[optimize.pareto]") != std::string::npos) extra += " --set analysis.duration=2";
       const Result r = run("run " + example.string() + " --quiet --out " + out.string() + extra);
       EXPECT_EQ(r.code, 0) << example << "\n" << r.output;
       EXPECT_EQ(r.output, "") << example;

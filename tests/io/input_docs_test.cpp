@@ -238,6 +238,8 @@ TEST(InputDocs, TheOtherTablesDocumentExactlyTheirDeclaredKeys) {
   expect_exactly_documented<io::keys::StudyParameter>("`[[study.parameter]]`:", "docs/studies.md");
   expect_documented<io::keys::OptimizeVariable>("`[[optimize.variable]]`:", no_default, "docs/studies.md");
   expect_exactly_documented<io::keys::OptimizeVariable>("`[[optimize.variable]]`:", "docs/studies.md");
+  expect_exactly_documented<io::keys::OptimizeConstraint>("`[[optimize.constraint]]`:", "docs/studies.md");
+  expect_exactly_documented<io::keys::ParetoFront>("`[optimize.pareto]`:", "docs/studies.md");
 }
 TEST(InputDocs, OptimiserKeysAreDocumentedAsDeclared) {
   expect_documented<io::OptimizeSettings>("## `analysis.kind = \"optimize\"`", {}, "docs/studies.md");

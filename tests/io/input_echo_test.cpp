@@ -58,7 +58,7 @@ void expect_same_model(const Model& a, const Model& b, const std::string& name) 
 // exact form), with the same model, joints, excitation and settings.
 TEST(InputEcho, EveryExampleReadsBackToTheInputThatRan) {
   const std::vector<fs::path> files = example_files();
-  ASSERT_EQ(files.size(), 25u);  // 13 examples, the 7 figures and the 5 contact laws
+  ASSERT_EQ(files.size(), 26u);  // 14 examples, the 7 figures and the 5 contact laws
   for (const fs::path& file : files) {
     const RunInput in = read_input(file);
     const std::string text = to_toml(in);

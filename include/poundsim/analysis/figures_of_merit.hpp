@@ -19,21 +19,48 @@
 
 namespace poundsim {
 
-/// One frame (columns peak_V{f}_W, free_peak_V{f}_W, ratio_to_free_{f}, peak_V{f}_at).
+/// One frame (columns peak_V{f}_W, free_peak_V{f}_W, ratio_to_free_{f}, peak_V{f}_at; a time
+/// history's also peak_drift_{f}_m, peak_abs_acc_{f}_g, residual_drift_{f}_m,
+/// hysteretic_energy_{f}_J, the free frame's free_peak_drift_{f}_m and free_peak_abs_acc_{f}_g,
+/// and with storey heights the drift ratios peak_drift_ratio_{f}, free_peak_drift_ratio_{f},
+/// residual_drift_ratio_{f}).
 struct FrameFigures {
   double peak_V_W = 0.0;       ///< Its peak base shear ÷ W (W: frame 1's weight).
   double free_peak_V_W = 0.0;  ///< The same without gap elements.
   double ratio_to_free = 0.0;  ///< peak_V_W ÷ free_peak_V_W; 0 when the free frame is at rest.
   double peak_at = 0.0;        ///< ω̄/ω₁ of the peak (a frequency response's only).
+  // A time history's, storey by storey and floor by floor the largest:
+  double peak_drift_m = 0.0, free_peak_drift_m = 0.0;  ///< |u_i − u_{i−1}| [m].
+  double peak_drift_ratio = 0.0, free_peak_drift_ratio = 0.0;  ///< |u_i − u_{i−1}| ÷ h_i.
+  double peak_abs_acc_g = 0.0, free_peak_abs_acc_g = 0.0;      ///< |ü_i + a_g| ÷ g.
+  /// |u_i − u_{i−1}| at the end of the run [m] and ÷ h_i: the residual drift of yielding storeys
+  /// once the motion has died out (let it: a duration beyond the record).
+  double residual_drift_m = 0.0, residual_drift_ratio = 0.0;
+  double hysteretic_energy_J = 0.0;  ///< Dissipated by its yielding storeys [J].
+  bool storey_heights = false;       ///< Whether it has storey heights, so drift ratios.
 };
 
 /// One floor of a time history: peaks with the gap elements and without, and their ratios
 /// (columns peak_u_{f}_{i}_m, free_peak_u_{f}_{i}_m, amp_u_{f}_{i}, amp_drift_{f}_{i},
 /// amp_acc_{f}_{i}; a ratio is 0 when the free floor is at rest).
+/// Its storey's peak drift and the floor's peak absolute acceleration: peak_drift_{f}_{i}_m,
+/// peak_abs_acc_{f}_{i}_g, and with storey heights peak_drift_ratio_{f}_{i}.
 struct FloorFigures {
   int frame = 0, floor = 0;  ///< 0-based.
   double peak_u_m = 0.0, free_peak_u_m = 0.0;
   double amp_u = 0.0, amp_drift = 0.0, amp_acc = 0.0;
+  double peak_drift_m = 0.0, peak_drift_ratio = 0.0, peak_abs_acc_g = 0.0;
+  bool storey_height = false;  ///< Whether its storey has a height, so a drift ratio.
+};
+
+/// One gap element: its largest force (gap_force_{label}_N) and, for an element with a stroke
+/// (the paper's, ε > 0), the share of the stroke it used, max s ÷ ε (stroke_use_{label}; above 1
+/// the element hit its stop).
+struct GapFigures {
+  double max_force_N = 0.0;
+  double stroke_use = 0.0;
+  bool has_stroke = false;
+  std::string label;  ///< joint_label of its ends.
 };
 
 /// One pair of neighbouring floors: the free frames' largest approach past closing, the joint a
@@ -59,12 +86,19 @@ struct TimeHistoryFigures {
   double pga_g = 0.0;            ///< The record's peak ground acceleration [g] (0: harmonic).
   std::vector<FrameFigures> frames;
   std::vector<FloorFigures> floors;  ///< Frame by frame, bottom up.
-  std::vector<JointFigures> joints;  ///< In Model::gaps order.
+  std::vector<JointFigures> joints;  ///< Every pair of facing floors.
+  std::vector<GapFigures> gaps;      ///< In Model::gaps order.
   double impacts = 0.0;  ///< A count; a double because an ensemble's mean need not be whole.
   double max_impact_impulse_Ns = 0.0;
   double max_gap_force_N = 0.0;
   double max_peak_V_W = 0.0;
   double max_ratio_to_free = 0.0;
+  // The worse frame's (columns of the same names; the drift ratios only when a frame has
+  // storey heights, the stroke use only when an element has a stroke):
+  double max_peak_drift_m = 0.0, max_peak_drift_ratio = 0.0, max_peak_abs_acc_g = 0.0;
+  double max_residual_drift_m = 0.0, max_residual_drift_ratio = 0.0;
+  double max_stroke_use = 0.0;
+  double hysteretic_energy_J = 0.0;  ///< Of every yielding storey [J].
 };
 
 /// An ensemble of time histories (one per record): the mean and the maximum of every figure
@@ -110,6 +144,8 @@ struct PointFigures {
   void compare_with_bare(std::span<const double> bare_peak_V_W);
   /// Every figure as a study column (docs/studies.md), in no particular order.
   [[nodiscard]] std::vector<FigureColumn> columns() const;
+  /// The figure of column `name`; nothing when the point has no such column.
+  [[nodiscard]] std::optional<double> figure(std::string_view name) const;
 };
 
 /// The figures of a frequency response of `model` over lo ≤ ω̄/ω₁ ≤ hi (band_peaks).

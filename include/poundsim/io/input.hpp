@@ -43,6 +43,7 @@ inline constexpr int frf_points = 1'000'000;  ///< frf.points.
 // frf.steps_per_period, max_periods, window_periods, max_periodicity: SteadyStateOptions's bounds.
 inline constexpr int study_points = 1'000'000;  ///< Points of a study (all parameters together).
 inline constexpr int evaluations = 1'000'000;   ///< Each stage of the optimiser.
+inline constexpr int pareto_points = 1000;      ///< Points of a Pareto front (each an optimisation).
 inline constexpr int threads = 1024;          ///< Any `threads` key.
 inline constexpr int column = 10'000;         ///< excitation.column.
 inline constexpr std::int64_t seed = 4294967295;  ///< Seeds are unsigned 32-bit.
@@ -236,6 +237,23 @@ struct StudyParameter {
                       C{"max", "the range's end"}, C{"points", "a grid's points"}, C{"scale", "linear or log"}};
   }
 };
+/// [[optimize.constraint]].
+struct OptimizeConstraint {
+  static constexpr auto fields() {
+    using C = CustomField<OptimizeConstraint>;
+    return std::tuple{C{"metric", "a figure of each evaluation (a study column)"}, C{"min", "its lower limit"},
+                      C{"max", "its upper limit"}};
+  }
+};
+/// [optimize.pareto].
+struct ParetoFront {
+  static constexpr auto fields() {
+    using C = CustomField<ParetoFront>;
+    return std::tuple{C{"objective", "the figure minimised along the front (default: optimize.objective)"},
+                      C{"metric", "the second objective, bounded in turn"}, C{"limits", "its upper limits"},
+                      C{"points", "points of the front between the two objectives' optima"}};
+  }
+};
 /// [[optimize.variable]].
 struct OptimizeVariable {
   static constexpr auto fields() {
@@ -380,14 +398,6 @@ inline constexpr std::array<std::pair<std::string_view, Sampling>, 3> sampling_n
 }};
 [[nodiscard]] constexpr std::string_view to_string(Sampling sampling) { return name_in(sampling_names, sampling); }
 
-/// What the optimiser minimises (optimize.objective).
-enum class Objective : std::uint8_t { max_peak, max_ratio_to_free };
-inline constexpr std::array<std::pair<std::string_view, Objective>, 2> objective_names{{
-    {"max_peak", Objective::max_peak},
-    {"max_ratio_to_free", Objective::max_ratio_to_free},
-}};
-[[nodiscard]] constexpr std::string_view to_string(Objective objective) { return name_in(objective_names, objective); }
-
 /// [analysis]: what to run. Time-history keys apply to kind = "time_history".
 struct AnalysisSettings {
   AnalysisKind kind = AnalysisKind::time_history;
@@ -499,12 +509,40 @@ struct OptimizeVariable {
   std::string where;                 ///< "file:line:column: optimize.variable[i].key", for messages.
 };
 
+/// A limit on a figure of each evaluation, min ≤ figure ≤ max (either may be absent, not both).
+struct OptimizeConstraint {
+  std::string metric;  ///< A figure's column (docs/studies.md#figures).
+  std::optional<double> min, max;
+  std::string where;   ///< "file:line:column: optimize.constraint[i].metric", for messages.
+};
+
+/// The trade-off between two figures, by the ε-constraint method: `objective` is minimised with
+/// `metric` ≤ each limit in turn.
+struct ParetoSettings {
+  std::string objective;        ///< The first figure's column (default: optimize.objective).
+  std::string metric;           ///< The second one's.
+  std::vector<double> limits;   ///< Given limits (ascending), or …
+  int points = 0;               ///< … this many, spread between the two objectives' own optima.
+  std::string where;            ///< "file:line:column: optimize.pareto.metric".
+  std::string objective_where;  ///< "file:line:column: optimize.pareto.objective" ("" when defaulted).
+};
+
+/// What `optimize.objective = "max_peak"` (the first name it had) names: the column max_peak_V_W.
+inline constexpr std::string_view objective_alias = "max_peak";
+
 /// [optimize] (analysis.kind = "optimize").
 struct OptimizeSettings {
   PointRun each = PointRun::frf;            ///< What each evaluation runs.
-  Objective objective = Objective::max_peak;
+  /// The figure minimised: any column of an evaluation's figures (docs/studies.md#figures).
+  std::string objective = "max_peak_V_W";
+  std::string objective_where;              ///< Where the file gives it ("" when defaulted).
   double band_min = 0.0, band_max = 0.0;    ///< Band of the frequency-response objective.
   std::vector<OptimizeVariable> variables;
+  std::vector<OptimizeConstraint> constraints;
+  /// A constraint holds when it is broken by at most this share of its limit (or absolutely,
+  /// for a limit of 0): NLopt's constrained algorithms approach a limit from either side.
+  double constraint_tolerance = 1e-6;
+  std::optional<ParetoSettings> pareto;
   std::string global_algorithm = "GN_DIRECT_L";  ///< NLopt name; "none" skips the global stage.
   std::string local_algorithm = "LN_BOBYQA";     ///< NLopt name; "none" skips the local stage.
   int global_evaluations = 100;
@@ -519,7 +557,11 @@ struct OptimizeSettings {
     using C = CustomField<O>;
     return std::tuple{
         ChoiceField{"each", &O::each, point_run_names, "what each evaluation runs", true},
-        ChoiceField{"objective", &O::objective, objective_names, "max_peak or max_ratio_to_free"},
+        C{"objective", "the figure minimised (a study column; max_peak: max_peak_V_W)"},
+        C{"constraint", "a limit on a figure", true},
+        C{"pareto", "a trade-off with a second figure", true},
+        NumberField{"constraint_tolerance", &O::constraint_tolerance, "", positive,
+                    "a constraint holds when broken by at most this share of its limit"},
         C{"band", "the frequency band of the objective"},
         C{"global", "the global NLopt algorithm, or none"},
         C{"local", "the local NLopt algorithm, or none"},

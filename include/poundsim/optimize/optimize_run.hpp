@@ -1,10 +1,14 @@
 #pragma once
 /// @file
 /// Design of the gap elements (analysis.kind = "optimize"): NLopt chooses the variables (any
-/// numeric input keys within bounds, e.g. η, μ, ε̄, δ̄, e) that minimise an objective — the larger
-/// of the frames' peak V/W over a frequency band ("max_peak") or the larger ratio of peak to
-/// free-frame peak ("max_ratio_to_free") — with a global algorithm, then a local one from its
-/// best point. docs/studies.md describes the input and the files.
+/// numeric input keys within bounds, e.g. η, μ, ε̄, δ̄, e) that minimise an objective — any
+/// figure of merit of an evaluation: the larger peak V/W over a frequency band, the worse
+/// frame's peak drift ratio or floor acceleration over an ensemble of records, … — subject to
+/// limits on other figures (stroke use ≤ 1, element force ≤ a limit), with a global algorithm,
+/// then a local one from its best point. Algorithms that take no constraints run inside NLopt's
+/// augmented Lagrangian (AUGLAG). A Pareto front against a second figure comes from the
+/// ε-constraint method: one constrained optimisation per limit on it. docs/studies.md
+/// describes the input and the files.
 
 #include <filesystem>
 #include <functional>
@@ -20,21 +24,38 @@
 
 namespace poundsim::optimize {
 
-using io::Objective;
 using io::OptimizeSettings;
 using io::RunInput;
 
-/// The figure that `objective` minimises, of a point's figures.
-[[nodiscard]] inline double objective_of(const PointFigures& figures, Objective objective) {
-  return objective == Objective::max_peak ? figures.max_peak_V_W() : figures.max_ratio_to_free();
-}
-
 /// One NLopt stage as it ran.
 struct OptimizationStage {
-  std::string stage;        ///< "global" or "local".
-  std::string algorithm;    ///< NLopt's name, e.g. GN_DIRECT_L.
+  std::string stage;        ///< "global" or "local" (a Pareto point's: "pareto[2].global", …).
+  std::string algorithm;    ///< NLopt's name, e.g. GN_DIRECT_L, or AUGLAG(GN_DIRECT_L) when the
+                            ///< augmented Lagrangian carries the constraints for it.
   std::string outcome;      ///< NLopt's result, e.g. MAXEVAL_REACHED.
-  long evaluations = 0;
+  long evaluations = 0;     ///< New evaluations (a point evaluated before is not run again).
+};
+
+/// A constraint at a design: its figure's value there and whether it holds.
+struct ConstraintOutcome {
+  io::OptimizeConstraint constraint;
+  std::optional<double> value;  ///< None when the design has no such figure (e.g. bare pounding's stroke use).
+  bool holds = false;
+};
+
+/// One point of a Pareto front: the objective minimised with the second figure ≤ limit.
+struct ParetoPoint {
+  std::optional<double> limit;  ///< None: the objective's own optimum (no limit).
+  std::vector<double> optimum;  ///< Per design variable.
+  double objective = 0, metric = 0;
+  bool feasible = false;   ///< It meets the limit and every constraint.
+  bool dominated = false;  ///< Another point of the front is no worse in both and better in one.
+};
+
+/// The trade-off between the objective and a second figure (optimize.pareto).
+struct ParetoResult {
+  std::string objective, metric;  ///< Their columns.
+  std::vector<ParetoPoint> points;  ///< In order of the limits, the objective's optimum last.
 };
 
 /// What an optimisation found, typed: optimize.json (to_json) and the console report (report)
@@ -45,6 +66,10 @@ struct OptimizationResult {
   OptimizeSettings settings;        ///< As run.
   std::vector<double> optimum;      ///< Per design variable, in the order of settings.variables.
   double objective = 0;             ///< The objective at the optimum.
+  /// Whether the optimum meets every constraint (when none of the evaluations did, the optimum
+  /// is the one that broke them least).
+  bool feasible = true;
+  std::vector<ConstraintOutcome> constraints, bare_constraints;  ///< At the optimum, of bare pounding.
   PointFigures optimum_figures;     ///< Every figure of merit of the optimum.
   PointFigures bare_figures;        ///< The same of bare pounding at the optimum's joints.
   std::string metric;               ///< The figure minimised, as its column (e.g. max_peak_V_W) …
@@ -52,23 +77,29 @@ struct OptimizationResult {
   std::vector<OptimizationStage> stages;
   long evaluations = 0;
   double run_time = 0;              ///< [s] wall clock, reported as is.
-  /// evaluations.csv: evaluation (from 1), stage, each variable, objective (empty unless done),
+  /// evaluations.csv: evaluation (from 1), stage, each variable, objective and each other
+  /// figure a constraint or the front bounds (empty unless done), feasible (with constraints),
   /// status, error.
   io::Table evaluation_table;
   /// optimum_frf.csv and bare_frf.csv, for a frequency-response objective.
   std::optional<io::Table> optimum_frf, bare_frf;
+  std::optional<ParetoResult> pareto;
+  std::optional<io::Table> pareto_table;  ///< pareto.csv.
 
-  /// The minimised figure of bare pounding, to compare with `objective`.
-  [[nodiscard]] double bare_objective() const {
-    return objective_of(bare_figures, settings.objective);
-  }
+  /// The minimised figure of bare pounding, to compare with `objective`; none when bare
+  /// pounding has no such figure.
+  [[nodiscard]] std::optional<double> bare_objective() const { return bare_figures.figure(metric); }
 };
 
-/// Runs the optimisation of `input` and writes optimize.json, evaluations.csv and, for a
-/// frequency-response objective, optimum_frf.csv and bare_frf.csv into `out_dir`.
-/// `progress` is called after every evaluation with (evaluations, budget).
+/// Runs the optimisation of `input` and writes optimize.json, evaluations.csv, for a
+/// frequency-response objective optimum_frf.csv and bare_frf.csv, and for a Pareto front
+/// pareto.csv into `out_dir`. `progress` is called after every evaluation with (evaluations,
+/// budget).
 OptimizationResult run_optimization(const RunInput& input, const std::filesystem::path& out_dir,
                                     const std::function<void(int, int)>& progress = {});
+
+/// What the figure of column `name` measures, for reports ("" when it has no description).
+[[nodiscard]] std::string figure_meaning(std::string_view name);
 
 /// optimize.json (docs/studies.md).
 nlohmann::json to_json(const OptimizationResult& result);

@@ -1,0 +1,230 @@
+// The optimiser's constraints and Pareto fronts (docs/studies.md) against a problem whose
+// constrained optimum and trade-off are known in closed form, and the inputs it refuses.
+//
+// Frame 2 (one storey, mass m, stiffness k: the design variables) is released with velocity v0,
+// undamped, far from frame 1 (m₁ = 10 t, at rest). It swings u(t) = (v0/ω) sin ωt, so
+//
+//     peak_drift_2_m = v0 √(m/k)           peak_V2_W = k · v0/ω / (m₁ g) = v0 √(k m) / (m₁ g),
+//
+// which the exact integrator finds to round-off. Minimising the drift (small m, large k) with
+// V2/W ≤ B: the drift √(m/k) = m / √(km) is least on the constraint √(km) = C = B m₁ g / v0 at
+// the smallest mass, m = m_lo, k = C²/m_lo, where the drift is v0 m_lo / C. The Pareto front of
+// the two figures is therefore the hyperbola drift · V2/W = v0² m_lo / (m₁ g).
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "poundsim/error.hpp"
+#include "poundsim/io/input.hpp"
+#include "poundsim/optimize/optimize_run.hpp"
+#include "poundsim/units.hpp"
+#include "../test_files.hpp"
+
+namespace poundsim::io {
+namespace {
+
+using optimize::OptimizationResult;
+using optimize::run_optimization;
+
+constexpr double kV0 = 0.1, kMassLow = 1e4, kM1 = 1e4;
+
+std::string problem(const std::string& optimize) {
+  return R"([[frames]]
+storeys = 1
+mass = 1.0e4
+stiffness = 1.0e6
+damping = 0.0
+
+[[frames]]
+storeys = 1
+mass = 2.0e4
+stiffness = 1.0e7
+damping = 0.0
+
+[gap_elements]
+gap = 1.0
+restitution = 1.0
+
+[initial]
+velocity = [[0.0], [0.1]]
+
+[excitation]
+kind = "none"
+
+[analysis]
+kind = "optimize"
+integrator = "exact"
+duration = 0.5
+dt = 0.01
+
+[[optimize.variable]]
+key = "frames[2].mass"
+min = 1.0e4
+max = 4.0e4
+
+[[optimize.variable]]
+key = "frames[2].stiffness"
+min = 1.0e6
+max = 1.0e8
+
+)" + optimize;
+}
+
+RunInput read(const std::string& text) { return read_input_string(text, "optimize.toml", ".", {}); }
+
+// The closed-form optimum with LN_COBYLA (which takes the constraint itself) and with LN_BOBYQA
+// inside the augmented Lagrangian; the constraint holds at the optimum and is active there.
+TEST(Optimize, ConstrainedOptimumOfAKnownProblem) {
+  const double limit = 0.5096839959225280;  // B: C = B m₁ g / v0 = 5e5, k* = C²/m_lo = 2.5e7
+  const double c = limit * kM1 * standard_gravity / kV0;
+  for (const char* local : {"LN_COBYLA", "LN_BOBYQA"}) {
+    SCOPED_TRACE(local);
+    const RunInput in = read(problem(fmt::format(R"([optimize]
+each = "time_history"
+objective = "peak_drift_2_m"
+global = "none"
+local = "{}"
+local_evaluations = 400
+relative_tolerance = 1e-12
+
+[[optimize.constraint]]
+metric = "peak_V2_W"
+max = {}
+)",
+                                                 local, limit)));
+    const auto dir = testing::fresh_folder(std::string("optimize_constrained_") + local);
+    const OptimizationResult r = run_optimization(in, dir);
+    EXPECT_EQ(r.stages[0].algorithm, std::string(local) == "LN_COBYLA" ? "LN_COBYLA" : "AUGLAG(LN_BOBYQA)");
+    EXPECT_TRUE(r.feasible);
+    ASSERT_EQ(r.constraints.size(), 1U);
+    EXPECT_TRUE(r.constraints[0].holds);
+    EXPECT_NEAR(*r.constraints[0].value, limit, 1e-4 * limit);  // active
+    EXPECT_LE(*r.constraints[0].value, limit * (1 + in.optimize->constraint_tolerance));
+    EXPECT_NEAR(r.optimum[0], kMassLow, 1e-3 * kMassLow);
+    EXPECT_NEAR(r.optimum[1], c * c / kMassLow, 2e-3 * c * c / kMassLow);
+    EXPECT_NEAR(r.objective, kV0 * kMassLow / c, 1e-3 * kV0 * kMassLow / c);
+    // Unconstrained, the drift would go to the stiffest corner, k = 1e8: the constraint mattered.
+    EXPECT_GT(r.objective, 1.5 * kV0 * std::sqrt(kMassLow / 1e8));
+    const nlohmann::json j = to_json(r);
+    EXPECT_EQ(j["constraints"][0]["metric"], "peak_V2_W");
+    EXPECT_EQ(j["feasible"], true);
+    EXPECT_EQ(nlohmann::json::parse(testing::slurp(dir / "optimize.json")), j);
+    std::filesystem::remove_all(dir);
+  }
+}
+
+// With a limit no design meets, the optimum is the design that breaks it least: the least
+// √(km), at the lightest and softest corner.
+TEST(Optimize, AnInfeasibleProblemReportsTheLeastBrokenDesign) {
+  const RunInput in = read(problem(R"([optimize]
+each = "time_history"
+objective = "peak_drift_2_m"
+global = "none"
+local = "LN_COBYLA"
+local_evaluations = 200
+
+[[optimize.constraint]]
+metric = "peak_V2_W"
+max = 0.05
+)"));
+  const auto dir = testing::fresh_folder("optimize_infeasible");
+  const OptimizationResult r = run_optimization(in, dir);
+  EXPECT_FALSE(r.feasible);
+  EXPECT_FALSE(r.constraints[0].holds);
+  const double least = kV0 * std::sqrt(1e6 * kMassLow) / (kM1 * standard_gravity);
+  EXPECT_NEAR(*r.constraints[0].value, least, 1e-2 * least);  // COBYLA, 200 evaluations
+  EXPECT_NE(optimize::report(r, dir).find("no evaluation met the constraints"), std::string::npos);
+  std::filesystem::remove_all(dir);
+}
+
+// Three points of the front between the anchors, and the front objective's own optimum: every
+// point on the hyperbola drift · V2/W = v0² m_lo/(m₁ g), its limit met, none dominated, V2/W from
+// the least reachable (the softest, lightest frame) to the one at the drift's optimum (k = 1e8).
+// The main objective here is V2/W itself: its optimum is the least V2/W.
+TEST(Optimize, ParetoFrontOfTwoFigures) {
+  const RunInput in = read(problem(R"([optimize]
+each = "time_history"
+objective = "peak_V2_W"
+global = "none"
+local = "LN_COBYLA"
+local_evaluations = 150
+relative_tolerance = 1e-10
+
+[optimize.pareto]
+objective = "peak_drift_2_m"
+metric = "peak_V2_W"
+points = 4
+)"));
+  const auto dir = testing::fresh_folder("optimize_pareto");
+  const OptimizationResult r = run_optimization(in, dir);
+  ASSERT_TRUE(r.pareto);
+  ASSERT_EQ(r.pareto->points.size(), 4U);
+  const double product = kV0 * kV0 * kMassLow / (kM1 * standard_gravity);
+  const double least = kV0 * std::sqrt(1e6 * kMassLow) / (kM1 * standard_gravity);
+  const double most = kV0 * std::sqrt(1e8 * kMassLow) / (kM1 * standard_gravity);
+  for (std::size_t j = 0; j < r.pareto->points.size(); ++j) {
+    SCOPED_TRACE(j);
+    const optimize::ParetoPoint& p = r.pareto->points[j];
+    EXPECT_TRUE(p.feasible);
+    EXPECT_FALSE(p.dominated);
+    EXPECT_NEAR(p.objective * p.metric, product, 2e-3 * product);
+    if (p.limit) {
+      EXPECT_LE(p.metric, *p.limit * (1 + 1e-6));
+    }
+  }
+  EXPECT_NEAR(*r.pareto->points[0].limit, least, 1e-3 * least);
+  EXPECT_FALSE(r.pareto->points.back().limit);  // the objective's own optimum
+  EXPECT_NEAR(r.pareto->points.back().metric, most, 1e-3 * most);
+  EXPECT_NEAR(*r.pareto->points[2].limit, least + (most - least) * 2 / 3, 1e-3 * most);
+  EXPECT_NEAR(r.objective, least, 1e-3 * least);
+  EXPECT_EQ(r.stages[1].stage, "pareto_objective.local");
+  EXPECT_EQ(r.stages[2].stage, "pareto_metric.local");
+  const std::string csv = testing::slurp(dir / "pareto.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "point,limit,peak_drift_2_m,peak_V2_W,feasible,dominated,frames[2].mass,frames[2].stiffness");
+  EXPECT_EQ(to_json(r)["pareto"]["points"].size(), 4U);
+  std::filesystem::remove_all(dir);
+}
+
+void expect_refused(const std::string& optimize, const std::string& message) {
+  SCOPED_TRACE(optimize);
+  try {
+    const RunInput in = read(problem(optimize));
+    const auto dir = testing::fresh_folder("optimize_refused");
+    static_cast<void>(run_optimization(in, dir));
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
+  }
+}
+
+TEST(Optimize, RefusesFiguresAnEvaluationDoesNotHaveAndIncompleteLimits) {
+  const std::string head = "[optimize]\neach = \"time_history\"\nglobal = \"none\"\nlocal = \"LN_COBYLA\"\n";
+  expect_refused(head + "objective = \"peak_drift_ratio_2\"\n",
+                 "optimize.toml:43:13: optimize.objective: \"peak_drift_ratio_2\" is not a figure of an evaluation "
+                 "(each = \"time_history\") of this model; its figures are: amp_acc_1_1, ");  // no storey heights
+  expect_refused(head + "[[optimize.constraint]]\nmetric = \"max_stroke_use\"\nmax = 1.0\n",
+                 "optimize.constraint[1].metric: \"max_stroke_use\" is not a figure");  // bare pounding has no stroke
+  expect_refused(head + "[[optimize.constraint]]\nmetric = \"peak_V2_W\"\n", "optimize.constraint[1].metric: needs a limit");
+  expect_refused(head + "[[optimize.constraint]]\nmetric = \"peak_V2_W\"\nmin = 1.0\nmax = 0.5\n",
+                 "optimize.constraint[1].max: must be larger than min");
+  expect_refused(head + "[[optimize.constraint]]\nmetric = \"peak_V2_W\"\nmax = 1.0\nlimit = 2.0\n", "limit");
+  expect_refused(head + "[optimize.pareto]\nmetric = \"peak_V2_W\"\n", "optimize.pareto.metric: needs either limits or points");
+  expect_refused(head + "[optimize.pareto]\nmetric = \"peak_V2_W\"\npoints = 3\nlimits = [1.0]\n",
+                 "needs either limits or points");
+  expect_refused(head + "[optimize.pareto]\nmetric = \"max_peak_V_W\"\npoints = 3\n", "is the front's objective");
+  expect_refused(head + "[optimize.pareto]\nobjective = \"peak_V2_W\"\nmetric = \"peak_V2_W\"\npoints = 3\n",
+                 "optimize.pareto.metric: is the front's objective, peak_V2_W");
+  expect_refused(head + "[optimize.pareto]\nobjective = \"nope\"\nmetric = \"peak_V2_W\"\npoints = 3\n",
+                 "optimize.pareto.objective: \"nope\" is not a figure");
+  expect_refused(head + "[optimize.pareto]\nmetric = \"peak_V2_W\"\nlimits = [0.5, 0.2]\n", "optimize.pareto.limits: must increase");
+  expect_refused(head + "[optimize.pareto]\nmetric = \"peak_V2_W\"\npoints = 1\n", "optimize.pareto.points");
+  expect_refused(head + "[optimize.pareto]\nmetric = \"no_such\"\npoints = 2\n",
+                 "optimize.pareto.metric: \"no_such\" is not a figure");
+}
+
+}  // namespace
+}  // namespace poundsim::io
