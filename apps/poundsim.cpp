@@ -33,6 +33,7 @@
 #include "poundsim/io/study_run.hpp"
 #include "poundsim/io/time_history_run.hpp"
 #include "poundsim/analysis/verification.hpp"
+#include "mpi_distribution.hpp"
 
 namespace {
 
@@ -117,7 +118,9 @@ void stop_cleanly_on_signals() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  stop_cleanly_on_signals();
+  stop_cleanly_on_signals();  // first: MPI's threads inherit the blocked signals
+  const poundsim::apps::MpiSession mpi(argc, argv);
+  const bool worker = mpi.rank() != 0;
   CLI::App app{"poundsim: seismic pounding of adjacent buildings with unilateral visco-elastic gap elements"};
   app.set_version_flag("--version", std::string("poundsim ") + POUNDSIM_VERSION);
   app.require_subcommand(1);
@@ -149,13 +152,22 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
-    return app.exit(e);
+    return worker ? 0 : app.exit(e);
   } catch (const CLI::ParseError& e) {
-    app.exit(e);
+    if (!worker) app.exit(e);
     return kExitBadInput;
   }
+  // Under mpirun only rank 0 speaks; an error on any rank ends the whole job with its code.
+  if (worker) quiet = true;
+  const auto fail = [&](int code, const std::string& message) {
+    if (!worker) fmt::print(stderr, "{}\n", message);
+    if (mpi.size() > 1) mpi.abort(code);
+    return code;
+  };
 
   try {
+    // Only studies and ensembles share their points; anything else runs on rank 0 alone.
+    if (worker && !run->parsed()) return 0;
     if (verify->parsed()) {
       const poundsim::VerificationReport report = poundsim::run_verification();
       fmt::print("{}", poundsim::to_text(report));
@@ -183,17 +195,20 @@ int main(int argc, char** argv) {
           fmt::format("--max-points applies to studies and ensembles only, not to analysis.kind = \"{}\"",
                       to_string(kind)));
     }
+    if (worker && !study) return 0;
     ProgressBar bar(!quiet && ::isatty(STDERR_FILENO) != 0);
     const auto progress = [&bar](int done, int total) { bar.update(done, total); };
     if (study) {
       poundsim::io::StudyRunOptions options;
       if (max_points > 0) options.max_points = max_points;
       options.progress = progress;
+      poundsim::apps::MpiDistribution ranks(mpi);
+      if (mpi.size() > 1) options.distribution = &ranks;
       const poundsim::io::StudyResult result = kind == AnalysisKind::ensemble
                                                    ? poundsim::io::run_ensemble(input, out_dir, options)
                                                    : poundsim::io::run_study(input, out_dir, options);
       bar.finish();
-      if (!quiet) fmt::print("{}", poundsim::io::report(result, out_dir));
+      if (!quiet && !result.worker) fmt::print("{}", poundsim::io::report(result, out_dir));
       return 0;
     }
     if (kind == AnalysisKind::optimize) {
@@ -218,13 +233,10 @@ int main(int argc, char** argv) {
     if (!quiet) fmt::print("{}", poundsim::io::report(result, out_dir));
     return 0;
   } catch (const poundsim::InputError& e) {
-    fmt::print(stderr, "poundsim: error: {}\n", e.what());
-    return kExitBadInput;
+    return fail(kExitBadInput, fmt::format("poundsim: error: {}", e.what()));
   } catch (const poundsim::SimulationError& e) {
-    fmt::print(stderr, "poundsim: simulation failed: {}\n", e.what());
-    return kExitFailure;
+    return fail(kExitFailure, fmt::format("poundsim: simulation failed: {}", e.what()));
   } catch (const std::exception& e) {
-    fmt::print(stderr, "poundsim: error: {}\n", e.what());
-    return kExitFailure;
+    return fail(kExitFailure, fmt::format("poundsim: error: {}", e.what()));
   }
 }

@@ -10,6 +10,7 @@ packages=(
   libsqlite3-dev libsqlitecpp-dev libnlopt-dev libnlopt-cxx-dev
   python3 python3-dev python3-matplotlib python3-numpy python3-pandas python3-pytest pybind11-dev
   clang-14 libclang-rt-14-dev
+  libopenmpi-dev openmpi-bin
 )
 
 missing=()

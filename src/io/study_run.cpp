@@ -481,6 +481,44 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
                                    id + 1, values, message));
     }
   }
+  // What one point (or bare-pounding reference) computes, wherever it runs: a task names it
+  // (and carries its reference's peaks), the result is what the database stores. Both are CBOR,
+  // which keeps every double to the bit.
+  std::map<long, const Todo*> by_id;  // filled once `todo` no longer changes
+  const auto compute = [&](const std::string& task_bytes) -> std::string {
+    const json task = json::from_cbor(task_bytes);
+    const Todo& t = *by_id.at(task.at("id").get<long>());
+    if (task.at("phase") == "baseline") {
+      const std::vector<std::uint8_t> bytes = json::to_cbor(json{{"figures", io::to_json(baseline_figures(t.input, 1))}});
+      return {bytes.begin(), bytes.end()};
+    }
+    const auto point_start = std::chrono::steady_clock::now();
+    std::string status = "done", error;
+    json metrics = json::object();
+    try {
+      std::optional<std::vector<double>> bare;
+      if (!task.at("bare").is_null()) bare = peak_V_W_of(task.at("bare"), t.input.model.frame_count());
+      metrics = io::to_json(point_figures(t.input, 1, bare ? &*bare : nullptr));
+    } catch (const SimulationError& e) {
+      status = "failed";
+      error = e.what();
+    }
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - point_start).count();
+    const std::vector<std::uint8_t> bytes =
+        json::to_cbor(json{{"status", status}, {"error", error}, {"metrics", metrics}, {"seconds", seconds}});
+    return {bytes.begin(), bytes.end()};
+  };
+  PointDistribution* const ranks = options.distribution != nullptr && options.distribution->ranks() > 1 ? options.distribution : nullptr;
+  if (ranks != nullptr && !ranks->is_coordinator()) {
+    // A worker: the bare-pounding references, then the points, as the coordinator sends them.
+    for (const Todo& t : todo) by_id[t.id] = &t;
+    const bool stopped = ranks->run_phase({}, compute, {}, {}) || ranks->run_phase({}, compute, {}, {});
+    if (stopped) throw RunStopped();
+    StudyResult result;
+    result.kind = kind;
+    result.worker = true;
+    return result;
+  }
   OutputTransaction out(out_dir);  // creates the folder for the database too
   std::vector<std::string> parameter_keys;
   for (const StudyParameter& p : study.parameters) parameter_keys.push_back(p.key);
@@ -493,6 +531,8 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
   if (options.max_points && static_cast<long>(todo.size()) > *options.max_points) {
     todo.resize(static_cast<std::size_t>(*options.max_points));
   }
+
+  for (const Todo& t : todo) by_id[t.id] = &t;
 
   // Bare-pounding references, each computed once and stored.
   std::map<std::string, json> baselines;
@@ -510,42 +550,71 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
   const auto check_stop = [&] {
     if (options.stop_requested && options.stop_requested()) throw RunStopped();
   };
-  parallel_for(static_cast<int>(missing.size()), study.threads, [&](int k) {
-    check_stop();
-    const Todo& t = *missing[static_cast<std::size_t>(k)];
-    const json m = io::to_json(baseline_figures(t.input, 1));
-    db.record_baseline(t.baseline, m);
-    const std::lock_guard lock(baseline_mutex);
-    baselines[t.baseline] = m;
-  });
+  const auto to_bytes = [](const json& j) {
+    const std::vector<std::uint8_t> bytes = json::to_cbor(j);
+    return std::string(bytes.begin(), bytes.end());
+  };
+  if (ranks != nullptr) {
+    std::vector<std::string> tasks;
+    for (const Todo* t : missing) tasks.push_back(to_bytes(json{{"phase", "baseline"}, {"id", t->id}}));
+    const auto store = [&](std::size_t k, const std::string& result) {
+      const json m = json::from_cbor(result).at("figures");
+      db.record_baseline(missing[k]->baseline, m);
+      baselines[missing[k]->baseline] = m;
+    };
+    if (ranks->run_phase(tasks, compute, store, [&] { return options.stop_requested && options.stop_requested(); })) {
+      // The workers wait for the points' phase, which they learn is stopped too.
+      ranks->run_phase({}, compute, {}, [] { return true; });
+      throw RunStopped();
+    }
+  } else {
+    parallel_for(static_cast<int>(missing.size()), study.threads, [&](int k) {
+      check_stop();
+      const Todo& t = *missing[static_cast<std::size_t>(k)];
+      const json m = io::to_json(baseline_figures(t.input, 1));
+      db.record_baseline(t.baseline, m);
+      const std::lock_guard lock(baseline_mutex);
+      baselines[t.baseline] = m;
+    });
+  }
 
   std::atomic<int> done{0};
   std::atomic<int> failed{0};
   const int total = static_cast<int>(todo.size());
   // The run begins: a progress bar's clock and rate start here, not at the first point's end.
   if (options.progress) options.progress(0, total);
-  parallel_for(total, study.threads, [&](int k) {
-    check_stop();
-    const Todo& t = todo[static_cast<std::size_t>(k)];
-    const auto point_start = std::chrono::steady_clock::now();
+  const auto parameters_of = [&](const Todo& t) {
     json parameters = json::object();
     for (const Setting& s : all[static_cast<std::size_t>(t.id)]) parameters[s.key] = to_json(s.value);
-    std::string status = "done", error;
-    json metrics = json::object();
-    try {
-      std::optional<std::vector<double>> bare;
-      if (!t.baseline.empty()) bare = peak_V_W_of(baselines.at(t.baseline), t.input.model.frame_count());
-      metrics = io::to_json(point_figures(t.input, 1, bare ? &*bare : nullptr));
-    } catch (const SimulationError& e) {
-      status = "failed";
-      error = e.what();
-      ++failed;
-    }
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - point_start).count();
-    db.record(t.id, parameters, status, error, metrics, seconds);
+    return parameters;
+  };
+  std::vector<std::string> tasks;
+  for (const Todo& t : todo) {
+    tasks.push_back(to_bytes(json{{"phase", "point"}, {"id", t.id},
+                                  {"bare", t.baseline.empty() ? json() : baselines.at(t.baseline)}}));
+  }
+  // Called by the thread or the rank that ran the point (a worker thread: the database and the
+  // counts are safe to share).
+  const auto store = [&](std::size_t k, const std::string& bytes) {
+    const Todo& t = todo[k];
+    const json r = json::from_cbor(bytes);
+    if (r.at("status") != "done") ++failed;
+    db.record(t.id, parameters_of(t), r.at("status").get<std::string>(), r.at("error").get<std::string>(),
+              r.at("metrics"), r.at("seconds").get<double>());
     const int count = ++done;
     if (options.progress) options.progress(count, total);
-  });
+  };
+  if (ranks != nullptr) {
+    if (ranks->run_phase(tasks, compute, store, [&] { return options.stop_requested && options.stop_requested(); })) {
+      throw RunStopped();
+    }
+  } else {
+    parallel_for(total, study.threads, [&](int k) {
+      check_stop();
+      const auto i = static_cast<std::size_t>(k);
+      store(i, compute(tasks[i]));
+    });
+  }
 
   const double run_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   StudyResult result;

@@ -16,6 +16,7 @@
 
 #include "poundsim/analysis/figures_of_merit.hpp"
 #include "poundsim/io/input.hpp"
+#include "poundsim/io/point_distribution.hpp"
 #include "poundsim/io/study_database.hpp"
 #include "poundsim/io/table.hpp"
 
@@ -60,6 +61,10 @@ struct StudyRunOptions {
   /// Asked before every point (and bare-pounding reference) starts: true stops the run with
   /// RunStopped once the points running have finished and are stored (may be empty).
   std::function<bool()> stop_requested;
+  /// The processes that share the points (an MPI job), or none: this process's threads. On a
+  /// worker rank the run computes what the coordinator sends, writes nothing and returns a
+  /// result with `worker` set; the results are the same, bit for bit, whatever the ranks.
+  PointDistribution* distribution = nullptr;
 };
 
 /// The finished point with the lowest max_peak_V_W.
@@ -74,6 +79,7 @@ struct BestPoint {
 /// maps: they are the columns of the study table, which the input chooses.
 struct StudyResult {
   AnalysisKind kind = AnalysisKind::study;  ///< study or ensemble.
+  bool worker = false;                    ///< A worker rank's: it computed points, wrote nothing, holds nothing else.
   std::filesystem::path source;           ///< The input file.
   std::string title;
   StudySettings study;                    ///< As run (an ensemble's: a list over its records).

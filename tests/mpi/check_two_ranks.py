@@ -1,0 +1,111 @@
+#!/usr/bin/python3
+"""A study and an ensemble on two MPI ranks give the serial run's results bit for bit; a run cut
+short (--max-points) or killed (SIGTERM to mpirun) resumes on two ranks with nothing lost and
+nothing computed twice; a worker writes nothing; bad input under mpirun ends the job with exit
+code 2 and one message (docs/studies.md#distributed-studies-on-mpi).
+
+    check_two_ranks.py POUNDSIM SOURCE_DIR WORK_DIR
+"""
+
+import csv
+import json
+import os
+import shutil
+import signal
+import sqlite3
+import subprocess
+import sys
+import time
+
+# --oversubscribe: two ranks on whatever cores CI has; as root, Open MPI wants both flags.
+MPIRUN = ["mpirun", "--oversubscribe", "-n", "2"]
+if os.geteuid() == 0:
+    MPIRUN.insert(1, "--allow-run-as-root")
+
+
+def rows(folder, stem):
+    """The table's rows by id, without the run time (which differs from run to run)."""
+    with open(os.path.join(folder, f"{stem}.csv"), newline="") as f:
+        return [{k: v for k, v in r.items() if k != "run_time_s"} for r in csv.DictReader(f)]
+
+
+def run(command, **kwargs):
+    r = subprocess.run(command, capture_output=True, text=True, **kwargs)
+    return r
+
+
+def require(condition, message):
+    if not condition:
+        sys.exit(f"check_two_ranks: {message}")
+
+
+def main():
+    poundsim, source, work = sys.argv[1:4]
+    shutil.rmtree(work, ignore_errors=True)
+    os.makedirs(work)
+    study = os.path.join(source, "examples", "study_eta_mu.toml")
+    out = lambda name: os.path.join(work, name)  # noqa: E731
+
+    # Serial (one thread) and on two ranks: the same table, bit for bit.
+    serial = run([poundsim, "run", study, "--out", out("serial"), "--quiet", "--set", "study.threads=1"])
+    require(serial.returncode == 0, serial.stderr)
+    two = run(MPIRUN + [poundsim, "run", study, "--out", out("two")])
+    require(two.returncode == 0, two.stdout + two.stderr)
+    require(two.stdout.count("wrote ") == 1, f"one report, from rank 0:\n{two.stdout}")
+    require(rows(out("two"), "study") == rows(out("serial"), "study"), "two ranks differ from the serial run")
+    require(sorted(os.listdir(out("two"))) == ["input.toml", "study.csv", "study.sqlite", "summary.json"],
+            f"files: {sorted(os.listdir(out('two')))}")
+
+    # Cut short, then resumed on two ranks: the rest only.
+    first = run(MPIRUN + [poundsim, "run", study, "--out", out("resumed"), "--quiet", "--max-points", "7"])
+    require(first.returncode == 0, first.stderr)
+    second = run(MPIRUN + [poundsim, "run", study, "--out", out("resumed"), "--quiet"])
+    require(second.returncode == 0, second.stderr)
+    summary = json.load(open(os.path.join(out("resumed"), "summary.json")))
+    require(summary["skipped_as_finished"] == 7 and summary["run_this_time"] == 13, f"resumed: {summary}")
+    require(rows(out("resumed"), "study") == rows(out("serial"), "study"), "the resumed run differs")
+
+    # Killed while it runs (mpirun passes SIGTERM on; rank 0 closes the database), then resumed:
+    # every point once, the same table.
+    killed = subprocess.Popen(MPIRUN + [poundsim, "run", study, "--out", out("killed"), "--quiet"],
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    database = os.path.join(out("killed"), "study.sqlite")
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:  # until some points are stored, not all
+        if os.path.exists(database):
+            try:
+                with sqlite3.connect(f"file:{database}?mode=ro", uri=True) as db:
+                    if db.execute("select count(*) from points").fetchone()[0] >= 3:
+                        break
+            except sqlite3.Error:
+                pass
+        time.sleep(0.02)
+    killed.send_signal(signal.SIGTERM)
+    killed.communicate(timeout=60)
+    with sqlite3.connect(f"file:{database}?mode=ro", uri=True) as db:
+        stored = db.execute("select count(*) from points").fetchone()[0]
+    resumed = run(MPIRUN + [poundsim, "run", study, "--out", out("killed"), "--quiet"])
+    require(resumed.returncode == 0, resumed.stderr)
+    summary = json.load(open(os.path.join(out("killed"), "summary.json")))
+    require(summary["skipped_as_finished"] == stored and summary["run_this_time"] == 20 - stored,
+            f"killed with {stored} points stored, then: {summary}")
+    require(rows(out("killed"), "study") == rows(out("serial"), "study"), "the killed and resumed run differs")
+
+    # An ensemble of records, with its bare-pounding references, on two ranks.
+    ensemble = os.path.join(source, "examples", "ensemble_fig2_frames.toml")
+    a = run([poundsim, "run", ensemble, "--out", out("ensemble_serial"), "--quiet", "--set", "ensemble.threads=1"])
+    b = run(MPIRUN + [poundsim, "run", ensemble, "--out", out("ensemble_two"), "--quiet"])
+    require(a.returncode == 0 and b.returncode == 0, a.stderr + b.stderr)
+    require(rows(out("ensemble_two"), "ensemble") == rows(out("ensemble_serial"), "ensemble"),
+            "the ensemble on two ranks differs")
+
+    # Bad input: exit code 2, one message.
+    bad = run(MPIRUN + [poundsim, "run", study, "--out", out("bad"), "--set", "study.threads=-1"])
+    require(bad.returncode == 2, f"exit code {bad.returncode}: {bad.stderr}")
+    require(bad.stderr.count("poundsim: error:") == 1, bad.stderr)
+    require(not os.path.exists(out("bad")), "bad input left a folder")
+    print("two ranks: study, resume, kill and resume, ensemble, bad input: as serial")
+
+
+if __name__ == "__main__":
+    main()
