@@ -77,21 +77,36 @@ void MpiSession::abort(int code) const {
   std::exit(code);
 }
 
-bool MpiDistribution::serve(const std::function<std::string(const std::string&)>& compute) const {
+MpiDistribution::End MpiDistribution::serve(const std::function<std::string(const std::string&)>& compute) const {
   for (;;) {
     MPI_Status status;
     check(MPI_Probe(0, MPI_ANY_TAG, MPI_COMM_WORLD, &status), "MPI_Probe");
     const std::string message = receive(status);
-    if (status.MPI_TAG == kEndTag) return message == "stopped";
+    if (status.MPI_TAG == kEndTag) return message == "stopped" ? End::stopped : message == "finished" ? End::finished : End::done;
     send(compute(message), 0, kResultTag);
   }
+}
+
+void MpiDistribution::serve_until_finished(const std::function<std::string(const std::string&)>& compute) {
+  if (rank_ == 0) return;
+  while (serve(compute) != End::finished) {
+  }
+}
+
+void MpiDistribution::finish() {
+  if (rank_ != 0) return;
+  for (int w = 1; w < size_; ++w) send("finished", w, kEndTag);
 }
 
 bool MpiDistribution::run_phase(const std::vector<std::string>& tasks,
                                 const std::function<std::string(const std::string&)>& compute,
                                 const std::function<void(std::size_t, const std::string&)>& store,
                                 const std::function<bool()>& stop) {
-  if (rank_ != 0) return serve(compute);
+  if (rank_ != 0) {
+    const End end = serve(compute);
+    if (end == End::finished) throw std::runtime_error("MPI: the coordinator finished in the middle of a phase");
+    return end == End::stopped;
+  }
   std::size_t next = 0;
   bool stopped = false;
   // Whether to hand out another task: none once the caller asked to stop.

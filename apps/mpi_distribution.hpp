@@ -7,6 +7,7 @@
 /// (MPI_THREAD_FUNNELED); rank 0 computes its own points on a second thread meanwhile.
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
@@ -45,9 +46,13 @@ class MpiDistribution final : public io::PointDistribution {
   bool run_phase(const std::vector<std::string>& tasks, const std::function<std::string(const std::string&)>& compute,
                  const std::function<void(std::size_t, const std::string&)>& store,
                  const std::function<bool()>& stop) override;
+  void serve_until_finished(const std::function<std::string(const std::string&)>& compute) override;
+  void finish() override;
 
  private:
-  bool serve(const std::function<std::string(const std::string&)>& compute) const;
+  /// How the coordinator ended a phase.
+  enum class End : std::uint8_t { done, stopped, finished };
+  End serve(const std::function<std::string(const std::string&)>& compute) const;
   int rank_, size_;
 };
 

@@ -195,6 +195,11 @@ int main(int argc, char** argv) {
           fmt::format("--max-points applies to studies and ensembles only, not to analysis.kind = \"{}\"",
                       to_string(kind)));
     }
+    poundsim::apps::MpiDistribution ranks(mpi);
+    if (worker && kind == AnalysisKind::optimize) {
+      poundsim::optimize::serve_optimization(input, ranks);
+      return 0;
+    }
     if (worker && !study) return 0;
     ProgressBar bar(!quiet && ::isatty(STDERR_FILENO) != 0);
     const auto progress = [&bar](int done, int total) { bar.update(done, total); };
@@ -202,7 +207,6 @@ int main(int argc, char** argv) {
       poundsim::io::StudyRunOptions options;
       if (max_points > 0) options.max_points = max_points;
       options.progress = progress;
-      poundsim::apps::MpiDistribution ranks(mpi);
       if (mpi.size() > 1) options.distribution = &ranks;
       const poundsim::io::StudyResult result = kind == AnalysisKind::ensemble
                                                    ? poundsim::io::run_ensemble(input, out_dir, options)
@@ -212,7 +216,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (kind == AnalysisKind::optimize) {
-      const poundsim::optimize::OptimizationResult result = poundsim::optimize::run_optimization(input, out_dir, progress);
+      const poundsim::optimize::OptimizationResult result = poundsim::optimize::run_optimization(input, out_dir, progress, mpi.size() > 1 ? &ranks : nullptr);
       bar.finish();
       if (!quiet) fmt::print("{}", poundsim::optimize::report(result, out_dir));
       return 0;

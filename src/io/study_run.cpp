@@ -24,6 +24,22 @@
 #include "poundsim/analysis/time_history.hpp"
 #include "poundsim/units.hpp"
 
+namespace poundsim {
+// Every field of a record's figures, declared once (the ranks of an MPI job exchange them).
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(FrameFigures, peak_V_W, free_peak_V_W, ratio_to_free, peak_at, peak_drift_m,
+                                   free_peak_drift_m, peak_drift_ratio, free_peak_drift_ratio, peak_abs_acc_g,
+                                   free_peak_abs_acc_g, residual_drift_m, residual_drift_ratio, hysteretic_energy_J,
+                                   storey_heights)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(FloorFigures, frame, floor, peak_u_m, free_peak_u_m, amp_u, amp_drift, amp_acc,
+                                   peak_drift_m, peak_drift_ratio, peak_abs_acc_g, storey_height)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(JointFigures, left_frame, floor, min_gap_m, label)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(GapFigures, max_force_N, stroke_use, has_stroke, label)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TimeHistoryFigures, energy_residual, pga_g, frames, floors, joints, gaps, impacts,
+                                   max_impact_impulse_Ns, max_gap_force_N, max_peak_V_W, max_ratio_to_free,
+                                   max_peak_drift_m, max_peak_drift_ratio, max_peak_abs_acc_g, max_residual_drift_m,
+                                   max_residual_drift_ratio, max_stroke_use, hysteretic_energy_J)
+}  // namespace poundsim
+
 namespace poundsim::io {
 
 namespace {
@@ -263,18 +279,11 @@ Aggregate aggregate(const std::vector<json>& per_record) {
 }
 
 EnsembleFigures ensemble_figures_of(const RunInput& point, int threads) {
-  const std::vector<std::filesystem::path>& records = point.ensemble->records;
-  // The factors depend on the point's model (T₁ of a frame), so each point scales its records.
-  std::vector<double> factors;
-  if (point.ensemble->scaling) factors = suite_scaling(point).factors;
-  std::vector<TimeHistoryFigures> per_record(records.size());
-  parallel_for(static_cast<int>(records.size()), threads, [&](int k) {
+  const std::vector<double> factors = record_factors(point);
+  std::vector<TimeHistoryFigures> per_record(point.ensemble->records.size());
+  parallel_for(static_cast<int>(per_record.size()), threads, [&](int k) {
     const auto r = static_cast<std::size_t>(k);
-    std::vector<Setting> record{make_setting("excitation.file", {records[r].string()})};
-    if (!factors.empty()) record.push_back(make_setting("excitation.scale", {factors[r]}));
-    RunInput one = with_settings(point, record);
-    one.model = point.model;  // the point's model as given (e.g. made bare), the record from the file
-    per_record[r] = time_history_figures_of(one);
+    per_record[r] = record_figures(point, r, factors.empty() ? std::nullopt : std::optional<double>(factors[r]));
   });
   return ensemble_figures(per_record);
 }
@@ -286,6 +295,28 @@ std::pair<double, double> band_of(const RunInput& point) {
 }
 
 }  // namespace
+
+std::vector<double> record_factors(const RunInput& point) {
+  // The factors depend on the point's model (T₁ of a frame), so each point scales its records.
+  return point.ensemble && point.ensemble->scaling ? suite_scaling(point).factors : std::vector<double>{};
+}
+
+TimeHistoryFigures record_figures(const RunInput& point, std::size_t record, std::optional<double> factor) {
+  std::vector<Setting> settings{make_setting("excitation.file", {point.ensemble->records.at(record).string()})};
+  if (factor) settings.push_back(make_setting("excitation.scale", {*factor}));
+  RunInput one = with_settings(point, settings);
+  one.model = point.model;  // the point's model as given (e.g. made bare), the record from the file
+  return time_history_figures_of(one);
+}
+
+std::string to_bytes(const TimeHistoryFigures& figures) {
+  const std::vector<std::uint8_t> bytes = json::to_cbor(json(figures));
+  return {bytes.begin(), bytes.end()};
+}
+
+TimeHistoryFigures time_history_figures_from_bytes(const std::string& bytes) {
+  return json::from_cbor(bytes).get<TimeHistoryFigures>();
+}
 
 PointFigures point_figures(const RunInput& point, int threads, const std::vector<double>* bare_peak_V_W) {
   const auto [lo, hi] = band_of(point);

@@ -83,11 +83,82 @@ struct Goal {
   std::string label;          ///< Prefix of its stages' names ("" for the main one).
 };
 
+/// One record of an ensemble evaluation, as a task for any rank: the design x, the record and its
+/// scale factor. Its result: the record's figures, or the error that stopped it.
+std::string record_task(const std::vector<double>& x, std::size_t record, std::optional<double> factor) {
+  const std::vector<std::uint8_t> bytes =
+      json::to_cbor(json{{"x", x}, {"record", record}, {"factor", factor ? json(*factor) : json()}});
+  return {bytes.begin(), bytes.end()};
+}
+
+/// The point of the last design a rank computed records of: an evaluation's records come one
+/// after another, and reading the input with a design's values costs more than a short record.
+struct LastPoint {
+  std::vector<double> x;
+  std::optional<RunInput> point;
+};
+
+std::string compute_record_task(const RunInput& input, const std::string& task_bytes, LastPoint& last) {
+  const json task = json::from_cbor(task_bytes);
+  json result;
+  try {
+    const std::vector<double> x = task.at("x").get<std::vector<double>>();
+    if (!last.point || last.x != x) {
+      last.point.reset();
+      last.point = with_settings(input, point_values(*input.optimize, x));
+      last.x = x;
+    }
+    const std::optional<double> factor = task.at("factor").is_null() ? std::nullopt : std::optional<double>(task.at("factor").get<double>());
+    const std::string figures = to_bytes(record_figures(*last.point, task.at("record").get<std::size_t>(), factor));
+    result = json{{"figures", json::binary(std::vector<std::uint8_t>(figures.begin(), figures.end()))}};
+  } catch (const InputError& e) {
+    result = json{{"rejected", e.what()}};
+  } catch (const SimulationError& e) {
+    result = json{{"failed", e.what()}};
+  }
+  const std::vector<std::uint8_t> bytes = json::to_cbor(result);
+  return {bytes.begin(), bytes.end()};
+}
+
+/// The figures of an ensemble evaluation whose records the ranks share, as point_figures gives
+/// them: the records' figures, aggregated in record order on this rank.
+PointFigures distributed_ensemble(const RunInput& input, const RunInput& point, const std::vector<double>& x,
+                                  io::PointDistribution& ranks) {
+  const std::vector<double> factors = record_factors(point);
+  std::vector<std::string> tasks;
+  for (std::size_t r = 0; r < point.ensemble->records.size(); ++r) {
+    tasks.push_back(record_task(x, r, factors.empty() ? std::nullopt : std::optional<double>(factors[r])));
+  }
+  std::vector<TimeHistoryFigures> per_record(tasks.size());
+  std::optional<std::string> rejected, failed;
+  LastPoint last{x, point};  // this rank's own share uses the point as read
+  ranks.run_phase(
+      tasks, [&](const std::string& task) { return compute_record_task(input, task, last); },
+      [&](std::size_t r, const std::string& bytes) {
+        const json result = json::from_cbor(bytes);
+        if (result.contains("rejected")) {
+          rejected = result["rejected"].get<std::string>();
+        } else if (result.contains("failed")) {
+          failed = result["failed"].get<std::string>();
+        } else {
+          const auto& binary = result.at("figures").get_binary();
+          per_record[r] = time_history_figures_from_bytes(std::string(binary.begin(), binary.end()));
+        }
+      },
+      {});
+  if (rejected) throw InputError(*rejected);
+  if (failed) throw SimulationError(*failed);
+  PointFigures figures;
+  figures.response = ensemble_figures(per_record);
+  return figures;
+}
+
 class Problem {
  public:
   Problem(const RunInput& input, std::vector<std::string> metrics, const std::function<void(int, int)>& progress,
-          int budget)
-      : input_(input), settings_(*input.optimize), metrics_(std::move(metrics)), progress_(progress), budget_(budget) {}
+          int budget, io::PointDistribution* ranks)
+      : input_(input), settings_(*input.optimize), metrics_(std::move(metrics)), progress_(progress), budget_(budget),
+        ranks_(ranks) {}
 
   /// The evaluation at x, run unless it was before.
   const Evaluation& operator()(const std::vector<double>& x, const std::string& stage) {
@@ -95,7 +166,8 @@ class Problem {
     Evaluation e{x, stage, "done", "", {}, std::vector<double>(metrics_.size(), kNone)};
     try {
       const RunInput point = with_settings(input_, point_values(settings_, x));
-      e.figures = point_figures(point, settings_.threads, nullptr);
+      e.figures = ranks_ != nullptr && point.each() == PointRun::ensemble ? distributed_ensemble(input_, point, x, *ranks_)
+                                                                         : point_figures(point, settings_.threads, nullptr);
       const std::vector<FigureColumn> columns = e.figures.columns();
       for (std::size_t m = 0; m < metrics_.size(); ++m) {
         for (const FigureColumn& c : columns) {
@@ -160,6 +232,7 @@ class Problem {
   std::vector<std::string> metrics_;
   std::function<void(int, int)> progress_;
   int budget_;
+  io::PointDistribution* ranks_;  ///< Shares ensemble evaluations' records; none: this process.
   std::map<std::vector<double>, std::size_t> memo_;
   std::vector<Evaluation> evaluations_;
 };
@@ -340,8 +413,14 @@ std::vector<ConstraintOutcome> constraint_outcomes(const OptimizeSettings& s, co
 
 }  // namespace
 
+void serve_optimization(const RunInput& input, io::PointDistribution& ranks) {
+  LastPoint last;
+  ranks.serve_until_finished([&](const std::string& task) { return compute_record_task(input, task, last); });
+}
+
 OptimizationResult run_optimization(const RunInput& input, const std::filesystem::path& out_dir,
-                                    const std::function<void(int, int)>& progress) {
+                                    const std::function<void(int, int)>& progress, io::PointDistribution* ranks) {
+  if (ranks != nullptr && ranks->ranks() < 2) ranks = nullptr;
   if (!input.optimize) throw InputError(fmt::format("{}: no [optimize] table", input.source.string()));
   const OptimizeSettings& s = *input.optimize;
   if (s.variables.empty()) {
@@ -384,7 +463,7 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
                              : 1 + (front_objective != 0 ? 1 : 0) +
                                    (s.pareto->limits.empty() ? s.pareto->points : static_cast<int>(s.pareto->limits.size()));
   const int budget = 1 + runs * ((global ? s.global_evaluations : 0) + (local ? s.local_evaluations : 0));
-  Problem problem(input, metrics, progress, budget);
+  Problem problem(input, metrics, progress, budget, ranks);
   // The starting point is evaluated first, so that a bad key or figure is reported before any search.
   const Evaluation& first = problem(x, "start");
   if (first.status == "rejected") {
@@ -455,6 +534,7 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
   }
   // The optimum: the best design for the main goal of every evaluation, the front's included.
   const Evaluation& optimum = *problem.best(main_goal);
+  if (ranks != nullptr) ranks->finish();  // the workers are done: bare pounding runs here
 
   // The optimum's response against bare pounding and the free frames.
   const RunInput best_point = with_settings(input, point_values(s, optimum.x));

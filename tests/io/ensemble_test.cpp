@@ -1,6 +1,7 @@
 // Ensembles of records: per-record results, their mean and maximum, resumption, and ensemble
 // objectives for studies and the optimiser.
 
+#include <bit>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
@@ -66,6 +67,31 @@ TEST(Ensemble, MeanAndMaximumOverTheRecords) {
     EXPECT_LT(r.metrics["energy_residual"].get<double>(), 1e-10);
   }
   fs::remove_all(dir);
+}
+
+// What the ranks of an MPI job send each other: a record's figures, every field to the bit, and
+// the ensemble they make is the one made of the figures as computed.
+TEST(Ensemble, ARecordsFiguresTravelAsBytesToTheBit) {
+  const RunInput in = read(ensemble_input("ensemble"), {"analysis.duration=2.0"});
+  std::vector<TimeHistoryFigures> records, computed;
+  for (std::size_t r = 0; r < 3; ++r) {
+    const TimeHistoryFigures f = record_figures(in, r, std::nullopt);
+    computed.push_back(f);
+    const TimeHistoryFigures back = time_history_figures_from_bytes(to_bytes(f));
+    const PointFigures a{.response = f, .bare = std::nullopt}, b{.response = back, .bare = std::nullopt};
+    const std::vector<FigureColumn> ca = a.columns(), cb = b.columns();
+    ASSERT_EQ(ca.size(), cb.size());
+    for (std::size_t k = 0; k < ca.size(); ++k) {
+      EXPECT_EQ(ca[k].name, cb[k].name);
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(ca[k].value), std::bit_cast<std::uint64_t>(cb[k].value)) << ca[k].name;
+      EXPECT_EQ(ca[k].count, cb[k].count);
+    }
+    records.push_back(back);
+  }
+  EXPECT_GT(records[0].max_peak_V_W, 0.0);
+  const PointFigures whole{.response = ensemble_figures(computed), .bare = std::nullopt};
+  const PointFigures pieced{.response = ensemble_figures(records), .bare = std::nullopt};
+  EXPECT_EQ(io::to_json(whole), io::to_json(pieced));
 }
 
 TEST(Ensemble, BareBaselineOfAnEnsemblePointIsBarePounding) {

@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""A study and an ensemble on two MPI ranks give the serial run's results bit for bit; a run cut
+"""A study, an ensemble and an optimisation over records on two MPI ranks give the serial run's
+results bit for bit; a run cut
 short (--max-points) or killed (SIGTERM to mpirun) resumes on two ranks with nothing lost and
 nothing computed twice; a worker writes nothing; bad input under mpirun ends the job with exit
 code 2 and one message (docs/studies.md#distributed-studies-on-mpi).
@@ -99,12 +100,29 @@ def main():
     require(rows(out("ensemble_two"), "ensemble") == rows(out("ensemble_serial"), "ensemble"),
             "the ensemble on two ranks differs")
 
+    # An optimisation over a suite of records, each evaluation's records shared by the ranks:
+    # the same evaluations, front and optimum.
+    design = os.path.join(source, "examples", "design_5_and_8_storeys.toml")
+    settings = ["analysis.duration=3", "optimize.global_evaluations=4", "optimize.local_evaluations=4",
+                "optimize.pareto.points=3"]
+    sets = [a for s in settings for a in ("--set", s)]
+    a = run([poundsim, "run", design, "--out", out("optimize_serial"), "--quiet"] + sets)
+    b = run(MPIRUN + [poundsim, "run", design, "--out", out("optimize_two"), "--quiet"] + sets)
+    require(a.returncode == 0 and b.returncode == 0, a.stderr + b.stderr)
+    for name in ("evaluations.csv", "pareto.csv"):
+        same = open(os.path.join(out("optimize_serial"), name)).read() == open(os.path.join(out("optimize_two"), name)).read()
+        require(same, f"the optimisation's {name} on two ranks differs")
+    summaries = [json.load(open(os.path.join(out(d), "optimize.json"))) for d in ("optimize_serial", "optimize_two")]
+    for s in summaries:
+        s.pop("run_time_s")
+    require(summaries[0] == summaries[1], "the optimisation's optimize.json on two ranks differs")
+
     # Bad input: exit code 2, one message.
     bad = run(MPIRUN + [poundsim, "run", study, "--out", out("bad"), "--set", "study.threads=-1"])
     require(bad.returncode == 2, f"exit code {bad.returncode}: {bad.stderr}")
     require(bad.stderr.count("poundsim: error:") == 1, bad.stderr)
     require(not os.path.exists(out("bad")), "bad input left a folder")
-    print("two ranks: study, resume, kill and resume, ensemble, bad input: as serial")
+    print("two ranks: study, resume, kill and resume, ensemble, optimisation, bad input: as serial")
 
 
 if __name__ == "__main__":

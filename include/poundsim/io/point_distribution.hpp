@@ -35,6 +35,13 @@ class PointDistribution {
                          const std::function<std::string(const std::string&)>& compute,
                          const std::function<void(std::size_t, const std::string&)>& store,
                          const std::function<bool()>& stop) = 0;
+
+  /// For a run whose number of phases only the coordinator knows (an optimisation: one phase per
+  /// evaluation). On a worker: serves phases until the coordinator calls finish(). On the
+  /// coordinator: nothing.
+  virtual void serve_until_finished(const std::function<std::string(const std::string&)>& compute) = 0;
+  /// On the coordinator: ends serve_until_finished on every worker.
+  virtual void finish() = 0;
 };
 
 }  // namespace poundsim::io

@@ -55,6 +55,16 @@ std::vector<double> peak_V_W_of(const nlohmann::json& columns, int frames);
 /// The bare-pounding version of a point (bare_pounding_model), its figures.
 PointFigures baseline_figures(const RunInput& point, int threads);
 
+/// The records' scale factors of an ensemble point ([ensemble.scaling]: they depend on the
+/// point's model); empty without scaling.
+[[nodiscard]] std::vector<double> record_factors(const RunInput& point);
+/// The figures of record `record` of an ensemble point, its file scaled by `factor` when given.
+[[nodiscard]] TimeHistoryFigures record_figures(const RunInput& point, std::size_t record, std::optional<double> factor);
+/// A record's figures as bytes and back (CBOR of every field, each double to the bit): what the
+/// ranks of an MPI job send each other.
+[[nodiscard]] std::string to_bytes(const TimeHistoryFigures& figures);
+[[nodiscard]] TimeHistoryFigures time_history_figures_from_bytes(const std::string& bytes);
+
 struct StudyRunOptions {
   std::optional<long> max_points;               ///< Run at most this many new points, then stop.
   std::function<void(int, int)> progress;       ///< (done, to do) after every point.

@@ -20,6 +20,7 @@
 
 #include "poundsim/analysis/figures_of_merit.hpp"
 #include "poundsim/io/input.hpp"
+#include "poundsim/io/point_distribution.hpp"
 #include "poundsim/io/table.hpp"
 
 namespace poundsim::optimize {
@@ -95,8 +96,15 @@ struct OptimizationResult {
 /// frequency-response objective optimum_frf.csv and bare_frf.csv, and for a Pareto front
 /// pareto.csv into `out_dir`. `progress` is called after every evaluation with (evaluations,
 /// budget).
+/// `ranks`: the processes of an MPI job, which share the records of every ensemble evaluation
+/// (rank 0 runs this; the others run serve_optimization); the results are the same bit for bit.
 OptimizationResult run_optimization(const RunInput& input, const std::filesystem::path& out_dir,
-                                    const std::function<void(int, int)>& progress = {});
+                                    const std::function<void(int, int)>& progress = {},
+                                    io::PointDistribution* ranks = nullptr);
+
+/// A worker rank's part of run_optimization: computes the records it is sent until rank 0 ends
+/// the optimisation.
+void serve_optimization(const RunInput& input, io::PointDistribution& ranks);
 
 /// What the figure of column `name` measures, for reports ("" when it has no description).
 [[nodiscard]] std::string figure_meaning(std::string_view name);
