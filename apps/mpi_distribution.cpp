@@ -143,36 +143,42 @@ bool MpiDistribution::run_phase(const std::vector<std::string>& tasks,
       own->done = true;
     });
   };
-  start_own();
-  while (out > 0 || own) {
-    bool progressed = false;
-    int arrived = 0;
-    MPI_Status status;
-    check(MPI_Iprobe(MPI_ANY_SOURCE, kResultTag, MPI_COMM_WORLD, &arrived, &status), "MPI_Iprobe");
-    if (arrived != 0) {
-      const std::string result = receive(status);
-      const auto w = static_cast<std::size_t>(status.MPI_SOURCE);
-      const std::size_t finished = held[w];
-      --out;
-      if (more()) {  // the next task goes out before this result is stored: the worker waits less
-        held[w] = next;
-        send(tasks[next++], status.MPI_SOURCE, kTaskTag);
-        ++out;
+  try {
+    start_own();
+    while (out > 0 || own) {
+      bool progressed = false;
+      int arrived = 0;
+      MPI_Status status;
+      check(MPI_Iprobe(MPI_ANY_SOURCE, kResultTag, MPI_COMM_WORLD, &arrived, &status), "MPI_Iprobe");
+      if (arrived != 0) {
+        const std::string result = receive(status);
+        const auto w = static_cast<std::size_t>(status.MPI_SOURCE);
+        const std::size_t finished = held[w];
+        --out;
+        if (more()) {  // the next task goes out before this result is stored: the worker waits less
+          held[w] = next;
+          send(tasks[next++], status.MPI_SOURCE, kTaskTag);
+          ++out;
+        }
+        store(finished, result);
+        progressed = true;
       }
-      store(finished, result);
-      progressed = true;
+      if (own && own->done) {
+        own->thread.join();
+        if (own->error) std::rethrow_exception(own->error);
+        const std::size_t task = own->task;
+        const std::string result = std::move(own->result);
+        own.reset();
+        start_own();
+        store(task, result);
+        progressed = true;
+      }
+      if (!progressed) std::this_thread::sleep_for(std::chrono::microseconds(100));
     }
-    if (own && own->done) {
-      own->thread.join();
-      if (own->error) std::rethrow_exception(own->error);
-      const std::size_t task = own->task;
-      const std::string result = std::move(own->result);
-      own.reset();
-      start_own();
-      store(task, result);
-      progressed = true;
-    }
-    if (!progressed) std::this_thread::sleep_for(std::chrono::microseconds(100));
+  } catch (...) {
+    // A store or a message failed: the own thread must end before it is destroyed.
+    if (own && own->thread.joinable()) own->thread.join();
+    throw;
   }
   for (int w = 1; w < size_; ++w) send(stopped ? "stopped" : "done", w, kEndTag);
   return stopped;
