@@ -79,8 +79,14 @@ void MpiSession::abort(int code) const {
 
 MpiDistribution::End MpiDistribution::serve(const std::function<std::string(const std::string&)>& compute) const {
   for (;;) {
+    // Polled, not MPI_Probe: Open MPI spins a core in a blocking probe, and a worker may wait
+    // long while rank 0 works alone (an optimiser between evaluations).
     MPI_Status status;
-    check(MPI_Probe(0, MPI_ANY_TAG, MPI_COMM_WORLD, &status), "MPI_Probe");
+    int arrived = 0;
+    while (arrived == 0) {
+      check(MPI_Iprobe(0, MPI_ANY_TAG, MPI_COMM_WORLD, &arrived, &status), "MPI_Iprobe");
+      if (arrived == 0) std::this_thread::sleep_for(std::chrono::microseconds(100));
+    }
     const std::string message = receive(status);
     if (status.MPI_TAG == kEndTag) return message == "stopped" ? End::stopped : message == "finished" ? End::finished : End::done;
     send(compute(message), 0, kResultTag);
@@ -109,10 +115,12 @@ bool MpiDistribution::run_phase(const std::vector<std::string>& tasks,
   }
   std::size_t next = 0;
   bool stopped = false;
-  // Whether to hand out another task: none once the caller asked to stop.
+  // Whether to hand out another task: none once the caller asked to stop (a stop asked once
+  // every task is out stops nothing).
   const auto more = [&] {
+    if (next >= tasks.size()) return false;
     if (!stopped && stop && stop()) stopped = true;
-    return !stopped && next < tasks.size();
+    return !stopped;
   };
   std::vector<std::size_t> held(static_cast<std::size_t>(size_));  // the task each worker computes
   int out = 0;  // tasks at the workers

@@ -160,7 +160,15 @@ int main(int argc, char** argv) {
   // Under mpirun only rank 0 speaks; an error on any rank ends the whole job with its code.
   if (worker) quiet = true;
   const auto fail = [&](int code, const std::string& message) {
-    if (!worker) fmt::print(stderr, "{}\n", message);
+    if (worker) {
+      // Bad input stops every rank alike, and rank 0 says so and ends the job; an error of this
+      // rank alone (a record it cannot read) is said here, with its rank, once rank 0 has had
+      // time to end the job for a shared one.
+      std::this_thread::sleep_for(std::chrono::seconds(5));
+      fmt::print(stderr, "{} (rank {})\n", message, mpi.rank());
+    } else {
+      fmt::print(stderr, "{}\n", message);
+    }
     if (mpi.size() > 1) mpi.abort(code);
     return code;
   };
@@ -196,7 +204,11 @@ int main(int argc, char** argv) {
                       to_string(kind)));
     }
     poundsim::apps::MpiDistribution ranks(mpi);
-    if (worker && kind == AnalysisKind::optimize) {
+    // An optimisation over a suite of records shares each evaluation's records; any other one,
+    // like every analysis but studies and ensembles, runs on rank 0 alone.
+    const bool shared_optimisation = kind == AnalysisKind::optimize && mpi.size() > 1 &&
+                                     input.optimize->each == poundsim::io::PointRun::ensemble;
+    if (worker && shared_optimisation) {
       poundsim::optimize::serve_optimization(input, ranks);
       return 0;
     }
@@ -216,7 +228,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (kind == AnalysisKind::optimize) {
-      const poundsim::optimize::OptimizationResult result = poundsim::optimize::run_optimization(input, out_dir, progress, mpi.size() > 1 ? &ranks : nullptr);
+      const poundsim::optimize::OptimizationResult result = poundsim::optimize::run_optimization(input, out_dir, progress, shared_optimisation ? &ranks : nullptr);
       bar.finish();
       if (!quiet) fmt::print("{}", poundsim::optimize::report(result, out_dir));
       return 0;
@@ -236,6 +248,9 @@ int main(int argc, char** argv) {
     const poundsim::io::TimeHistoryResult result = poundsim::io::run_time_history(input, out_dir);
     if (!quiet) fmt::print("{}", poundsim::io::report(result, out_dir));
     return 0;
+  } catch (const poundsim::RunStopped& e) {
+    // Rank 0 stopped the job: a worker ends quietly.
+    return worker ? 0 : fail(kExitFailure, fmt::format("poundsim: error: {}", e.what()));
   } catch (const poundsim::InputError& e) {
     return fail(kExitBadInput, fmt::format("poundsim: error: {}", e.what()));
   } catch (const poundsim::SimulationError& e) {

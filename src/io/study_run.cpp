@@ -543,8 +543,10 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
   if (ranks != nullptr && !ranks->is_coordinator()) {
     // A worker: the bare-pounding references, then the points, as the coordinator sends them.
     for (const Todo& t : todo) by_id[t.id] = &t;
-    const bool stopped = ranks->run_phase({}, compute, {}, {}) || ranks->run_phase({}, compute, {}, {});
-    if (stopped) throw RunStopped();
+    // Both phases, whatever the first's end: the coordinator ends the second too.
+    const bool baselines_stopped = ranks->run_phase({}, compute, {}, {});
+    const bool points_stopped = ranks->run_phase({}, compute, {}, {});
+    if (baselines_stopped || points_stopped) throw RunStopped();
     StudyResult result;
     result.kind = kind;
     result.worker = true;

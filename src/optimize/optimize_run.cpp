@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <exception>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -72,7 +73,8 @@ struct Bound {
   [[nodiscard]] double violation(double value) const {
     if (std::isnan(value)) return kRejected;
     const double scale = limit != 0 ? std::abs(limit) : 1.0;
-    return (upper ? value - limit : limit - value) / scale;
+    const double v = (upper ? value - limit : limit - value) / scale;
+    return std::isfinite(v) ? v : kRejected;
   }
 };
 
@@ -130,24 +132,28 @@ PointFigures distributed_ensemble(const RunInput& input, const RunInput& point, 
     tasks.push_back(record_task(x, r, factors.empty() ? std::nullopt : std::optional<double>(factors[r])));
   }
   std::vector<TimeHistoryFigures> per_record(tasks.size());
-  std::optional<std::string> rejected, failed;
+  // Each record's error, if any: the first record's is reported, whichever rank ran it.
+  std::vector<std::optional<std::pair<bool, std::string>>> errors(tasks.size());  // (rejected, message)
   LastPoint last{x, point};  // this rank's own share uses the point as read
   ranks.run_phase(
       tasks, [&](const std::string& task) { return compute_record_task(input, task, last); },
       [&](std::size_t r, const std::string& bytes) {
         const json result = json::from_cbor(bytes);
         if (result.contains("rejected")) {
-          rejected = result["rejected"].get<std::string>();
+          errors[r].emplace(true, result["rejected"].get<std::string>());
         } else if (result.contains("failed")) {
-          failed = result["failed"].get<std::string>();
+          errors[r].emplace(false, result["failed"].get<std::string>());
         } else {
           const auto& binary = result.at("figures").get_binary();
           per_record[r] = time_history_figures_from_bytes(std::string(binary.begin(), binary.end()));
         }
       },
       {});
-  if (rejected) throw InputError(*rejected);
-  if (failed) throw SimulationError(*failed);
+  for (const auto& error : errors) {
+    if (!error) continue;
+    if (error->first) throw InputError(error->second);
+    throw SimulationError(error->second);
+  }
   PointFigures figures;
   figures.response = ensemble_figures(per_record);
   return figures;
@@ -242,7 +248,9 @@ struct Stage {
   Problem* problem;
   const Goal* goal;
   std::string name;
-  bool stopped = false;  ///< The caller asked the run to stop (RunStopped from its progress).
+  /// What ended the stage from inside an evaluation (RunStopped from the caller's progress, or
+  /// any error), rethrown once NLopt has returned.
+  std::exception_ptr error;
 };
 
 struct BoundCallback {
@@ -250,14 +258,15 @@ struct BoundCallback {
   const Bound* bound;
 };
 
-/// Runs `f` for NLopt: RunStopped (the caller's progress stops the run) becomes forced_stop,
-/// which ends the stage (NLopt's C++ wrapper turns any other exception into a generic failure).
+/// Runs `f` for NLopt: an exception (RunStopped from the caller's progress, or an error) is kept
+/// and becomes forced_stop, which ends the stage; run_stage rethrows it (NLopt's C++ wrapper
+/// would turn it into a generic failure and lose its message).
 template <class F>
 double nlopt_guarded(Stage& stage, F&& f) {
   try {
     return f();
-  } catch (const RunStopped&) {
-    stage.stopped = true;
+  } catch (...) {
+    stage.error = std::current_exception();
     throw nlopt::forced_stop();
   }
 }
@@ -286,7 +295,7 @@ OptimizationStage run_stage(const nlopt::algorithm algorithm, const std::string&
   // A start from another stage may lie outside the box by rounding (COBYLA's steps can cross a
   // bound by an ulp), which NLopt refuses.
   for (unsigned i = 0; i < n; ++i) x[i] = std::clamp(x[i], lower[i], upper[i]);
-  Stage stage{&problem, &goal, goal.label + name};
+  Stage stage{&problem, &goal, goal.label + name, nullptr};
   std::vector<BoundCallback> callbacks;
   callbacks.reserve(goal.bounds.size());
   for (const Bound& b : goal.bounds) callbacks.push_back({&stage, &b});
@@ -332,11 +341,13 @@ OptimizationStage run_stage(const nlopt::algorithm algorithm, const std::string&
   } catch (const nlopt::roundoff_limited&) {
     outcome = "ROUNDOFF_LIMITED";
   } catch (const nlopt::forced_stop&) {
-    if (stage.stopped) throw RunStopped();
+    if (stage.error) std::rethrow_exception(stage.error);
     outcome = "FORCED_STOP";
   } catch (const std::invalid_argument& e) {
+    if (stage.error) std::rethrow_exception(stage.error);
     throw SimulationError(fmt::format("NLopt rejected the {} stage: {}", stage.name, e.what()));
   }
+  if (stage.error) std::rethrow_exception(stage.error);
   return {stage.name, ran, outcome, static_cast<long>(problem.evaluations().size() - before)};
 }
 
@@ -478,19 +489,28 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
     }
     throw InputError(fmt::format("{}: the starting point ({}) is rejected: {}", where, values, first.error));
   }
-  if (first.status == "done") {
-    require_figure(s.objective, s.objective_where, first, s, input);
-    for (const io::OptimizeConstraint& c : s.constraints) require_figure(c.metric, c.where, first, s, input);
+  // The figures named must be figures of an evaluation: of the start, or (when it failed) of the
+  // first evaluation that ran, checked once the search is over.
+  const auto require_figures = [&](const Evaluation& done) {
+    require_figure(s.objective, s.objective_where, done, s, input);
+    for (const io::OptimizeConstraint& c : s.constraints) require_figure(c.metric, c.where, done, s, input);
     if (s.pareto) {
       require_figure(s.pareto->objective, s.pareto->objective_where.empty() ? s.objective_where : s.pareto->objective_where,
-                     first, s, input);
-      require_figure(s.pareto->metric, s.pareto->where, first, s, input);
+                     done, s, input);
+      require_figure(s.pareto->metric, s.pareto->where, done, s, input);
     }
-  }
+  };
+  const bool start_ran = first.status == "done";
+  if (start_ran) require_figures(first);
   nlopt::srand(s.seed);
   std::vector<OptimizationStage> ran;
   // Kept by value: the evaluations grow as the front's runs go on.
   const Evaluation first_optimum = optimise(stages, s, problem, main_goal, x, ran);
+  if (!start_ran) {
+    const auto done = std::find_if(problem.evaluations().begin(), problem.evaluations().end(),
+                                   [](const Evaluation& e) { return e.status == "done"; });
+    require_figures(*done);  // optimise found one, or threw
+  }
 
   std::optional<ParetoResult> pareto;
   if (s.pareto) {
@@ -505,7 +525,12 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
       Goal anchor{.objective = front_metric, .bounds = main_goal.bounds, .label = "pareto_metric."};
       const Evaluation least = optimise(stages, s, problem, anchor, front_optimum.x, ran);
       const double hi = front_optimum.metrics[front_metric], lo = least.metrics[front_metric];
-      const int points = s.pareto->points;
+      if (!std::isfinite(hi) || !std::isfinite(lo)) {
+        throw SimulationError(fmt::format("optimize.pareto: {} is not a figure of the anchors' designs ({}, {}): no "
+                                          "limits between them", s.pareto->metric, lo, hi));
+      }
+      // Anchors that agree leave no trade-off: the front is the objective's optimum alone.
+      const int points = hi > lo ? s.pareto->points : 1;
       for (int j = 0; j + 1 < points; ++j) limits.push_back(lo + (hi - lo) * j / (points - 1));
     }
     std::vector<Goal> goals;

@@ -189,6 +189,29 @@ points = 4
   std::filesystem::remove_all(dir);
 }
 
+// Two figures that do not trade off (frame 1 stays at rest: the worse frame's drift is frame 2's)
+// have one design for both anchors: the front is that design alone.
+TEST(Optimize, FiguresThatDoNotTradeOffMakeAFrontOfOnePoint) {
+  const RunInput in = read(problem(R"([optimize]
+each = "time_history"
+objective = "peak_drift_2_m"
+global = "none"
+local = "LN_COBYLA"
+local_evaluations = 60
+
+[optimize.pareto]
+metric = "max_peak_drift_m"
+points = 3
+)"));
+  const auto dir = testing::fresh_folder("optimize_no_trade_off");
+  const OptimizationResult r = run_optimization(in, dir);
+  ASSERT_TRUE(r.pareto);
+  ASSERT_EQ(r.pareto->points.size(), 1U);
+  EXPECT_EQ(r.pareto->points[0].objective, r.pareto->points[0].metric);
+  EXPECT_FALSE(r.pareto->points[0].limit);
+  std::filesystem::remove_all(dir);
+}
+
 void expect_refused(const std::string& optimize, const std::string& message) {
   SCOPED_TRACE(optimize);
   try {
