@@ -309,10 +309,7 @@ TimeHistoryFigures record_figures(const RunInput& point, std::size_t record, std
   return time_history_figures_of(one);
 }
 
-std::string to_bytes(const TimeHistoryFigures& figures) {
-  const std::vector<std::uint8_t> bytes = json::to_cbor(json(figures));
-  return {bytes.begin(), bytes.end()};
-}
+std::string to_bytes(const TimeHistoryFigures& figures) { return cbor_bytes(json(figures)); }
 
 TimeHistoryFigures time_history_figures_from_bytes(const std::string& bytes) {
   return json::from_cbor(bytes).get<TimeHistoryFigures>();
@@ -519,10 +516,7 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
   const auto compute = [&](const std::string& task_bytes) -> std::string {
     const json task = json::from_cbor(task_bytes);
     const Todo& t = *by_id.at(task.at("id").get<long>());
-    if (task.at("phase") == "baseline") {
-      const std::vector<std::uint8_t> bytes = json::to_cbor(json{{"figures", io::to_json(baseline_figures(t.input, 1))}});
-      return {bytes.begin(), bytes.end()};
-    }
+    if (task.at("phase") == "baseline") return cbor_bytes(json{{"figures", io::to_json(baseline_figures(t.input, 1))}});
     const auto point_start = std::chrono::steady_clock::now();
     std::string status = "done", error;
     json metrics = json::object();
@@ -535,9 +529,7 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
       error = e.what();
     }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - point_start).count();
-    const std::vector<std::uint8_t> bytes =
-        json::to_cbor(json{{"status", status}, {"error", error}, {"metrics", metrics}, {"seconds", seconds}});
-    return {bytes.begin(), bytes.end()};
+    return cbor_bytes(json{{"status", status}, {"error", error}, {"metrics", metrics}, {"seconds", seconds}});
   };
   PointDistribution* const ranks = options.distribution != nullptr && options.distribution->ranks() > 1 ? options.distribution : nullptr;
   if (ranks != nullptr && !ranks->is_coordinator()) {
@@ -583,13 +575,9 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
   const auto check_stop = [&] {
     if (options.stop_requested && options.stop_requested()) throw RunStopped();
   };
-  const auto to_bytes = [](const json& j) {
-    const std::vector<std::uint8_t> bytes = json::to_cbor(j);
-    return std::string(bytes.begin(), bytes.end());
-  };
   if (ranks != nullptr) {
     std::vector<std::string> tasks;
-    for (const Todo* t : missing) tasks.push_back(to_bytes(json{{"phase", "baseline"}, {"id", t->id}}));
+    for (const Todo* t : missing) tasks.push_back(cbor_bytes(json{{"phase", "baseline"}, {"id", t->id}}));
     const auto store = [&](std::size_t k, const std::string& result) {
       const json m = json::from_cbor(result).at("figures");
       db.record_baseline(missing[k]->baseline, m);
@@ -623,7 +611,7 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
   };
   std::vector<std::string> tasks;
   for (const Todo& t : todo) {
-    tasks.push_back(to_bytes(json{{"phase", "point"}, {"id", t.id},
+    tasks.push_back(cbor_bytes(json{{"phase", "point"}, {"id", t.id},
                                   {"bare", t.baseline.empty() ? json() : baselines.at(t.baseline)}}));
   }
   // Called by the thread or the rank that ran the point (a worker thread: the database and the

@@ -88,9 +88,7 @@ struct Goal {
 /// One record of an ensemble evaluation, as a task for any rank: the design x, the record and its
 /// scale factor. Its result: the record's figures, or the error that stopped it.
 std::string record_task(const std::vector<double>& x, std::size_t record, std::optional<double> factor) {
-  const std::vector<std::uint8_t> bytes =
-      json::to_cbor(json{{"x", x}, {"record", record}, {"factor", factor ? json(*factor) : json()}});
-  return {bytes.begin(), bytes.end()};
+  return io::cbor_bytes(json{{"x", x}, {"record", record}, {"factor", factor ? json(*factor) : json()}});
 }
 
 /// The point of the last design a rank computed records of: an evaluation's records come one
@@ -118,8 +116,7 @@ std::string compute_record_task(const RunInput& input, const std::string& task_b
   } catch (const SimulationError& e) {
     result = json{{"failed", e.what()}};
   }
-  const std::vector<std::uint8_t> bytes = json::to_cbor(result);
-  return {bytes.begin(), bytes.end()};
+  return io::cbor_bytes(result);
 }
 
 /// The figures of an ensemble evaluation whose records the ranks share, as point_figures gives

@@ -10,11 +10,20 @@
 /// task need only name its point (docs/studies.md#distributed-studies-on-mpi).
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 namespace poundsim::io {
+
+/// `value` as CBOR in a task's or a result's bytes (every double to the bit).
+[[nodiscard]] inline std::string cbor_bytes(const nlohmann::json& value) {
+  const std::vector<std::uint8_t> bytes = nlohmann::json::to_cbor(value);
+  return {bytes.begin(), bytes.end()};
+}
 
 class PointDistribution {
  public:
