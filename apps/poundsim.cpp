@@ -174,7 +174,7 @@ int main(int argc, char** argv) {
   };
 
   try {
-    // Only studies and ensembles share their points; anything else runs on rank 0 alone.
+    // Only studies, ensembles and optimisations share their work; anything else runs on rank 0 alone.
     if (worker && !run->parsed()) return 0;
     if (verify->parsed()) {
       const poundsim::VerificationReport report = poundsim::run_verification();
@@ -204,10 +204,9 @@ int main(int argc, char** argv) {
                       to_string(kind)));
     }
     poundsim::apps::MpiDistribution ranks(mpi);
-    // An optimisation over a suite of records shares each evaluation's records; any other one,
-    // like every analysis but studies and ensembles, runs on rank 0 alone.
-    const bool shared_optimisation = kind == AnalysisKind::optimize && mpi.size() > 1 &&
-                                     input.optimize->each == poundsim::io::PointRun::ensemble;
+    // An optimisation shares its batches of designs (and an ensemble design's records); every
+    // analysis but studies, ensembles and optimisations runs on rank 0 alone.
+    const bool shared_optimisation = kind == AnalysisKind::optimize && mpi.size() > 1;
     if (worker && shared_optimisation) {
       poundsim::optimize::serve_optimization(input, ranks);
       return 0;

@@ -378,7 +378,11 @@ def test_ctrl_c_stops_a_frequency_response_and_an_optimisation(tmp_path):
     opt = poundsim.load(EXAMPLES / "optimize_gap_elements.toml", settings=["frf.points=9"])
     with pytest.raises(KeyboardInterrupt):
         poundsim.run(opt, out=tmp_path / "opt", progress=interrupt_after_first_point(), progress_interval=0)
-    assert not (tmp_path / "opt").exists() or not any((tmp_path / "opt").iterdir())  # no file written
+    # No result written, only the database of the evaluations done, from which the run resumes.
+    assert [p.name for p in (tmp_path / "opt").iterdir()] == ["optimize.sqlite"]
+    resumed = poundsim.run(opt, out=tmp_path / "opt", progress=False)
+    assert resumed.summary.evaluations_from_database >= 1
+    assert resumed.summary.designs_computed == resumed.summary.evaluations - resumed.summary.evaluations_from_database
 
 
 def test_bad_arguments_are_refused(tmp_path):

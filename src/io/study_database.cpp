@@ -1,6 +1,7 @@
 #include "poundsim/io/study_database.hpp"
 
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <system_error>
 
@@ -47,6 +48,14 @@ nlohmann::json parse(const std::filesystem::path& file, const std::string& text,
                                  text.substr(0, 60)));
   }
   return value;
+}
+
+/// A blob's length as SQLite takes it (an int): refused, not narrowed, past 2 GiB.
+int blob_size(const std::filesystem::path& file, const std::string& bytes) {
+  if (bytes.size() > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+    throw std::runtime_error(fmt::format("{}: an evaluation of {} bytes is more than SQLite stores", file.string(), bytes.size()));
+  }
+  return static_cast<int>(bytes.size());
 }
 
 }  // namespace
@@ -204,6 +213,42 @@ void StudyDatabase::record_baseline(const std::string& key, const nlohmann::json
   } catch (const SQLite::Exception& e) {
     rethrow(file_, e);
   }
+}
+
+void StudyDatabase::record_evaluation(const std::string& design, const std::string& result) {
+  const std::lock_guard lock(mutex_);
+  try {
+    // Plain INSERT: a design is computed once, so a second row for it would be a defect.
+    ensure_evaluations_table();
+    SQLite::Statement s(*db_, "INSERT INTO evaluations (design, result) VALUES (?1, ?2)");
+    s.bind(1, design.data(), blob_size(file_, design));
+    s.bind(2, result.data(), blob_size(file_, result));
+    s.exec();
+  } catch (const SQLite::Exception& e) {
+    rethrow(file_, e);
+  }
+}
+
+void StudyDatabase::ensure_evaluations_table() {
+  // Only an optimisation's database has the table: a study's stays as it was.
+  db_->exec("CREATE TABLE IF NOT EXISTS evaluations (design BLOB PRIMARY KEY, result BLOB NOT NULL)");
+}
+
+std::vector<std::pair<std::string, std::string>> StudyDatabase::evaluations() {
+  const std::lock_guard lock(mutex_);
+  std::vector<std::pair<std::string, std::string>> out;
+  try {
+    ensure_evaluations_table();
+    SQLite::Statement s(*db_, "SELECT design, result FROM evaluations ORDER BY rowid");
+    while (s.executeStep()) {
+      const SQLite::Column design = s.getColumn(0), result = s.getColumn(1);
+      out.emplace_back(std::string(static_cast<const char*>(design.getBlob()), static_cast<std::size_t>(design.getBytes())),
+                       std::string(static_cast<const char*>(result.getBlob()), static_cast<std::size_t>(result.getBytes())));
+    }
+  } catch (const SQLite::Exception& e) {
+    rethrow(file_, e);
+  }
+  return out;
 }
 
 std::vector<StudyDatabase::Row> StudyDatabase::rows() const {

@@ -1,6 +1,7 @@
 #include "poundsim/io/study_run.hpp"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cassert>
 #include <limits>
@@ -38,6 +39,9 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TimeHistoryFigures, energy_residual, pga_g, f
                                    max_impact_impulse_Ns, max_gap_force_N, max_peak_V_W, max_ratio_to_free,
                                    max_peak_drift_m, max_peak_drift_ratio, max_peak_abs_acc_g, max_residual_drift_m,
                                    max_residual_drift_ratio, max_stroke_use, hysteretic_energy_J)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(FrfFigures, points, non_periodic, frames, max_peak_V_W, max_ratio_to_free)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(EnsembleFigures, records, mean, max)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(BareComparison, bare_peak_V_W, ratio_to_bare, max_ratio_to_bare)
 }  // namespace poundsim
 
 namespace poundsim::io {
@@ -313,6 +317,32 @@ std::string to_bytes(const TimeHistoryFigures& figures) { return cbor_bytes(json
 
 TimeHistoryFigures time_history_figures_from_bytes(const std::string& bytes) {
   return json::from_cbor(bytes).get<TimeHistoryFigures>();
+}
+
+namespace {
+// The response's kind names its field: {"frf": …} | {"time_history": …} | {"ensemble": …}.
+constexpr std::array<const char*, 3> kResponseKinds{"frf", "time_history", "ensemble"};
+}  // namespace
+
+std::string to_bytes(const PointFigures& figures) {
+  json value = json::object();
+  std::visit([&](const auto& response) { value[kResponseKinds[figures.response.index()]] = response; }, figures.response);
+  if (figures.bare) value["bare"] = *figures.bare;
+  return cbor_bytes(value);
+}
+
+PointFigures point_figures_from_bytes(const std::string& bytes) {
+  const json value = json::from_cbor(bytes);
+  PointFigures figures;
+  if (value.contains("frf")) {
+    figures.response = value["frf"].get<FrfFigures>();
+  } else if (value.contains("time_history")) {
+    figures.response = value["time_history"].get<TimeHistoryFigures>();
+  } else {
+    figures.response = value.at("ensemble").get<EnsembleFigures>();
+  }
+  if (value.contains("bare")) figures.bare = value["bare"].get<BareComparison>();
+  return figures;
 }
 
 PointFigures point_figures(const RunInput& point, int threads, const std::vector<double>* bare_peak_V_W) {

@@ -55,13 +55,44 @@ PointValues point_values(const OptimizeSettings& settings, const std::vector<dou
 
 constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
 
-/// One design evaluated: its figures and the values of the figures the goals ask for.
+/// What evaluating a design gave, wherever and whenever it was computed (this process, another
+/// rank, an earlier run of the same input whose database this run reads).
+struct Outcome {
+  std::string status = "done", error;  ///< done | rejected (the input refuses the design) | failed
+  PointFigures figures;
+  bool from_database = false;
+};
+
+/// One design as a stage of the search asked for it: its outcome and the values of the figures
+/// the goals ask for. A speculative one (no outcome) is a guess the search made while designs it
+/// needs are computed: it never outlives that search (see Problem).
 struct Evaluation {
   std::vector<double> x;
   std::string stage, status, error;
-  PointFigures figures;
-  std::vector<double> metrics;  ///< Per Problem::metrics(); NaN when not done or not a figure.
+  const PointFigures* figures = nullptr;  ///< The outcome's, which outlives the evaluation.
+  std::vector<double> metrics;            ///< Per Problem::metrics(); NaN when not done or not a figure.
+  bool from_database = false;
 };
+
+/// The bytes of an outcome, as the database keeps it and the ranks send it.
+std::string outcome_bytes(const Outcome& o) {
+  json value{{"status", o.status}, {"error", o.error}};
+  if (o.status == "done") {
+    const std::string figures = to_bytes(o.figures);
+    value["figures"] = json::binary(std::vector<std::uint8_t>(figures.begin(), figures.end()));
+  }
+  return io::cbor_bytes(value);
+}
+
+Outcome outcome_from_bytes(const std::string& bytes) {
+  const json value = json::from_cbor(bytes);
+  Outcome o{value.at("status").get<std::string>(), value.at("error").get<std::string>(), {}, false};
+  if (value.contains("figures")) {
+    const auto& binary = value["figures"].get_binary();
+    o.figures = point_figures_from_bytes(std::string(binary.begin(), binary.end()));
+  }
+  return o;
+}
 
 /// A limit on metric `metric` (an index into Problem::metrics()), as NLopt's c(x) ≤ 0.
 struct Bound {
@@ -85,8 +116,25 @@ struct Goal {
   std::string label;          ///< Prefix of its stages' names ("" for the main one).
 };
 
-/// One record of an ensemble evaluation, as a task for any rank: the design x, the record and its
-/// scale factor. Its result: the record's figures, or the error that stopped it.
+/// A design's evaluation run here, with `threads` for its frequencies or records.
+Outcome compute_design(const RunInput& input, const std::vector<double>& x, int threads) {
+  Outcome o;
+  try {
+    o.figures = point_figures(with_settings(input, point_values(*input.optimize, x)), threads, nullptr);
+  } catch (const InputError& e) {
+    o.status = "rejected";
+    o.error = e.what();
+  } catch (const SimulationError& e) {
+    o.status = "failed";
+    o.error = e.what();
+  }
+  return o;
+}
+
+/// A task for any rank: a whole design (x), or one record of an ensemble design (x, the record
+/// and its scale factor). Its result: the design's outcome, or the record's figures or the
+/// error that stopped it.
+std::string design_task(const std::vector<double>& x) { return io::cbor_bytes(json{{"x", x}}); }
 std::string record_task(const std::vector<double>& x, std::size_t record, std::optional<double> factor) {
   return io::cbor_bytes(json{{"x", x}, {"record", record}, {"factor", factor ? json(*factor) : json()}});
 }
@@ -98,11 +146,12 @@ struct LastPoint {
   std::optional<RunInput> point;
 };
 
-std::string compute_record_task(const RunInput& input, const std::string& task_bytes, LastPoint& last) {
+std::string compute_task(const RunInput& input, const std::string& task_bytes, LastPoint& last) {
   const json task = json::from_cbor(task_bytes);
+  const std::vector<double> x = task.at("x").get<std::vector<double>>();
+  if (!task.contains("record")) return outcome_bytes(compute_design(input, x, 1));
   json result;
   try {
-    const std::vector<double> x = task.at("x").get<std::vector<double>>();
     if (!last.point || last.x != x) {
       last.point.reset();
       last.point = with_settings(input, point_values(*input.optimize, x));
@@ -119,75 +168,178 @@ std::string compute_record_task(const RunInput& input, const std::string& task_b
   return io::cbor_bytes(result);
 }
 
-/// The figures of an ensemble evaluation whose records the ranks share, as point_figures gives
-/// them: the records' figures, aggregated in record order on this rank.
-PointFigures distributed_ensemble(const RunInput& input, const RunInput& point, const std::vector<double>& x,
-                                  io::PointDistribution& ranks) {
-  const std::vector<double> factors = record_factors(point);
-  std::vector<std::string> tasks;
-  for (std::size_t r = 0; r < point.ensemble->records.size(); ++r) {
-    tasks.push_back(record_task(x, r, factors.empty() ? std::nullopt : std::optional<double>(factors[r])));
-  }
-  std::vector<TimeHistoryFigures> per_record(tasks.size());
-  // Each record's error, if any: the first record's is reported, whichever rank ran it.
-  std::vector<std::optional<std::pair<bool, std::string>>> errors(tasks.size());  // (rejected, message)
-  LastPoint last{x, point};  // this rank's own share uses the point as read
-  ranks.run_phase(
-      tasks, [&](const std::string& task) { return compute_record_task(input, task, last); },
-      [&](std::size_t r, const std::string& bytes) {
-        const json result = json::from_cbor(bytes);
-        if (result.contains("rejected")) {
-          errors[r].emplace(true, result["rejected"].get<std::string>());
-        } else if (result.contains("failed")) {
-          errors[r].emplace(false, result["failed"].get<std::string>());
-        } else {
-          const auto& binary = result.at("figures").get_binary();
-          per_record[r] = time_history_figures_from_bytes(std::string(binary.begin(), binary.end()));
-        }
-      },
-      {});
-  for (const auto& error : errors) {
-    if (!error) continue;
-    if (error->first) throw InputError(error->second);
-    throw SimulationError(error->second);
-  }
-  PointFigures figures;
-  figures.response = ensemble_figures(per_record);
-  return figures;
-}
+/// The designs a search needs but has not evaluated: it stops (thrown through NLopt) so that
+/// they are computed, then starts again from the beginning.
+struct NeedEvaluations {};
 
+/// Every evaluation of the search, asked for in the order NLopt asks for them.
+///
+/// NLopt asks for one design at a time, and its next design may depend on the last one's
+/// value; but it is deterministic: the same seed and the same values give the same designs. So
+/// the search is run as a replay. Outcomes known (computed, or read from the database of an
+/// earlier run of the same input) are answered at once; the first unknown design is where the
+/// search really is. With ranks to fill, the search goes on past it, answering unknown designs
+/// with a guess (a rejected evaluation: late in a search most trial designs are worse, and a
+/// population's designs do not depend on the values at all) and collecting them, one batch for
+/// the ranks; then the batch is computed at once and the search replayed from its start. A
+/// guessed design the replay does not ask for is computed in vain but recorded nowhere but the
+/// database: the evaluations, their order and the optimum are those of a search on one process,
+/// bit for bit, and a killed run replays from its database with nothing computed twice.
 class Problem {
  public:
   Problem(const RunInput& input, std::vector<std::string> metrics, const std::function<void(int, int)>& progress,
-          int budget, io::PointDistribution* ranks)
+          int budget, io::PointDistribution* ranks, io::StudyDatabase& database)
       : input_(input), settings_(*input.optimize), metrics_(std::move(metrics)), progress_(progress), budget_(budget),
-        ranks_(ranks) {}
+        ranks_(ranks), database_(database) {
+    for (const auto& [design, outcome] : database_.evaluations()) {
+      Outcome o = outcome_from_bytes(outcome);
+      o.from_database = true;
+      known_.emplace(json::from_cbor(design).get<std::vector<double>>(), std::move(o));
+    }
+    const std::size_t records = input.ensemble ? input.ensemble->records.size() : 1;
+    if (ranks_ != nullptr) {
+      // A design per rank; an ensemble's records already fill the ranks, so fewer designs then.
+      batch_ = settings_.each == PointRun::ensemble ? std::max<std::size_t>(1, static_cast<std::size_t>(ranks_->ranks()) / records)
+                                                    : static_cast<std::size_t>(ranks_->ranks());
+    }
+  }
 
-  /// The evaluation at x, run unless it was before.
+  /// Starts the search again from the beginning: no evaluation asked for yet.
+  void replay() {
+    evaluations_.clear();
+    memo_.clear();
+    pending_.clear();
+  }
+
+  /// The evaluation at x. An unknown design is pending: the search is stopped (NeedEvaluations)
+  /// once a batch of them is collected.
   const Evaluation& operator()(const std::vector<double>& x, const std::string& stage) {
     if (auto it = memo_.find(x); it != memo_.end()) return evaluations_[it->second];
-    Evaluation e{x, stage, "done", "", {}, std::vector<double>(metrics_.size(), kNone)};
-    try {
-      const RunInput point = with_settings(input_, point_values(settings_, x));
-      e.figures = ranks_ != nullptr && point.each() == PointRun::ensemble ? distributed_ensemble(input_, point, x, *ranks_)
-                                                                         : point_figures(point, settings_.threads, nullptr);
-      const std::vector<FigureColumn> columns = e.figures.columns();
-      for (std::size_t m = 0; m < metrics_.size(); ++m) {
-        for (const FigureColumn& c : columns) {
-          if (c.name == metrics_[m]) e.metrics[m] = c.value;
+    Evaluation e{x, stage, "speculative", "", nullptr, std::vector<double>(metrics_.size(), kNone), false};
+    if (const auto known = known_.find(x); known != known_.end()) {
+      const Outcome& o = known->second;
+      e.status = o.status;
+      e.error = o.error;
+      e.figures = &o.figures;
+      e.from_database = o.from_database;
+      if (o.status == "done") {
+        const std::vector<FigureColumn> columns = o.figures.columns();
+        for (std::size_t m = 0; m < metrics_.size(); ++m) {
+          for (const FigureColumn& c : columns) {
+            if (c.name == metrics_[m]) e.metrics[m] = c.value;
+          }
         }
       }
-    } catch (const InputError& err) {
-      e.status = "rejected";
-      e.error = err.what();
-    } catch (const SimulationError& err) {
-      e.status = "failed";
-      e.error = err.what();
+    } else {
+      pending_.push_back(x);
+      if (pending_.size() >= batch_) throw NeedEvaluations{};
     }
     memo_[x] = evaluations_.size();
     evaluations_.push_back(std::move(e));
-    if (progress_) progress_(static_cast<int>(evaluations_.size()), budget_);
+    // Progress is the search's own, not its guesses'.
+    if (pending_.empty() && evaluations_.size() > reported_) {
+      reported_ = evaluations_.size();
+      if (progress_) progress_(static_cast<int>(evaluations_.size()), budget_);
+    }
     return evaluations_.back();
+  }
+
+  /// Computes x now unless it is known (the start, before any search).
+  void require(const std::vector<double>& x) {
+    if (known_.contains(x)) return;
+    pending_ = {x};
+    evaluate_pending();
+  }
+
+  /// The designs the search is waiting for, the first of them where it really is.
+  [[nodiscard]] bool waiting() const { return !pending_.empty(); }
+
+  /// Computes the pending designs (all at once, over the ranks when there are ranks) and
+  /// records each in the database as it is known.
+  void evaluate_pending() {
+    std::vector<std::vector<double>> designs;
+    designs.swap(pending_);
+    if (ranks_ == nullptr) {
+      for (const std::vector<double>& x : designs) learn(x, compute_design(input_, x, settings_.threads));
+      return;
+    }
+    // A design's tasks: itself, or its records; a design the input rejects has none.
+    struct Planned {
+      std::optional<Outcome> outcome;  ///< Known before any task runs: rejected.
+      std::size_t first_task = 0;
+      std::vector<TimeHistoryFigures> records;
+      std::vector<std::optional<std::pair<bool, std::string>>> errors;  ///< A record's (rejected, message).
+    };
+    std::vector<Planned> planned(designs.size());
+    std::vector<std::string> tasks;
+    std::vector<std::size_t> task_design;
+    for (std::size_t d = 0; d < designs.size(); ++d) {
+      Planned& p = planned[d];
+      p.first_task = tasks.size();
+      if (settings_.each != PointRun::ensemble) {
+        tasks.push_back(design_task(designs[d]));
+        task_design.push_back(d);
+        continue;
+      }
+      try {
+        const RunInput point = with_settings(input_, point_values(settings_, designs[d]));
+        const std::vector<double> factors = record_factors(point);
+        for (std::size_t r = 0; r < point.ensemble->records.size(); ++r) {
+          tasks.push_back(record_task(designs[d], r, factors.empty() ? std::nullopt : std::optional<double>(factors[r])));
+          task_design.push_back(d);
+        }
+        p.records.resize(point.ensemble->records.size());
+        p.errors.resize(point.ensemble->records.size());
+      } catch (const InputError& e) {
+        p.outcome = Outcome{"rejected", e.what(), {}, false};
+      } catch (const SimulationError& e) {
+        p.outcome = Outcome{"failed", e.what(), {}, false};
+      }
+    }
+    LastPoint last;
+    ranks_->run_phase(
+        tasks, [&](const std::string& task) { return compute_task(input_, task, last); },
+        [&](std::size_t t, const std::string& bytes) {
+          Planned& p = planned[task_design[t]];
+          if (settings_.each != PointRun::ensemble) {
+            p.outcome = outcome_from_bytes(bytes);
+            return;
+          }
+          const std::size_t r = t - p.first_task;
+          const json result = json::from_cbor(bytes);
+          if (result.contains("rejected")) {
+            p.errors[r].emplace(true, result["rejected"].get<std::string>());
+          } else if (result.contains("failed")) {
+            p.errors[r].emplace(false, result["failed"].get<std::string>());
+          } else {
+            const auto& binary = result.at("figures").get_binary();
+            p.records[r] = time_history_figures_from_bytes(std::string(binary.begin(), binary.end()));
+          }
+        },
+        {});
+    for (std::size_t d = 0; d < designs.size(); ++d) {
+      Planned& p = planned[d];
+      if (!p.outcome) {
+        // An ensemble's: its first record's error, whichever rank ran it (as on one process),
+        // else its records' figures aggregated in record order.
+        p.outcome.emplace();
+        const auto error = std::find_if(p.errors.begin(), p.errors.end(), [](const auto& e) { return e.has_value(); });
+        if (error != p.errors.end()) {
+          p.outcome->status = (*error)->first ? "rejected" : "failed";
+          p.outcome->error = (*error)->second;
+        } else {
+          p.outcome->figures.response = ensemble_figures(p.records);
+        }
+      }
+      learn(designs[d], std::move(*p.outcome));
+    }
+  }
+
+  /// Designs computed by this run (the search's and its guesses'), and evaluations of the
+  /// search read from the database.
+  [[nodiscard]] long computed() const { return computed_; }
+  [[nodiscard]] long reused() const {
+    return std::count_if(evaluations_.begin(), evaluations_.end(), [](const Evaluation& e) { return e.from_database; });
   }
 
   [[nodiscard]] double objective(const Evaluation& e, const Goal& goal) const {
@@ -230,14 +382,28 @@ class Problem {
   [[nodiscard]] const std::vector<std::string>& metrics() const { return metrics_; }
 
  private:
+  void learn(const std::vector<double>& x, Outcome outcome) {
+    database_.record_evaluation(io::cbor_bytes(json(x)), outcome_bytes(outcome));
+    known_.emplace(x, std::move(outcome));
+    ++computed_;
+  }
+
   const RunInput& input_;
   const OptimizeSettings& settings_;
   std::vector<std::string> metrics_;
   std::function<void(int, int)> progress_;
   int budget_;
-  io::PointDistribution* ranks_;  ///< Shares ensemble evaluations' records; none: this process.
+  io::PointDistribution* ranks_;  ///< Share the designs of a batch; none: this process.
+  io::StudyDatabase& database_;
+  std::size_t batch_ = 1;  ///< Designs computed at once.
+  /// Every outcome known, by design (std::map: an outcome never moves, evaluations point at it).
+  std::map<std::vector<double>, Outcome> known_;
+  std::vector<std::vector<double>> pending_;
+  long computed_ = 0;
+  // The search as replayed so far: its evaluations in order, by design.
   std::map<std::vector<double>, std::size_t> memo_;
   std::vector<Evaluation> evaluations_;
+  std::size_t reported_ = 0;  ///< Evaluations reported to progress (never twice across replays).
 };
 
 /// What NLopt's callbacks of one stage share.
@@ -255,11 +421,14 @@ struct BoundCallback {
   const Bound* bound;
 };
 
-/// Runs `f` for NLopt: an exception (RunStopped from the caller's progress, or an error) is kept
-/// and becomes forced_stop, which ends the stage; run_stage rethrows it (NLopt's C++ wrapper
-/// would turn it into a generic failure and lose its message).
+/// Runs `f` for NLopt: an exception (RunStopped from the caller's progress, NeedEvaluations, or
+/// an error) is kept and becomes forced_stop, which ends the stage; run_stage rethrows it
+/// (NLopt's C++ wrapper would turn it into a generic failure and lose its message). Some
+/// algorithms look at the stop only between phases (CRS2 evaluates its whole first population):
+/// once stopped, nothing more is evaluated.
 template <class F>
 double nlopt_guarded(Stage& stage, F&& f) {
+  if (stage.error) throw nlopt::forced_stop();
   try {
     return f();
   } catch (...) {
@@ -377,11 +546,11 @@ const Evaluation& optimise(const Stages& stages, const OptimizeSettings& s, Prob
 /// "{where}: "name" is not a figure …" unless every evaluation of this kind has it.
 void require_figure(const std::string& name, const std::string& where, const Evaluation& start,
                     const OptimizeSettings& s, const RunInput& input) {
-  for (const FigureColumn& c : start.figures.columns()) {
+  for (const FigureColumn& c : start.figures->columns()) {
     if (c.name == name) return;
   }
   std::vector<std::string> names;
-  for (const FigureColumn& c : start.figures.columns()) names.push_back(c.name);
+  for (const FigureColumn& c : start.figures->columns()) names.push_back(c.name);
   std::sort(names.begin(), names.end());
   throw InputError(fmt::format("{}: \"{}\" is not a figure of an evaluation (each = \"{}\") of this model; its "
                                "figures are: {}",
@@ -423,7 +592,7 @@ std::vector<ConstraintOutcome> constraint_outcomes(const OptimizeSettings& s, co
 
 void serve_optimization(const RunInput& input, io::PointDistribution& ranks) {
   LastPoint last;
-  ranks.serve_until_finished([&](const std::string& task) { return compute_record_task(input, task, last); });
+  ranks.serve_until_finished([&](const std::string& task) { return compute_task(input, task, last); });
 }
 
 OptimizationResult run_optimization(const RunInput& input, const std::filesystem::path& out_dir,
@@ -471,88 +640,128 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
                              : 1 + (front_objective != 0 ? 1 : 0) +
                                    (s.pareto->limits.empty() ? s.pareto->points : static_cast<int>(s.pareto->limits.size()));
   const int budget = 1 + runs * ((global ? s.global_evaluations : 0) + (local ? s.local_evaluations : 0));
-  Problem problem(input, metrics, progress, budget, ranks);
-  // The starting point is evaluated first, so that a bad key or figure is reported before any search.
-  const Evaluation& first = problem(x, "start");
-  if (first.status == "rejected") {
-    // Reported where the file defines the variable whose value was rejected, else at the file.
-    std::string where = input.source.string(), values;
-    for (std::size_t i = 0; i < n; ++i) {
-      const OptimizeVariable& v = s.variables[i];
-      values += fmt::format("{}{} = {}", i == 0 ? "" : ", ", v.key, toml_float(x[i]));
-      if (!v.where.empty() && first.error.starts_with(fmt::format("{}: --set {}=", input.source.string(), v.key))) {
-        where = v.where;
+  const std::string database_name = "optimize.sqlite";
+  OutputTransaction out(out_dir);  // creates the folder for the database too
+  const json definition{{"input", input.source.string()}, {"kind", "optimize"}, {"each", to_string(s.each)},
+                        {"variables", [&] {
+                           json keys = json::array();
+                           for (const OptimizeVariable& v : s.variables) keys.push_back(v.key);
+                           return keys;
+                         }()}};
+  const std::filesystem::path database_path = out_dir / database_name;
+  std::error_code absent;
+  const bool resuming = std::filesystem::exists(database_path, absent);
+  std::optional<io::StudyDatabase> database(std::in_place, database_path, fingerprint(input), definition);
+  Problem problem(input, metrics, progress, budget, ranks, *database);
+  std::vector<OptimizationStage> ran;
+  std::optional<ParetoResult> pareto;
+  // The whole search, from the start: NLopt's evaluations, each known or pending (Problem).
+  const auto search = [&] {
+    ran.clear();
+    pareto.reset();
+    const Evaluation& first = problem(x, "start");
+    if (first.status == "rejected") {
+      // Reported where the file defines the variable whose value was rejected, else at the file.
+      std::string where = input.source.string(), values;
+      for (std::size_t i = 0; i < n; ++i) {
+        const OptimizeVariable& v = s.variables[i];
+        values += fmt::format("{}{} = {}", i == 0 ? "" : ", ", v.key, toml_float(x[i]));
+        if (!v.where.empty() && first.error.starts_with(fmt::format("{}: --set {}=", input.source.string(), v.key))) {
+          where = v.where;
+        }
       }
+      throw InputError(fmt::format("{}: the starting point ({}) is rejected: {}", where, values, first.error));
     }
-    throw InputError(fmt::format("{}: the starting point ({}) is rejected: {}", where, values, first.error));
-  }
-  // The figures named must be figures of an evaluation: of the start, or (when it failed) of the
-  // first evaluation that ran, checked once the search is over.
-  const auto require_figures = [&](const Evaluation& done) {
-    require_figure(s.objective, s.objective_where, done, s, input);
-    for (const io::OptimizeConstraint& c : s.constraints) require_figure(c.metric, c.where, done, s, input);
+    // The figures named must be figures of an evaluation: of the start, or (when it failed) of the
+    // first evaluation that ran, checked once the search is over.
+    const auto require_figures = [&](const Evaluation& done) {
+      require_figure(s.objective, s.objective_where, done, s, input);
+      for (const io::OptimizeConstraint& c : s.constraints) require_figure(c.metric, c.where, done, s, input);
+      if (s.pareto) {
+        require_figure(s.pareto->objective, s.pareto->objective_where.empty() ? s.objective_where : s.pareto->objective_where,
+                       done, s, input);
+        require_figure(s.pareto->metric, s.pareto->where, done, s, input);
+      }
+    };
+    const bool start_ran = first.status == "done";
+    if (start_ran) require_figures(first);
+    nlopt::srand(s.seed);
+    // Kept by value: the evaluations grow as the front's runs go on.
+    const Evaluation first_optimum = optimise(stages, s, problem, main_goal, x, ran);
+    if (!start_ran && !problem.waiting()) {
+      const auto done = std::find_if(problem.evaluations().begin(), problem.evaluations().end(),
+                                     [](const Evaluation& e) { return e.status == "done"; });
+      require_figures(*done);  // optimise found one, or threw
+    }
+
     if (s.pareto) {
-      require_figure(s.pareto->objective, s.pareto->objective_where.empty() ? s.objective_where : s.pareto->objective_where,
-                     done, s, input);
-      require_figure(s.pareto->metric, s.pareto->where, done, s, input);
+      // The front's objective minimised under the constraints alone: the main optimum, or its own.
+      Goal front_goal{.objective = front_objective, .bounds = main_goal.bounds, .label = "pareto_objective."};
+      const Evaluation front_optimum =
+          front_objective == 0 ? first_optimum : optimise(stages, s, problem, front_goal, first_optimum.x, ran);
+      std::vector<double> limits = s.pareto->limits;
+      if (limits.empty()) {
+        // The ε-constraint method between the two anchors: the second figure at the objective's
+        // optimum (its largest useful limit) and its own least value.
+        Goal anchor{.objective = front_metric, .bounds = main_goal.bounds, .label = "pareto_metric."};
+        const Evaluation least = optimise(stages, s, problem, anchor, front_optimum.x, ran);
+        const double hi = front_optimum.metrics[front_metric], lo = least.metrics[front_metric];
+        if (!std::isfinite(hi) || !std::isfinite(lo)) {
+          throw SimulationError(fmt::format("optimize.pareto: {} is not a figure of the anchors' designs ({}, {}): no "
+                                            "limits between them", s.pareto->metric, lo, hi));
+        }
+        // Anchors that agree leave no trade-off: the front is the objective's optimum alone.
+        const int points = hi > lo ? s.pareto->points : 1;
+        for (int j = 0; j + 1 < points; ++j) limits.push_back(lo + (hi - lo) * j / (points - 1));
+      }
+      std::vector<Goal> goals;
+      for (std::size_t j = 0; j < limits.size(); ++j) {
+        Goal goal = front_goal;
+        goal.bounds.push_back({front_metric, limits[j], true});
+        goal.label = fmt::format("pareto[{}].", j + 1);
+        static_cast<void>(optimise(stages, s, problem, goal, front_optimum.x, ran));
+        goals.push_back(std::move(goal));
+      }
+      goals.push_back(front_goal);
+      // Each point is its goal's best design of every evaluation the runs made (a later run may
+      // have found a better one for an earlier limit).
+      pareto.emplace();
+      pareto->objective = s.pareto->objective;
+      pareto->metric = s.pareto->metric;
+      for (std::size_t j = 0; j < goals.size(); ++j) {
+        const Evaluation& e = *problem.best(goals[j]);
+        pareto->points.push_back({.limit = j < limits.size() ? std::optional<double>(limits[j]) : std::nullopt,
+                                  .optimum = e.x,
+                                  .objective = e.metrics[front_objective],
+                                  .metric = e.metrics[front_metric],
+                                  .feasible = problem.feasible(e, goals[j])});
+      }
+      mark_dominated(pareto->points);
     }
   };
-  const bool start_ran = first.status == "done";
-  if (start_ran) require_figures(first);
-  nlopt::srand(s.seed);
-  std::vector<OptimizationStage> ran;
-  // Kept by value: the evaluations grow as the front's runs go on.
-  const Evaluation first_optimum = optimise(stages, s, problem, main_goal, x, ran);
-  if (!start_ran) {
-    const auto done = std::find_if(problem.evaluations().begin(), problem.evaluations().end(),
-                                   [](const Evaluation& e) { return e.status == "done"; });
-    require_figures(*done);  // optimise found one, or threw
-  }
-
-  std::optional<ParetoResult> pareto;
-  if (s.pareto) {
-    // The front's objective minimised under the constraints alone: the main optimum, or its own.
-    Goal front_goal{.objective = front_objective, .bounds = main_goal.bounds, .label = "pareto_objective."};
-    const Evaluation front_optimum =
-        front_objective == 0 ? first_optimum : optimise(stages, s, problem, front_goal, first_optimum.x, ran);
-    std::vector<double> limits = s.pareto->limits;
-    if (limits.empty()) {
-      // The ε-constraint method between the two anchors: the second figure at the objective's
-      // optimum (its largest useful limit) and its own least value.
-      Goal anchor{.objective = front_metric, .bounds = main_goal.bounds, .label = "pareto_metric."};
-      const Evaluation least = optimise(stages, s, problem, anchor, front_optimum.x, ran);
-      const double hi = front_optimum.metrics[front_metric], lo = least.metrics[front_metric];
-      if (!std::isfinite(hi) || !std::isfinite(lo)) {
-        throw SimulationError(fmt::format("optimize.pareto: {} is not a figure of the anchors' designs ({}, {}): no "
-                                          "limits between them", s.pareto->metric, lo, hi));
+  try {
+    // The starting point is computed first, so that a bad key or figure is reported before any search.
+    problem.require(x);
+    for (;;) {
+      problem.replay();
+      try {
+        search();
+        if (!problem.waiting()) break;  // it ran to its end on known evaluations alone
+      } catch (const NeedEvaluations&) {
+      } catch (...) {
+        // An error on the way to a pending design is the guesses', not the search's.
+        if (!problem.waiting()) throw;
       }
-      // Anchors that agree leave no trade-off: the front is the objective's optimum alone.
-      const int points = hi > lo ? s.pareto->points : 1;
-      for (int j = 0; j + 1 < points; ++j) limits.push_back(lo + (hi - lo) * j / (points - 1));
+      problem.evaluate_pending();
     }
-    std::vector<Goal> goals;
-    for (std::size_t j = 0; j < limits.size(); ++j) {
-      Goal goal = front_goal;
-      goal.bounds.push_back({front_metric, limits[j], true});
-      goal.label = fmt::format("pareto[{}].", j + 1);
-      static_cast<void>(optimise(stages, s, problem, goal, front_optimum.x, ran));
-      goals.push_back(std::move(goal));
+  } catch (const InputError&) {
+    // Bad input leaves nothing behind: a database this run made goes (its evaluations are of an
+    // input that must change, which another database would hold).
+    if (!resuming) {
+      database.reset();
+      std::filesystem::remove(database_path, absent);
     }
-    goals.push_back(front_goal);
-    // Each point is its goal's best design of every evaluation the runs made (a later run may
-    // have found a better one for an earlier limit).
-    pareto.emplace();
-    pareto->objective = s.pareto->objective;
-    pareto->metric = s.pareto->metric;
-    for (std::size_t j = 0; j < goals.size(); ++j) {
-      const Evaluation& e = *problem.best(goals[j]);
-      pareto->points.push_back({.limit = j < limits.size() ? std::optional<double>(limits[j]) : std::nullopt,
-                                .optimum = e.x,
-                                .objective = e.metrics[front_objective],
-                                .metric = e.metrics[front_metric],
-                                .feasible = problem.feasible(e, goals[j])});
-    }
-    mark_dominated(pareto->points);
+    throw;
   }
   // The optimum: the best design for the main goal of every evaluation, the front's included.
   const Evaluation& optimum = *problem.best(main_goal);
@@ -641,21 +850,22 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
                             .optimum = optimum.x,
                             .objective = optimum.metrics[0],
                             .feasible = problem.feasible(optimum, main_goal),
-                            .constraints = constraint_outcomes(s, optimum.figures),
+                            .constraints = constraint_outcomes(s, *optimum.figures),
                             .bare_constraints = constraint_outcomes(s, bare_figures),
-                            .optimum_figures = optimum.figures,
+                            .optimum_figures = *optimum.figures,
                             .bare_figures = std::move(bare_figures),
                             .metric = s.objective,
                             .meaning = figure_meaning(s.objective),
                             .stages = std::move(ran),
                             .evaluations = static_cast<long>(problem.evaluations().size()),
+                            .reused = problem.reused(),
+                            .computed = problem.computed(),
                             .run_time = run_time,
                             .evaluation_table = std::move(table),
                             .optimum_frf = std::move(optimum_frf),
                             .bare_frf = std::move(bare_frf),
                             .pareto = std::move(pareto),
                             .pareto_table = std::move(pareto_table)};
-  OutputTransaction out(out_dir);
   if (result.optimum_frf) write_csv(out.open("optimum_frf.csv"), *result.optimum_frf);
   if (result.bare_frf) write_csv(out.open("bare_frf.csv"), *result.bare_frf);
   if (result.pareto_table) write_csv(out.open("pareto.csv"), *result.pareto_table);
@@ -741,6 +951,8 @@ json to_json(const OptimizationResult& result) {
                {"comparison", comparison},
                {"stages", stages},
                {"evaluations", result.evaluations},
+               {"evaluations_from_database", result.reused},
+               {"designs_computed", result.computed},
                {"run_time_s", result.run_time}};
   for (const OptimizeVariable& v : s.variables) summary["variables"].push_back({{"key", v.key}, {"min", v.min}, {"max", v.max}});
   if (!s.constraints.empty()) {
@@ -767,6 +979,10 @@ json to_json(const OptimizationResult& result) {
 std::string report(const OptimizationResult& r, const std::filesystem::path& out_dir) {
   std::string text = fmt::format("poundsim {}: {} (optimisation, {} evaluations, {:.3f} s)\n", POUNDSIM_VERSION,
                                  r.source.string(), r.evaluations, r.run_time);
+  if (r.reused > 0) {
+    text += fmt::format("  {} evaluations read from optimize.sqlite (an earlier run of this input), {} designs computed\n",
+                        r.reused, r.computed);
+  }
   text += fmt::format("  objective {}: {} (lower is better)\n", r.metric, r.meaning.empty() ? "a figure of each evaluation" : r.meaning);
   text += fmt::format("  optimum {}: {} = {:.4f}{}\n", optimum_values(r.settings, r.optimum).dump(), r.metric, r.objective,
                       r.feasible ? "" : " (no evaluation met the constraints: this one breaks them least)");
@@ -791,7 +1007,7 @@ std::string report(const OptimizationResult& r, const std::filesystem::path& out
                         std::count_if(r.pareto->points.begin(), r.pareto->points.end(),
                                       [](const ParetoPoint& p) { return !p.dominated; }));
   }
-  text += fmt::format("  wrote {}/optimize.json, evaluations.csv, input.toml{}{}\n", out_dir.string(),
+  text += fmt::format("  wrote {}/optimize.json, evaluations.csv, optimize.sqlite, input.toml{}{}\n", out_dir.string(),
                       r.settings.each == PointRun::frf ? ", optimum_frf.csv, bare_frf.csv" : "",
                       r.pareto ? ", pareto.csv" : "");
   return text;

@@ -1,5 +1,6 @@
 // The optimiser's constraints and Pareto fronts (docs/studies.md) against a problem whose
-// constrained optimum and trade-off are known in closed form, and the inputs it refuses.
+// constrained optimum and trade-off are known in closed form, the inputs it refuses, and its
+// search replayed: resumed from its database, and batched over ranks, the same bit for bit.
 //
 // Frame 2 (one storey, mass m, stiffness k: the design variables) is released with velocity v0,
 // undamped, far from frame 1 (m₁ = 10 t, at rest). It swings u(t) = (v0/ω) sin ωt, so
@@ -13,7 +14,9 @@
 
 #include <cmath>
 #include <filesystem>
+#include <functional>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -214,14 +217,17 @@ points = 3
 
 void expect_refused(const std::string& optimize, const std::string& message) {
   SCOPED_TRACE(optimize);
+  const auto dir = testing::fresh_folder("optimize_refused");
   try {
     const RunInput in = read(problem(optimize));
-    const auto dir = testing::fresh_folder("optimize_refused");
     static_cast<void>(run_optimization(in, dir));
     ADD_FAILURE() << "accepted";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
   }
+  // Not even the database of the evaluations that ran before the refusal.
+  EXPECT_TRUE(std::filesystem::is_empty(dir));
+  std::filesystem::remove_all(dir);
 }
 
 TEST(Optimize, RefusesFiguresAnEvaluationDoesNotHaveAndIncompleteLimits) {
@@ -247,6 +253,121 @@ TEST(Optimize, RefusesFiguresAnEvaluationDoesNotHaveAndIncompleteLimits) {
   expect_refused(head + "[optimize.pareto]\nmetric = \"peak_V2_W\"\npoints = 1\n", "optimize.pareto.points");
   expect_refused(head + "[optimize.pareto]\nmetric = \"no_such\"\npoints = 2\n",
                  "optimize.pareto.metric: \"no_such\" is not a figure");
+}
+
+/// A constrained search with a global stage (a population algorithm) and a local one.
+RunInput search(const std::string& global, const std::string& local) {
+  return read(problem(fmt::format(R"([optimize]
+each = "time_history"
+objective = "peak_drift_2_m"
+global = "{}"
+global_evaluations = 60
+local = "{}"
+local_evaluations = 40
+
+[[optimize.constraint]]
+metric = "peak_V2_W"
+max = 0.5
+)",
+                                  global, local)));
+}
+
+/// Progress that stops the run (as Ctrl-C in Python does) once `after` evaluations are done.
+std::function<void(int, int)> stop_after(int after) {
+  return [after](int done, int) {
+    if (done >= after) throw RunStopped();
+  };
+}
+
+// Stopped after 17 evaluations (each stored as it was computed), the same run in the same folder
+// replays the search from its database: the same evaluations in the same order and the same
+// optimum, bit for bit, with the 17 read and only the rest computed. A third run computes nothing.
+TEST(Optimize, AStoppedSearchResumesFromItsDatabaseWithNothingComputedTwice) {
+  const RunInput in = search("GN_CRS2_LM", "LN_COBYLA");
+  const auto whole = testing::fresh_folder("optimize_whole");
+  const OptimizationResult all = run_optimization(in, whole);
+  EXPECT_EQ(all.reused, 0);
+  EXPECT_EQ(all.computed, all.evaluations);  // one process: every design computed is asked for
+
+  const auto dir = testing::fresh_folder("optimize_resumed");
+  EXPECT_THROW(static_cast<void>(run_optimization(in, dir, stop_after(17))), RunStopped);
+  std::vector<std::string> left;
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) left.push_back(entry.path().filename().string());
+  EXPECT_EQ(left, std::vector<std::string>{"optimize.sqlite"});  // no result, whole or in part
+  const OptimizationResult resumed = run_optimization(in, dir);
+  EXPECT_EQ(resumed.reused, 17);
+  EXPECT_EQ(resumed.computed, all.evaluations - 17);
+  EXPECT_EQ(resumed.optimum, all.optimum);
+  EXPECT_EQ(resumed.objective, all.objective);
+  EXPECT_EQ(testing::slurp(dir / "evaluations.csv"), testing::slurp(whole / "evaluations.csv"));
+  const OptimizationResult again = run_optimization(in, dir);
+  EXPECT_EQ(again.computed, 0);
+  EXPECT_EQ(again.reused, all.evaluations);
+  EXPECT_EQ(testing::slurp(dir / "evaluations.csv"), testing::slurp(whole / "evaluations.csv"));
+
+  // Another input in the same folder is refused, and its database kept as it was.
+  const RunInput other = search("GN_CRS2_LM", "LN_BOBYQA");
+  try {
+    static_cast<void>(run_optimization(other, dir));
+    ADD_FAILURE() << "another input's database accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("optimize.sqlite: this database holds the results of a different"), std::string::npos)
+        << e.what();
+  }
+  EXPECT_EQ(run_optimization(in, dir).computed, 0);
+  std::filesystem::remove_all(whole);
+  std::filesystem::remove_all(dir);
+}
+
+/// Ranks in one process: the coordinator computes every task of a phase itself, the last
+/// first (results may come in any order), as if `ranks` processes shared them.
+class RanksInOneProcess final : public PointDistribution {
+ public:
+  explicit RanksInOneProcess(int ranks) : ranks_(ranks) {}
+  [[nodiscard]] int ranks() const override { return ranks_; }
+  [[nodiscard]] bool is_coordinator() const override { return true; }
+  bool run_phase(const std::vector<std::string>& tasks, const std::function<std::string(const std::string&)>& compute,
+                 const std::function<void(std::size_t, const std::string&)>& store,
+                 const std::function<bool()>& /*stop*/) override {
+    ++phases;
+    for (std::size_t t = tasks.size(); t-- > 0;) store(t, compute(tasks[t]));
+    return false;
+  }
+  void serve_until_finished(const std::function<std::string(const std::string&)>& /*compute*/) override {}
+  void finish() override { ++finished; }
+  int phases = 0, finished = 0;
+
+ private:
+  int ranks_;
+};
+
+// On four ranks the search computes the designs NLopt will ask for in batches of four, guessing
+// past the first unknown one; the evaluations, their order, the optimum and the front are those
+// of one process bit for bit, with fewer rounds than evaluations (a population's designs do not
+// depend on the values) and the guesses the search did not follow computed but not counted.
+TEST(Optimize, BatchedOverRanksTheSearchIsTheSameBitForBit) {
+  for (const auto& [global, local] : {std::pair{"GN_CRS2_LM", "LN_COBYLA"}, std::pair{"GN_DIRECT_L", "LN_BOBYQA"},
+                                      std::pair{"GN_ISRES", "none"}}) {
+    SCOPED_TRACE(fmt::format("{} then {}", global, local));
+    const RunInput in = search(global, local);
+    const auto one = testing::fresh_folder("optimize_one_process");
+    const auto four = testing::fresh_folder("optimize_four_ranks");
+    const OptimizationResult serial = run_optimization(in, one);
+    RanksInOneProcess ranks(4);
+    const OptimizationResult batched = run_optimization(in, four, {}, &ranks);
+    EXPECT_EQ(testing::slurp(four / "evaluations.csv"), testing::slurp(one / "evaluations.csv"));
+    EXPECT_EQ(batched.optimum, serial.optimum);
+    EXPECT_EQ(batched.objective, serial.objective);
+    EXPECT_EQ(batched.evaluations, serial.evaluations);
+    EXPECT_GE(batched.computed, batched.evaluations);
+    EXPECT_EQ(ranks.finished, 1);
+    // Rounds: the start's, then one per batch.
+    fmt::print("{} then {}: {} evaluations in {} rounds on 4 ranks, {} designs computed\n", global, local,
+               batched.evaluations, ranks.phases, batched.computed);
+    EXPECT_LT(ranks.phases, batched.evaluations);
+    std::filesystem::remove_all(one);
+    std::filesystem::remove_all(four);
+  }
 }
 
 }  // namespace

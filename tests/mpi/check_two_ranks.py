@@ -1,9 +1,9 @@
 #!/usr/bin/python3
-"""A study, an ensemble and an optimisation over records on two MPI ranks give the serial run's
-results bit for bit; a run cut
-short (--max-points) or killed (SIGTERM to mpirun) resumes on two ranks with nothing lost and
-nothing computed twice; a worker writes nothing; bad input under mpirun ends the job with exit
-code 2 and one message (docs/studies.md#distributed-studies-on-mpi).
+"""A study, an ensemble, an optimisation over records and one whose designs are batched over the
+ranks give the serial run's results bit for bit on two MPI ranks; a study cut short
+(--max-points) or killed (SIGTERM to mpirun), and an optimisation killed, resume on two ranks with
+nothing lost and nothing computed twice; a worker writes nothing; bad input under mpirun ends the
+job with exit code 2 and one message (docs/studies.md#distributed-studies-on-mpi).
 
     check_two_ranks.py POUNDSIM SOURCE_DIR WORK_DIR
 """
@@ -40,6 +40,26 @@ def require(condition, message):
         sys.exit(f"check_two_ranks: {message}")
 
 
+def kill_once_stored(command, database, table, count):
+    """Runs `command` and sends mpirun SIGTERM once `table` of `database` has `count` rows (some
+    results stored, not all); returns the rows stored when the job ended."""
+    job = subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        if os.path.exists(database):
+            try:
+                with sqlite3.connect(f"file:{database}?mode=ro", uri=True) as db:
+                    if db.execute(f"select count(*) from {table}").fetchone()[0] >= count:
+                        break
+            except sqlite3.Error:
+                pass
+        time.sleep(0.02)
+    job.send_signal(signal.SIGTERM)
+    job.communicate(timeout=60)
+    with sqlite3.connect(f"file:{database}?mode=ro", uri=True) as db:
+        return db.execute(f"select count(*) from {table}").fetchone()[0]
+
+
 def main():
     poundsim, source, work = sys.argv[1:4]
     shutil.rmtree(work, ignore_errors=True)
@@ -66,25 +86,10 @@ def main():
     require(summary["skipped_as_finished"] == 7 and summary["run_this_time"] == 13, f"resumed: {summary}")
     require(rows(out("resumed"), "study") == rows(out("serial"), "study"), "the resumed run differs")
 
-    # Killed while it runs (mpirun passes SIGTERM on; rank 0 closes the database), then resumed:
+    # Killed while it runs (mpirun passes SIGTERM on, then SIGKILL), then resumed:
     # every point once, the same table.
-    killed = subprocess.Popen(MPIRUN + [poundsim, "run", study, "--out", out("killed"), "--quiet"],
-                              stdout=subprocess.PIPE, stderr=subprocess.PIPE)
-    database = os.path.join(out("killed"), "study.sqlite")
-    deadline = time.monotonic() + 60
-    while time.monotonic() < deadline:  # until some points are stored, not all
-        if os.path.exists(database):
-            try:
-                with sqlite3.connect(f"file:{database}?mode=ro", uri=True) as db:
-                    if db.execute("select count(*) from points").fetchone()[0] >= 3:
-                        break
-            except sqlite3.Error:
-                pass
-        time.sleep(0.02)
-    killed.send_signal(signal.SIGTERM)
-    killed.communicate(timeout=60)
-    with sqlite3.connect(f"file:{database}?mode=ro", uri=True) as db:
-        stored = db.execute("select count(*) from points").fetchone()[0]
+    stored = kill_once_stored(MPIRUN + [poundsim, "run", study, "--out", out("killed"), "--quiet"],
+                              os.path.join(out("killed"), "study.sqlite"), "points", 3)
     resumed = run(MPIRUN + [poundsim, "run", study, "--out", out("killed"), "--quiet"])
     require(resumed.returncode == 0, resumed.stderr)
     summary = json.load(open(os.path.join(out("killed"), "summary.json")))
@@ -117,12 +122,50 @@ def main():
         s.pop("run_time_s")
     require(summaries[0] == summaries[1], "the optimisation's optimize.json on two ranks differs")
 
+    # An optimisation of one design per task, its designs batched over the ranks (each rank
+    # computes a design NLopt is about to ask for): the same evaluations and optimum as serial.
+    gap = os.path.join(source, "examples", "optimize_gap_elements.toml")
+    sets = ["--set", "optimize.global_evaluations=16", "--set", "optimize.local_evaluations=10"]
+    a = run([poundsim, "run", gap, "--out", out("batch_serial"), "--quiet", "--set", "optimize.threads=1"] + sets)
+    b = run(MPIRUN + [poundsim, "run", gap, "--out", out("batch_two"), "--quiet"] + sets)
+    require(a.returncode == 0 and b.returncode == 0, a.stderr + b.stderr)
+    same = open(os.path.join(out("batch_serial"), "evaluations.csv")).read() == open(os.path.join(out("batch_two"), "evaluations.csv")).read()
+    require(same, "the batched optimisation's evaluations.csv on two ranks differs")
+    summaries = [json.load(open(os.path.join(out(d), "optimize.json"))) for d in ("batch_serial", "batch_two")]
+    require(summaries[1]["designs_computed"] >= summaries[1]["evaluations"], f"two ranks: {summaries[1]}")
+    for s in summaries:
+        s.pop("run_time_s")
+        s.pop("designs_computed")  # two ranks also compute the guesses the search did not follow
+    require(summaries[0] == summaries[1], "the batched optimisation's optimize.json on two ranks differs")
+
+    # Killed while it runs, then resumed on two ranks: the evaluations already stored are read,
+    # not computed again, and the search is the serial one.
+    database = os.path.join(out("optimize_killed"), "optimize.sqlite")
+    stored = kill_once_stored(MPIRUN + [poundsim, "run", gap, "--out", out("optimize_killed"), "--quiet"] + sets,
+                              database, "evaluations", 5)
+    # No result, whole or in part: the database alone (with SQLite's log when mpirun's SIGKILL came
+    # before rank 0 closed it; the next run folds it in).
+    left = set(os.listdir(out("optimize_killed")))
+    require(left <= {"optimize.sqlite", "optimize.sqlite-wal", "optimize.sqlite-shm"} and "optimize.sqlite" in left,
+            f"killed: {sorted(left)}")
+    resumed = run(MPIRUN + [poundsim, "run", gap, "--out", out("optimize_killed"), "--quiet"] + sets)
+    require(resumed.returncode == 0, resumed.stderr)
+    summary = json.load(open(os.path.join(out("optimize_killed"), "optimize.json")))
+    with sqlite3.connect(f"file:{database}?mode=ro", uri=True) as db:
+        rows_now = db.execute("select count(*) from evaluations").fetchone()[0]
+    require(5 <= stored < summary["evaluations"] and summary["evaluations_from_database"] >= 1
+            and rows_now == stored + summary["designs_computed"],
+            f"killed with {stored} stored, then {rows_now} rows: {summary}")
+    same = open(os.path.join(out("batch_serial"), "evaluations.csv")).read() == open(os.path.join(out("optimize_killed"), "evaluations.csv")).read()
+    require(same, "the killed and resumed optimisation differs from the serial one")
+
     # Bad input: exit code 2, one message.
     bad = run(MPIRUN + [poundsim, "run", study, "--out", out("bad"), "--set", "study.threads=-1"])
     require(bad.returncode == 2, f"exit code {bad.returncode}: {bad.stderr}")
     require(bad.stderr.count("poundsim: error:") == 1, bad.stderr)
     require(not os.path.exists(out("bad")), "bad input left a folder")
-    print("two ranks: study, resume, kill and resume, ensemble, optimisation, bad input: as serial")
+    print("two ranks: study, resume, kill and resume, ensemble, optimisations (records shared, designs batched, "
+          "killed and resumed), bad input: as serial")
 
 
 if __name__ == "__main__":

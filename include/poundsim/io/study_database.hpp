@@ -1,7 +1,8 @@
 #pragma once
 /// @file
-/// The results of a parametric study in an SQLite database, written point by point as they
-/// finish, so that a study that is killed and run again skips the finished points and loses none.
+/// The results of a parametric study (or the evaluations of an optimisation) in an SQLite
+/// database, written point by point as they finish, so that a study that is killed and run again
+/// skips the finished points and loses none.
 ///
 /// Tables:
 ///
@@ -9,6 +10,9 @@
 ///     points(id INTEGER PRIMARY KEY, parameters TEXT, status TEXT, error TEXT,
 ///            metrics TEXT, run_time REAL)            one row per finished point (JSON texts)
 ///     baselines(key TEXT PRIMARY KEY, metrics TEXT)  bare-pounding references, shared by points
+///     evaluations(design BLOB PRIMARY KEY,           an optimisation's evaluations (its database
+///                 result BLOB)                       only): the design vector and its outcome,
+///                                                    as CBOR (every double to the bit)
 ///
 /// Each row is its own transaction (journal_mode = WAL, synchronous = NORMAL): a kill loses at
 /// most the points still running.
@@ -23,6 +27,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -57,6 +62,14 @@ class StudyDatabase {
   [[nodiscard]] std::optional<nlohmann::json> baseline(const std::string& key) const;
   void record_baseline(const std::string& key, const nlohmann::json& metrics);
 
+  /// Records an optimisation's evaluation: the design and its outcome, opaque bytes to the
+  /// database. A design recorded before is refused (std::runtime_error): none is computed twice.
+  /// Thread-safe.
+  void record_evaluation(const std::string& design, const std::string& result);
+  /// Every evaluation recorded, (design, result), in the order recorded (the table is made
+  /// when the database has none).
+  [[nodiscard]] std::vector<std::pair<std::string, std::string>> evaluations();
+
   struct Row {
     long id;
     nlohmann::json parameters;
@@ -79,6 +92,7 @@ class StudyDatabase {
   /// Refuses (InputError) a file that is not a study database; `fingerprint` null: any study.
   void check_is_study(const std::string* fingerprint) const;
   void enlist();
+  void ensure_evaluations_table();
   std::filesystem::path file_;
   std::unique_ptr<SQLite::Database> db_;
   mutable std::mutex mutex_;

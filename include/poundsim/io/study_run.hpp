@@ -64,6 +64,10 @@ PointFigures baseline_figures(const RunInput& point, int threads);
 /// ranks of an MPI job send each other.
 [[nodiscard]] std::string to_bytes(const TimeHistoryFigures& figures);
 [[nodiscard]] TimeHistoryFigures time_history_figures_from_bytes(const std::string& bytes);
+/// A point's figures, whatever its kind, as bytes and back (the same): what an optimisation
+/// keeps of each evaluation in its database and the ranks send each other.
+[[nodiscard]] std::string to_bytes(const PointFigures& figures);
+[[nodiscard]] PointFigures point_figures_from_bytes(const std::string& bytes);
 
 struct StudyRunOptions {
   std::optional<long> max_points;               ///< Run at most this many new points, then stop.

@@ -77,6 +77,12 @@ struct OptimizationResult {
   std::string meaning;              ///< … and what it measures.
   std::vector<OptimizationStage> stages;
   long evaluations = 0;
+  /// Of the evaluations, those read from optimize.sqlite (an earlier run of the same input that
+  /// was stopped or finished), not computed again.
+  long reused = 0;
+  /// Designs this run computed: the evaluations not read, and on several ranks the designs it
+  /// guessed the search would ask for and it did not (kept in the database all the same).
+  long computed = 0;
   double run_time = 0;              ///< [s] wall clock, reported as is.
   /// evaluations.csv: evaluation (from 1), stage, each variable, objective and each other
   /// figure a constraint or the front bounds (empty unless done), feasible (with constraints),
@@ -94,16 +100,21 @@ struct OptimizationResult {
 
 /// Runs the optimisation of `input` and writes optimize.json, evaluations.csv, for a
 /// frequency-response objective optimum_frf.csv and bare_frf.csv, and for a Pareto front
-/// pareto.csv into `out_dir`. `progress` is called after every evaluation with (evaluations,
-/// budget).
-/// `ranks`: the processes of an MPI job, which share the records of every ensemble evaluation
-/// (rank 0 runs this; the others run serve_optimization); the results are the same bit for bit.
+/// pareto.csv into `out_dir`. Every design evaluated is kept as it is computed in
+/// `out_dir`/optimize.sqlite: a run of the same input that was stopped (or killed) and is run
+/// again replays the search from it, computing only what it had not (a database of another
+/// input is refused, InputError). `progress` is called after every evaluation with
+/// (evaluations, budget).
+/// `ranks`: the processes of an MPI job (rank 0 runs this; the others run serve_optimization),
+/// which compute the designs of a batch at once — the designs NLopt will ask for next as far as
+/// they can be foreseen, and an ensemble design's records —; the evaluations and the optimum are
+/// the same bit for bit as on one process.
 OptimizationResult run_optimization(const RunInput& input, const std::filesystem::path& out_dir,
                                     const std::function<void(int, int)>& progress = {},
                                     io::PointDistribution* ranks = nullptr);
 
-/// A worker rank's part of run_optimization: computes the records it is sent until rank 0 ends
-/// the optimisation.
+/// A worker rank's part of run_optimization: computes the designs and records it is sent until
+/// rank 0 ends the optimisation.
 void serve_optimization(const RunInput& input, io::PointDistribution& ranks);
 
 /// What the figure of column `name` measures, for reports ("" when it has no description).
