@@ -43,6 +43,28 @@ void BM_Study200Points(benchmark::State& state) {
 }
 BENCHMARK(BM_Study200Points)->Arg(0)->Arg(1)->Arg(2)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
 
+// The frequency-response optimisation of examples/optimize_gap_elements.toml (DIRECT then
+// BOBYQA, 64 evaluations of 27 frequencies each): 0: one process, one thread; 1: one process, two
+// threads (each evaluation's frequencies shared); 2: two ranks, each computing a design of the
+// batch NLopt is foreseen to ask for.
+void BM_OptimizeOnRanks(benchmark::State& state) {
+  const fs::path out = fs::temp_directory_path() / fmt::format("poundsim_bench_optimize_ranks_{}", state.range(0));
+  const std::string model = std::string(POUNDSIM_SOURCE_DIR) + "/examples/optimize_gap_elements.toml";
+  const std::string root = ::geteuid() == 0 ? " --allow-run-as-root" : "";
+  const std::string launch = state.range(0) == 2 ? "mpirun --oversubscribe" + root + " -n 2 " : std::string();
+  const std::string threads = state.range(0) == 1 ? " --set optimize.threads=2" : " --set optimize.threads=1";
+  const std::string command = fmt::format("{}{} run {} --out {} --quiet{}", launch, POUNDSIM_CLI, model, out.string(), threads);
+  for (auto _ : state) {
+    fs::remove_all(out);  // no database to resume from: every design computed
+    if (std::system(command.c_str()) != 0) {
+      state.SkipWithError(("failed: " + command).c_str());
+      return;
+    }
+  }
+  fs::remove_all(out);
+}
+BENCHMARK(BM_OptimizeOnRanks)->Arg(0)->Arg(1)->Arg(2)->Iterations(1)->Unit(benchmark::kSecond)->UseRealTime();
+
 // Rank 0's own cost per point: decoding a result (CBOR) and recording it, as run_points does.
 void BM_StoreOnePoint(benchmark::State& state) {
   const fs::path file = fs::temp_directory_path() / "poundsim_bench_store.sqlite";

@@ -61,6 +61,7 @@ struct Outcome {
   std::string status = "done", error;  ///< done | rejected (the input refuses the design) | failed
   PointFigures figures;
   bool from_database = false;
+  std::vector<double> metrics;  ///< Per Problem::metrics(); NaN when not done or not a figure.
 };
 
 /// One design as a stage of the search asked for it: its outcome and the values of the figures
@@ -86,7 +87,7 @@ std::string outcome_bytes(const Outcome& o) {
 
 Outcome outcome_from_bytes(const std::string& bytes) {
   const json value = json::from_cbor(bytes);
-  Outcome o{value.at("status").get<std::string>(), value.at("error").get<std::string>(), {}, false};
+  Outcome o{value.at("status").get<std::string>(), value.at("error").get<std::string>(), {}, false, {}};
   if (value.contains("figures")) {
     const auto& binary = value["figures"].get_binary();
     o.figures = point_figures_from_bytes(std::string(binary.begin(), binary.end()));
@@ -178,7 +179,8 @@ struct NeedEvaluations {};
 /// value; but it is deterministic: the same seed and the same values give the same designs. So
 /// the search is run as a replay. Outcomes known (computed, or read from the database of an
 /// earlier run of the same input) are answered at once; the first unknown design is where the
-/// search really is. With ranks to fill, the search goes on past it, answering unknown designs
+/// search really is: alone, it is computed there and the search goes on (one pass, no replay);
+/// with ranks to fill, the search goes on past it, answering unknown designs
 /// with a guess (a rejected evaluation: late in a search most trial designs are worse, and a
 /// population's designs do not depend on the values at all) and collecting them, one batch for
 /// the ranks; then the batch is computed at once and the search replayed from its start. A
@@ -194,7 +196,7 @@ class Problem {
     for (const auto& [design, outcome] : database_.evaluations()) {
       Outcome o = outcome_from_bytes(outcome);
       o.from_database = true;
-      known_.emplace(json::from_cbor(design).get<std::vector<double>>(), std::move(o));
+      remember(json::from_cbor(design).get<std::vector<double>>(), std::move(o));
     }
     const std::size_t records = input.ensemble ? input.ensemble->records.size() : 1;
     if (ranks_ != nullptr) {
@@ -216,20 +218,20 @@ class Problem {
   const Evaluation& operator()(const std::vector<double>& x, const std::string& stage) {
     if (auto it = memo_.find(x); it != memo_.end()) return evaluations_[it->second];
     Evaluation e{x, stage, "speculative", "", nullptr, std::vector<double>(metrics_.size(), kNone), false};
-    if (const auto known = known_.find(x); known != known_.end()) {
+    auto known = known_.find(x);
+    if (known == known_.end() && batch_ == 1 && pending_.empty()) {
+      // Nothing to batch: computed here, and the search goes on (no replay).
+      pending_ = {x};
+      evaluate_pending();
+      known = known_.find(x);
+    }
+    if (known != known_.end()) {
       const Outcome& o = known->second;
       e.status = o.status;
       e.error = o.error;
       e.figures = &o.figures;
+      e.metrics = o.metrics;
       e.from_database = o.from_database;
-      if (o.status == "done") {
-        const std::vector<FigureColumn> columns = o.figures.columns();
-        for (std::size_t m = 0; m < metrics_.size(); ++m) {
-          for (const FigureColumn& c : columns) {
-            if (c.name == metrics_[m]) e.metrics[m] = c.value;
-          }
-        }
-      }
     } else {
       pending_.push_back(x);
       if (pending_.size() >= batch_) throw NeedEvaluations{};
@@ -291,9 +293,9 @@ class Problem {
         p.records.resize(point.ensemble->records.size());
         p.errors.resize(point.ensemble->records.size());
       } catch (const InputError& e) {
-        p.outcome = Outcome{"rejected", e.what(), {}, false};
+        p.outcome = Outcome{"rejected", e.what(), {}, false, {}};
       } catch (const SimulationError& e) {
-        p.outcome = Outcome{"failed", e.what(), {}, false};
+        p.outcome = Outcome{"failed", e.what(), {}, false, {}};
       }
     }
     LastPoint last;
@@ -384,8 +386,22 @@ class Problem {
  private:
   void learn(const std::vector<double>& x, Outcome outcome) {
     database_.record_evaluation(io::cbor_bytes(json(x)), outcome_bytes(outcome));
-    known_.emplace(x, std::move(outcome));
+    remember(x, std::move(outcome));
     ++computed_;
+  }
+
+  /// Keeps an outcome with the values of the figures the goals ask for (read once: a replay
+  /// asks for every evaluation again).
+  void remember(const std::vector<double>& x, Outcome outcome) {
+    outcome.metrics.assign(metrics_.size(), kNone);
+    if (outcome.status == "done") {
+      for (const FigureColumn& c : outcome.figures.columns()) {
+        for (std::size_t m = 0; m < metrics_.size(); ++m) {
+          if (c.name == metrics_[m]) outcome.metrics[m] = c.value;
+        }
+      }
+    }
+    known_.emplace(x, std::move(outcome));
   }
 
   const RunInput& input_;
