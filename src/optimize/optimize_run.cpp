@@ -194,9 +194,24 @@ class Problem {
       : input_(input), settings_(*input.optimize), metrics_(std::move(metrics)), progress_(progress), budget_(budget),
         ranks_(ranks), database_(database) {
     for (const auto& [design, outcome] : database_.evaluations()) {
-      Outcome o = outcome_from_bytes(outcome);
+      // The fingerprint matched, so a row that does not read is damage, not another input's.
+      std::vector<double> x;
+      Outcome o;
+      try {
+        x = json::from_cbor(design).get<std::vector<double>>();
+        o = outcome_from_bytes(outcome);
+      } catch (const json::exception& e) {
+        throw InputError(fmt::format("{}: a damaged optimisation database (an evaluation does not read: {}); move it "
+                                     "away or choose another output folder",
+                                     database_.file().string(), e.what()));
+      }
+      if (x.size() != settings_.variables.size()) {
+        throw InputError(fmt::format("{}: a damaged optimisation database (a design of {} values, not {}); move it away "
+                                     "or choose another output folder",
+                                     database_.file().string(), x.size(), settings_.variables.size()));
+      }
       o.from_database = true;
-      remember(json::from_cbor(design).get<std::vector<double>>(), std::move(o));
+      remember(x, std::move(o));
     }
     const std::size_t records = input.ensemble ? input.ensemble->records.size() : 1;
     if (ranks_ != nullptr) {

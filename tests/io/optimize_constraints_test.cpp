@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include <SQLiteCpp/Database.h>
 #include <gtest/gtest.h>
 
 #include "poundsim/error.hpp"
@@ -315,6 +316,20 @@ TEST(Optimize, AStoppedSearchResumesFromItsDatabaseWithNothingComputedTwice) {
         << e.what();
   }
   EXPECT_EQ(run_optimization(in, dir).computed, 0);
+
+  // A damaged row is refused as such, naming the file.
+  {
+    SQLite::Database db((dir / "optimize.sqlite").string(), SQLite::OPEN_READWRITE);
+    db.exec("UPDATE evaluations SET result = x'ff00' WHERE rowid = 3");
+  }
+  try {
+    static_cast<void>(run_optimization(in, dir));
+    ADD_FAILURE() << "a damaged database accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("optimize.sqlite: a damaged optimisation database (an evaluation does not read"),
+              std::string::npos)
+        << e.what();
+  }
   std::filesystem::remove_all(whole);
   std::filesystem::remove_all(dir);
 }

@@ -80,6 +80,7 @@ class StudyDatabase {
   /// Every point, by id.
   [[nodiscard]] std::vector<Row> rows() const;
   [[nodiscard]] nlohmann::json definition() const;
+  [[nodiscard]] const std::filesystem::path& file() const { return file_; }
 
   /// Closes every study database open in the process, each under its lock, and keeps them closed
   /// and locked: a thread that then uses one blocks. SQLite checkpoints and removes the -wal and
