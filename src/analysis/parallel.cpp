@@ -15,17 +15,21 @@ void parallel_for(int count, int threads, const std::function<void(int)>& body) 
   if (count <= 0) return;
   const int workers = std::clamp(threads > 0 ? threads : hardware_threads(), 1, count);
   std::atomic<int> next{0};
-  std::atomic<bool> failed{false};
+  // The error of the lowest index that fails, whatever the threads: indices are handed out in
+  // order, so every index below a failed one still runs, and none above it starts.
+  std::atomic<int> first_failed{count};
   std::exception_ptr error;
   std::mutex error_mutex;
   const auto work = [&] {
-    for (int i = next++; i < count && !failed; i = next++) {
+    for (int i = next++; i < count && i < first_failed; i = next++) {
       try {
         body(i);
       } catch (...) {
         const std::lock_guard lock(error_mutex);
-        if (!error) error = std::current_exception();
-        failed = true;
+        if (i < first_failed) {
+          first_failed = i;
+          error = std::current_exception();
+        }
       }
     }
   };

@@ -7,6 +7,9 @@
 #include <limits>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <mutex>
 #include <random>
@@ -199,8 +202,20 @@ std::vector<PointValues> study_points(const StudySettings& study) {
 std::string fingerprint(const RunInput& input) {
   json overrides = json::array();
   for (const Setting& s : input.settings) overrides.push_back(s.text);
+  // The records' contents too (a record edited in place changes every result), and the version
+  // that computed the results.
+  std::vector<std::filesystem::path> files;
+  if (!input.excitation_info.record_file.empty()) files.push_back(input.excitation_info.record_file);
+  if (input.ensemble) files.insert(files.end(), input.ensemble->records.begin(), input.ensemble->records.end());
+  json records = json::array();
+  for (const std::filesystem::path& file : files) {
+    std::ifstream in(file, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (!in && !in.eof()) throw InputError(fmt::format("{}: cannot be read again", file.string()));
+    records.push_back(fnv1a(bytes));
+  }
   json d{{"model", describe_model(input.model)}, {"analysis", describe_analysis(input)}, {"text", input.text},
-         {"overrides", overrides}};
+         {"overrides", overrides}, {"records", records}, {"version", POUNDSIM_VERSION}};
   return fnv1a(d.dump());
 }
 

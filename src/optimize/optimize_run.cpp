@@ -118,7 +118,9 @@ struct Goal {
 };
 
 /// A design's evaluation run here, with `threads` for its frequencies or records.
-Outcome compute_design(const RunInput& input, const std::vector<double>& x, int threads) {
+/// On a rank, any other error is an outcome too ("error"): the design may be a guess the search
+/// never asks for, whose error must not end the job (Problem::evaluate_pending).
+Outcome compute_design(const RunInput& input, const std::vector<double>& x, int threads, bool on_a_rank) {
   Outcome o;
   try {
     o.figures = point_figures(with_settings(input, point_values(*input.optimize, x)), threads, nullptr);
@@ -127,6 +129,10 @@ Outcome compute_design(const RunInput& input, const std::vector<double>& x, int 
     o.error = e.what();
   } catch (const SimulationError& e) {
     o.status = "failed";
+    o.error = e.what();
+  } catch (const std::exception& e) {
+    if (!on_a_rank) throw;
+    o.status = "error";
     o.error = e.what();
   }
   return o;
@@ -150,7 +156,7 @@ struct LastPoint {
 std::string compute_task(const RunInput& input, const std::string& task_bytes, LastPoint& last) {
   const json task = json::from_cbor(task_bytes);
   const std::vector<double> x = task.at("x").get<std::vector<double>>();
-  if (!task.contains("record")) return outcome_bytes(compute_design(input, x, 1));
+  if (!task.contains("record")) return outcome_bytes(compute_design(input, x, 1, true));
   json result;
   try {
     if (!last.point || last.x != x) {
@@ -165,6 +171,8 @@ std::string compute_task(const RunInput& input, const std::string& task_bytes, L
     result = json{{"rejected", e.what()}};
   } catch (const SimulationError& e) {
     result = json{{"failed", e.what()}};
+  } catch (const std::exception& e) {
+    result = json{{"error", e.what()}};
   }
   return io::cbor_bytes(result);
 }
@@ -277,15 +285,27 @@ class Problem {
     std::vector<std::vector<double>> designs;
     designs.swap(pending_);
     if (ranks_ == nullptr) {
-      for (const std::vector<double>& x : designs) learn(x, compute_design(input_, x, settings_.threads));
+      for (const std::vector<double>& x : designs) learn(x, compute_design(input_, x, settings_.threads, false));
       return;
     }
+    // The first design is where the search is; the others are guesses. A guess's error other
+    // than a rejection or a failure is dropped (the search may never ask for it); the first
+    // design's ends the run, as on one process. Each design is recorded as soon as it is known,
+    // so that a job killed during a batch loses none that finished.
+    std::optional<std::string> search_error;
+    const auto known = [&](std::size_t d, Outcome outcome) {
+      if (outcome.status != "error") {
+        learn(designs[d], std::move(outcome));
+      } else if (d == 0) {
+        search_error = outcome.error;
+      }
+    };
     // A design's tasks: itself, or its records; a design the input rejects has none.
     struct Planned {
-      std::optional<Outcome> outcome;  ///< Known before any task runs: rejected.
       std::size_t first_task = 0;
       std::vector<TimeHistoryFigures> records;
-      std::vector<std::optional<std::pair<bool, std::string>>> errors;  ///< A record's (rejected, message).
+      std::vector<std::optional<std::pair<std::string, std::string>>> errors;  ///< A record's (status, message).
+      std::size_t arrived = 0;  ///< Records whose result came.
     };
     std::vector<Planned> planned(designs.size());
     std::vector<std::string> tasks;
@@ -308,48 +328,46 @@ class Problem {
         p.records.resize(point.ensemble->records.size());
         p.errors.resize(point.ensemble->records.size());
       } catch (const InputError& e) {
-        p.outcome = Outcome{"rejected", e.what(), {}, false, {}};
+        known(d, Outcome{"rejected", e.what(), {}, false, {}});
       } catch (const SimulationError& e) {
-        p.outcome = Outcome{"failed", e.what(), {}, false, {}};
+        known(d, Outcome{"failed", e.what(), {}, false, {}});
       }
     }
     LastPoint last;
     ranks_->run_phase(
         tasks, [&](const std::string& task) { return compute_task(input_, task, last); },
         [&](std::size_t t, const std::string& bytes) {
-          Planned& p = planned[task_design[t]];
+          const std::size_t d = task_design[t];
+          Planned& p = planned[d];
           if (settings_.each != PointRun::ensemble) {
-            p.outcome = outcome_from_bytes(bytes);
+            known(d, outcome_from_bytes(bytes));
             return;
           }
           const std::size_t r = t - p.first_task;
           const json result = json::from_cbor(bytes);
-          if (result.contains("rejected")) {
-            p.errors[r].emplace(true, result["rejected"].get<std::string>());
-          } else if (result.contains("failed")) {
-            p.errors[r].emplace(false, result["failed"].get<std::string>());
-          } else {
-            const auto& binary = result.at("figures").get_binary();
+          if (result.contains("figures")) {
+            const auto& binary = result["figures"].get_binary();
             p.records[r] = time_history_figures_from_bytes(std::string(binary.begin(), binary.end()));
+          } else {
+            for (const char* status : {"rejected", "failed", "error"}) {
+              if (result.contains(status)) p.errors[r].emplace(status, result[status].get<std::string>());
+            }
           }
+          if (++p.arrived < p.records.size()) return;
+          // Every record is in: the first record's error, whichever rank ran it (as on one
+          // process), else the records' figures aggregated in record order.
+          Outcome o;
+          const auto error = std::find_if(p.errors.begin(), p.errors.end(), [](const auto& e) { return e.has_value(); });
+          if (error != p.errors.end()) {
+            o.status = (*error)->first;
+            o.error = (*error)->second;
+          } else {
+            o.figures.response = ensemble_figures(p.records);
+          }
+          known(d, std::move(o));
         },
         {});
-    for (std::size_t d = 0; d < designs.size(); ++d) {
-      Planned& p = planned[d];
-      if (!p.outcome) {
-        // An ensemble's: its first record's error, whichever rank ran it (as on one process),
-        // else its records' figures aggregated in record order.
-        p.outcome.emplace();
-        const auto error = std::find_if(p.errors.begin(), p.errors.end(), [](const auto& e) { return e.has_value(); });
-        if (error != p.errors.end()) {
-          p.outcome->status = (*error)->first ? "rejected" : "failed";
-          p.outcome->error = (*error)->second;
-        } else {
-          p.outcome->figures.response = ensemble_figures(p.records);
-        }
-      }
-      learn(designs[d], std::move(*p.outcome));
-    }
+    if (search_error) throw std::runtime_error(*search_error);
   }
 
   /// Designs computed by this run (the search's and its guesses'), and evaluations of the
@@ -672,6 +690,8 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
                                    (s.pareto->limits.empty() ? s.pareto->points : static_cast<int>(s.pareto->limits.size()));
   const int budget = 1 + runs * ((global ? s.global_evaluations : 0) + (local ? s.local_evaluations : 0));
   const std::string database_name = "optimize.sqlite";
+  std::error_code absent;
+  const bool folder_existed = std::filesystem::exists(out_dir, absent);
   OutputTransaction out(out_dir);  // creates the folder for the database too
   const json definition{{"input", input.source.string()}, {"kind", "optimize"}, {"each", to_string(s.each)},
                         {"variables", [&] {
@@ -680,7 +700,6 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
                            return keys;
                          }()}};
   const std::filesystem::path database_path = out_dir / database_name;
-  std::error_code absent;
   const bool resuming = std::filesystem::exists(database_path, absent);
   std::optional<io::StudyDatabase> database(std::in_place, database_path, fingerprint(input), definition);
   Problem problem(input, metrics, progress, budget, ranks, *database);
@@ -791,6 +810,7 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
     if (!resuming) {
       database.reset();
       std::filesystem::remove(database_path, absent);
+      if (!folder_existed) std::filesystem::remove(out_dir, absent);  // only if empty
     }
     throw;
   }

@@ -380,8 +380,61 @@ TEST(Optimize, BatchedOverRanksTheSearchIsTheSameBitForBit) {
     fmt::print("{} then {}: {} evaluations in {} rounds on 4 ranks, {} designs computed\n", global, local,
                batched.evaluations, ranks.phases, batched.computed);
     EXPECT_LT(ranks.phases, batched.evaluations);
+    // The database of a batched run (its guesses included) resumed on one process: nothing to compute.
+    const OptimizationResult again = run_optimization(in, four);
+    EXPECT_EQ(again.computed, 0);
+    EXPECT_EQ(testing::slurp(four / "evaluations.csv"), testing::slurp(one / "evaluations.csv"));
     std::filesystem::remove_all(one);
     std::filesystem::remove_all(four);
+  }
+}
+
+// The same with a Pareto front (its anchors and limits come from the replayed search), stopped
+// on four ranks and resumed on one; and an ensemble objective on eight ranks, whose batches hold
+// two designs of four records each (tasks of different designs finishing in any order).
+TEST(Optimize, BatchedFrontsAndEnsemblesAreTheSameBitForBit) {
+  {
+    const RunInput in = read(problem(R"([optimize]
+each = "time_history"
+objective = "peak_V2_W"
+global = "GN_CRS2_LM"
+global_evaluations = 30
+local = "LN_COBYLA"
+local_evaluations = 30
+
+[optimize.pareto]
+objective = "peak_drift_2_m"
+metric = "peak_V2_W"
+points = 3
+)"));
+    const auto one = testing::fresh_folder("optimize_front_one");
+    const auto four = testing::fresh_folder("optimize_front_four");
+    const OptimizationResult serial = run_optimization(in, one);
+    RanksInOneProcess ranks(4);
+    EXPECT_THROW(static_cast<void>(run_optimization(in, four, stop_after(50), &ranks)), RunStopped);
+    const OptimizationResult resumed = run_optimization(in, four);
+    EXPECT_GT(resumed.reused, 0);
+    ASSERT_TRUE(serial.pareto && resumed.pareto);
+    EXPECT_EQ(serial.pareto->points.size(), 3U);
+    EXPECT_EQ(testing::slurp(four / "pareto.csv"), testing::slurp(one / "pareto.csv"));
+    EXPECT_EQ(testing::slurp(four / "evaluations.csv"), testing::slurp(one / "evaluations.csv"));
+    std::filesystem::remove_all(one);
+    std::filesystem::remove_all(four);
+  }
+  {
+    const std::vector<std::string> sets{"analysis.duration=3"};
+    const RunInput in = read_input(std::filesystem::path(POUNDSIM_SOURCE_DIR) / "examples/optimize_ensemble.toml", sets);
+    ASSERT_EQ(in.ensemble->records.size(), 4U);
+    const auto one = testing::fresh_folder("optimize_ensemble_one");
+    const auto eight = testing::fresh_folder("optimize_ensemble_eight");
+    const OptimizationResult serial = run_optimization(in, one);
+    RanksInOneProcess ranks(8);
+    const OptimizationResult batched = run_optimization(in, eight, {}, &ranks);
+    EXPECT_EQ(testing::slurp(eight / "evaluations.csv"), testing::slurp(one / "evaluations.csv"));
+    EXPECT_EQ(nlohmann::json(to_json(batched)).at("optimum_metrics"), nlohmann::json(to_json(serial)).at("optimum_metrics"));
+    EXPECT_LT(ranks.phases, batched.evaluations);
+    std::filesystem::remove_all(one);
+    std::filesystem::remove_all(eight);
   }
 }
 

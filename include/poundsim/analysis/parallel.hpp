@@ -8,8 +8,9 @@
 namespace poundsim {
 
 /// Runs body(0) … body(count−1) on `threads` threads (0: all hardware threads, at most count).
-/// The first exception thrown by a task is rethrown after every thread has stopped; tasks not
-/// yet started are skipped once one has failed.
+/// The exception of the lowest index that throws is rethrown after every thread has stopped,
+/// the same whatever the threads (every task below it still runs; tasks above it not yet
+/// started are skipped).
 void parallel_for(int count, int threads, const std::function<void(int)>& body);
 
 /// The number of threads `threads` = 0 stands for.

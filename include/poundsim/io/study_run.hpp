@@ -30,7 +30,8 @@ using PointValues = std::vector<Setting>;
 std::vector<PointValues> study_points(const StudySettings& study);
 
 /// A stable fingerprint of everything that determines a run's results (model, analysis,
-/// excitation, study or optimiser definition): FNV-1a of its canonical description.
+/// excitation, study or optimiser definition, the contents of its record files, the version):
+/// FNV-1a of its canonical description.
 std::string fingerprint(const RunInput& input);
 
 /// Key of the bare-pounding reference of a point: points that share it share the reference.
