@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
@@ -271,6 +272,40 @@ TEST(SimulatorEvents, ForceCriterionNeverPullsTheFloorsTogether) {
   EXPECT_LT(min_force(SeparationCriterion::displacement), -0.01);
   // ... the force criterion does not (up to the event tolerance).
   EXPECT_GT(min_force(SeparationCriterion::force), -1e-6);
+}
+
+// Without the energy balance (the free frames beside a time history) the peaks, the neighbours'
+// approach and the state are the same bits, with either integrator, pounding or not; the balance
+// stays at its start.
+TEST(SimulatorEnergy, PeaksWithoutTheBalanceAreTheSameBits) {
+  for (const Integrator integrator : {Integrator::newmark, Integrator::exact}) {
+    const Model model = make_model(testing::fig2('c'), {1, 1});
+    const auto run = [&](bool meter) {
+      Simulator sim(model, testing::harmonic(model, 0.2, 0.8), TimeHistoryOptions{.dt = 1e-3, .integrator = integrator});
+      sim.meter_energy(meter);
+      sim.advance_to(5.0);
+      return std::tuple(sim.statistics(), Eigen::VectorXd(sim.state().u), sim.energy());
+    };
+    const auto [with, u_with, balance_with] = run(true);
+    const auto [without, u_without, balance_without] = run(false);
+    EXPECT_GT(balance_with.input, 0.0);
+    EXPECT_EQ(balance_without.input, 0.0);
+    EXPECT_EQ(u_with, u_without);
+    ASSERT_EQ(with.floors.size(), without.floors.size());
+    for (std::size_t i = 0; i < with.floors.size(); ++i) {
+      EXPECT_EQ(with.floors[i].displacement.value, without.floors[i].displacement.value);
+      EXPECT_EQ(with.floors[i].displacement.time, without.floors[i].displacement.time);
+      EXPECT_EQ(with.floors[i].drift.value, without.floors[i].drift.value);
+      EXPECT_EQ(with.floors[i].absolute_acceleration.value, without.floors[i].absolute_acceleration.value);
+    }
+    for (std::size_t f = 0; f < with.base_shear.size(); ++f) {
+      EXPECT_EQ(with.base_shear[f].value, without.base_shear[f].value);
+      EXPECT_EQ(with.storey_shear[f].value, without.storey_shear[f].value);
+    }
+    ASSERT_EQ(with.gaps.size(), without.gaps.size());
+    EXPECT_GT(with.events, 0);
+    EXPECT_EQ(with.events, without.events);
+  }
 }
 
 TEST(SimulatorDeterminism, SameInputSameBits) {

@@ -57,6 +57,7 @@ TimeHistoryAnalysis analyse_time_history(const TimeHistoryProblem& problem, cons
   // The same frames without gap elements, for amplifications and separation distances.
   if (problem.model.gap_count() > 0) {
     Simulator alone(free_frames(problem.model), problem.excitation, problem.options, problem.initial);
+    alone.meter_energy(false);  // its peaks alone are reported
     alone.advance_to(sim.time());
     result.free = alone.statistics();
   }

@@ -169,15 +169,17 @@ void ExactStepper::motion_at(const Loop& loop, double s, KinematicState& out) {
 
 void ExactStepper::accept(Loop& loop, KinematicState& next) {
   if (loop.recording()) {
-    if (segment_powers_ != nullptr && !powers_started_) {
-      segment_powers_->start(trajectory_);
-      powers_started_ = true;
+    if (loop.metering()) {
+      if (segment_powers_ != nullptr && !powers_started_) {
+        segment_powers_->start(trajectory_);
+        powers_started_ = true;
+      }
+      const double t0 = trajectory_.start_time();
+      const double a = loop.state().t - t0, b = next.t - t0;
+      const EnergyMeter::Powers integral =
+          segment_powers_ != nullptr ? segment_powers_->integrate(a, b) : quadrature_powers(loop, a, b);
+      loop.meter().step_with(loop.state(), next, integral, loop.contact().config, loop.contact().states);
     }
-    const double t0 = trajectory_.start_time();
-    const double a = loop.state().t - t0, b = next.t - t0;
-    const EnergyMeter::Powers integral =
-        segment_powers_ != nullptr ? segment_powers_->integrate(a, b) : quadrature_powers(loop, a, b);
-    loop.meter().step_with(loop.state(), next, integral, loop.contact().config, loop.contact().states);
     Output output(*this, loop);
     loop.monitor().observe_step(loop.state(), next, trajectory_.start_time(), output);
   }

@@ -394,7 +394,7 @@ void Simulator::integrate_to(double t_end, bool nominal) {
 namespace detail {
 
 void Loop::accept(KinematicState& next) {
-  energy_.step(state_, next, contact_.config, contact_.states);
+  if (metering_) energy_.step(state_, next, contact_.config, contact_.states);
   monitor_.observe_step(state_, next);
   after_accept(next);
   guards_.lo = guards_.hi;

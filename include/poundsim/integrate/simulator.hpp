@@ -176,6 +176,8 @@ class Loop {
   [[nodiscard]] TangentFlow* tangent() { return tracking_ ? tangent_.get() : nullptr; }
   /// False while the simulator keeps the state alone (Simulator::record_responses).
   [[nodiscard]] bool recording() const { return recording_; }
+  /// False while the energy balance is not kept (Simulator::meter_energy).
+  [[nodiscard]] bool metering() const { return metering_; }
 
   /// The system's guards at x with the loop's contact state; the current phase gives λ.
   void evaluate_guards(const KinematicState& x, std::span<double> g, std::span<double> dg) {
@@ -232,6 +234,7 @@ class Loop {
   std::unique_ptr<TangentFlow> tangent_;  ///< ∂x/∂x₀ (Simulator::track_sensitivity), kept when off
   bool tracking_ = false;
   bool recording_ = true;
+  bool metering_ = true;
   KinematicState state_;
   Guards guards_;
   int events_this_step_ = 0;
@@ -298,6 +301,10 @@ class Simulator : private detail::Loop {
   /// statistics() and energy() then do not describe the run. A periodic orbit's Newton iterations need only the state reached; the orbit found
   /// is run once more with them. True (the default) keeps everything. Newmark always records.
   void record_responses(bool record) { recording_ = record; }
+  /// False: the peaks and the state are kept but not the energy balance, whose integrals cost a
+  /// sixth of a Newmark step (the free frames beside a time history need the peaks alone);
+  /// energy() then stays where the run started. True (the default) keeps it.
+  void meter_energy(bool meter) { metering_ = meter; }
 
   /// Forgets the peaks and counts gathered so far (e.g. after a transient).
   void reset_statistics();
