@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -39,8 +40,9 @@ Result run(const std::string& arguments) {
 class Cli : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("poundsim_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    std::replace(name.begin(), name.end(), '/', '_');  // a parametrised test's name: one folder
+    dir_ = fs::temp_directory_path() / ("poundsim_cli_" + name);
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -149,67 +151,85 @@ TEST_F(Cli, UnwritableOutputFailsWithCodeOne) {
   EXPECT_NE(r.output.find("cannot create the output folder"), std::string::npos) << r.output;
 }
 
-TEST_F(Cli, EveryExampleRunsWithBothIntegrators) {
-  // Time histories and frequency responses with both integrators; studies and the optimiser
-  // (whose points are frequency responses) with Newmark and a smaller budget.
+/// Every example input (examples/, examples/paper/, examples/contact_laws/), sorted: one test
+/// each below, so that ctest spreads them over the cores (under the sanitizers they take minutes).
+std::vector<fs::path> example_files() {
   std::vector<fs::path> examples;
   for (const auto& dir : {"/examples", "/examples/paper", "/examples/contact_laws"}) {
     for (const auto& entry : fs::directory_iterator(std::string(POUNDSIM_SOURCE_DIR) + dir)) {
       if (entry.path().extension() == ".toml") examples.push_back(entry.path());
     }
   }
-  EXPECT_GE(examples.size(), 21u);
-  for (const fs::path& example : examples) {
-    const std::string text = slurp(example);
-    const bool frf = text.find("kind = \"frf\"") != std::string::npos;
-    const bool study = text.find("kind = \"study\"") != std::string::npos;
-    const bool optimize = text.find("kind = \"optimize\"") != std::string::npos;
-    const bool ensemble = text.find("kind = \"ensemble\"") != std::string::npos;
-    // The smooth contact laws: Newmark alone, whose balance's residual is then its integration
-    // error, O((ωh)²) (docs/model.md#smooth-contact-laws), not round-off.
-    const bool smooth = text.find("law = \"hertz") != std::string::npos || text.find("law = \"jankowski\"") != std::string::npos;
-    for (const char* integrator : {"newmark", "exact"}) {
-      if ((study || optimize) && std::string(integrator) == "exact") continue;
-      if (smooth && std::string(integrator) == "exact") {
-        const Result refused = run("run " + example.string() + " --quiet --out " + (dir_ / "refused").string() +
-                                   " --set analysis.integrator=exact");
-        EXPECT_EQ(refused.code, 2) << example;
-        EXPECT_NE(refused.output.find("is not piecewise linear: use integrator = \"newmark\""), std::string::npos)
-            << refused.output;
-        EXPECT_FALSE(fs::exists(dir_ / "refused")) << example;
-        continue;
-      }
-      const fs::path out = dir_ / (example.stem().string() + "_" + integrator);
-      std::string extra = std::string(" --set analysis.integrator=") + integrator;
-      // Simulated (continuation, the exact integrator's default, has tests of its own).
-      if (frf && std::string(integrator) == "exact") {
-        extra += " --set frf.points=12 --set frf.steps_per_period=16 --set frf.method=simulation";
-      }
-      if (optimize) extra += " --set optimize.global_evaluations=6 --set optimize.local_evaluations=4";
-      // An optimisation over a suite of records with a front: 2 s of each record (the sanitizers).
-      if (optimize && text.find("[optimize.pareto]") != std::string::npos) extra += " --set analysis.duration=2";
-      const Result r = run("run " + example.string() + " --quiet --out " + out.string() + extra);
-      EXPECT_EQ(r.code, 0) << example << "\n" << r.output;
-      EXPECT_EQ(r.output, "") << example;
-      if (study) {
-        EXPECT_TRUE(fs::exists(out / "study.csv")) << example;
-      } else if (ensemble) {
-        const auto summary = nlohmann::json::parse(slurp(out / "summary.json"));
-        EXPECT_TRUE(summary["complete"].get<bool>()) << example;
-        EXPECT_EQ(summary["failed"], 0) << example;
-        EXPECT_TRUE(fs::exists(out / "ensemble.csv")) << example;
-      } else if (optimize) {
-        EXPECT_TRUE(fs::exists(out / "optimize.json")) << example;
-      } else if (frf) {
-        EXPECT_TRUE(fs::exists(out / "frf.csv")) << example;
-      } else {
-        const auto summary = nlohmann::json::parse(slurp(out / "summary.json"));
-        EXPECT_EQ(summary["analysis"]["integrator"], integrator);
-        EXPECT_LT(summary["energy"]["max_relative_residual"].get<double>(), smooth ? 1e-4 : 1e-9) << example;
-      }
+  std::sort(examples.begin(), examples.end());
+  return examples;
+}
+
+TEST(CliExamples, AllAreRun) { EXPECT_GE(example_files().size(), 21u); }
+
+class CliExample : public Cli, public ::testing::WithParamInterface<fs::path> {};
+
+// Time histories and frequency responses with both integrators; studies and the optimiser
+// (whose points are frequency responses) with Newmark and a smaller budget.
+TEST_P(CliExample, RunsWithBothIntegrators) {
+  const fs::path& example = GetParam();
+  const std::string text = slurp(example);
+  const bool frf = text.find("kind = \"frf\"") != std::string::npos;
+  const bool study = text.find("kind = \"study\"") != std::string::npos;
+  const bool optimize = text.find("kind = \"optimize\"") != std::string::npos;
+  const bool ensemble = text.find("kind = \"ensemble\"") != std::string::npos;
+  // The smooth contact laws: Newmark alone, whose balance's residual is then its integration
+  // error, O((ωh)²) (docs/model.md#smooth-contact-laws), not round-off.
+  const bool smooth = text.find("law = \"hertz") != std::string::npos || text.find("law = \"jankowski\"") != std::string::npos;
+  for (const char* integrator : {"newmark", "exact"}) {
+    if ((study || optimize) && std::string(integrator) == "exact") continue;
+    if (smooth && std::string(integrator) == "exact") {
+      const Result refused = run("run " + example.string() + " --quiet --out " + (dir_ / "refused").string() +
+                                 " --set analysis.integrator=exact");
+      EXPECT_EQ(refused.code, 2) << example;
+      EXPECT_NE(refused.output.find("is not piecewise linear: use integrator = \"newmark\""), std::string::npos)
+          << refused.output;
+      EXPECT_FALSE(fs::exists(dir_ / "refused")) << example;
+      continue;
+    }
+    const fs::path out = dir_ / (example.stem().string() + "_" + integrator);
+    std::string extra = std::string(" --set analysis.integrator=") + integrator;
+    // Simulated (continuation, the exact integrator's default, has tests of its own).
+    if (frf && std::string(integrator) == "exact") {
+      extra += " --set frf.points=12 --set frf.steps_per_period=16 --set frf.method=simulation";
+    }
+    if (optimize) extra += " --set optimize.global_evaluations=6 --set optimize.local_evaluations=4";
+    // An optimisation over a suite of records with a front: 2 s of each record (the sanitizers).
+    if (optimize && text.find("[optimize.pareto]") != std::string::npos) extra += " --set analysis.duration=2";
+    const Result r = run("run " + example.string() + " --quiet --out " + out.string() + extra);
+    EXPECT_EQ(r.code, 0) << example << "\n" << r.output;
+    EXPECT_EQ(r.output, "") << example;
+    if (study) {
+      EXPECT_TRUE(fs::exists(out / "study.csv")) << example;
+    } else if (ensemble) {
+      const auto summary = nlohmann::json::parse(slurp(out / "summary.json"));
+      EXPECT_TRUE(summary["complete"].get<bool>()) << example;
+      EXPECT_EQ(summary["failed"], 0) << example;
+      EXPECT_TRUE(fs::exists(out / "ensemble.csv")) << example;
+    } else if (optimize) {
+      EXPECT_TRUE(fs::exists(out / "optimize.json")) << example;
+    } else if (frf) {
+      EXPECT_TRUE(fs::exists(out / "frf.csv")) << example;
+    } else {
+      const auto summary = nlohmann::json::parse(slurp(out / "summary.json"));
+      EXPECT_EQ(summary["analysis"]["integrator"], integrator);
+      EXPECT_LT(summary["energy"]["max_relative_residual"].get<double>(), smooth ? 1e-4 : 1e-9) << example;
     }
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(Examples, CliExample, ::testing::ValuesIn(example_files()),
+                         [](const ::testing::TestParamInfo<fs::path>& example) {
+                           std::string name = example.param.parent_path().filename().string() + "_" + example.param.stem().string();
+                           for (char& c : name) {
+                             if (std::isalnum(static_cast<unsigned char>(c)) == 0) c = '_';
+                           }
+                           return name;
+                         });
 
 TEST_F(Cli, FrequencyResponseWritesTheTable) {
   const fs::path out = dir_ / "frf";
