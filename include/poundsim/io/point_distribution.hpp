@@ -1,7 +1,8 @@
 #pragma once
 /// @file
-/// Where the points of a study or an ensemble run when more than one process shares them: the
-/// ranks of an MPI job (`mpirun -n N poundsim run study.toml`, apps/mpi_distribution.hpp). The
+/// Where the points of a study or an ensemble (and the designs of an optimisation's batches) run
+/// when more than one process shares them: the ranks of an MPI job (`mpirun -n N poundsim run
+/// study.toml`, apps/mpi_distribution.hpp). The
 /// io layer knows only this interface, so the library links no MPI. One rank, the coordinator,
 /// owns the study database: it hands the points out one at a time, the next to whichever rank
 /// returns a result first (points differ in cost by orders of magnitude), computes points itself
