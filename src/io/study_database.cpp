@@ -230,8 +230,11 @@ void StudyDatabase::record_evaluation(const std::string& design, const std::stri
 }
 
 void StudyDatabase::ensure_evaluations_table() {
-  // Only an optimisation's database has the table: a study's stays as it was.
+  // Only an optimisation's database has the table: a study's stays as it was. Made once, not
+  // asked again at every evaluation recorded.
+  if (has_evaluations_table_) return;
   db_->exec("CREATE TABLE IF NOT EXISTS evaluations (design BLOB PRIMARY KEY, result BLOB NOT NULL)");
+  has_evaluations_table_ = true;
 }
 
 std::vector<std::pair<std::string, std::string>> StudyDatabase::evaluations() {

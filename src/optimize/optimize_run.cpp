@@ -75,23 +75,24 @@ struct Evaluation {
   bool from_database = false;
 };
 
+/// Figures already as bytes (to_bytes), carried inside a CBOR document as a byte string, and back.
+json as_binary(const std::string& bytes) { return json::binary(std::vector<std::uint8_t>(bytes.begin(), bytes.end())); }
+std::string from_binary(const json& value) {
+  const auto& binary = value.get_binary();
+  return {binary.begin(), binary.end()};
+}
+
 /// The bytes of an outcome, as the database keeps it and the ranks send it.
 std::string outcome_bytes(const Outcome& o) {
   json value{{"status", o.status}, {"error", o.error}};
-  if (o.status == "done") {
-    const std::string figures = to_bytes(o.figures);
-    value["figures"] = json::binary(std::vector<std::uint8_t>(figures.begin(), figures.end()));
-  }
+  if (o.status == "done") value["figures"] = as_binary(to_bytes(o.figures));
   return io::cbor_bytes(value);
 }
 
 Outcome outcome_from_bytes(const std::string& bytes) {
   const json value = json::from_cbor(bytes);
   Outcome o{value.at("status").get<std::string>(), value.at("error").get<std::string>(), {}, false, {}};
-  if (value.contains("figures")) {
-    const auto& binary = value["figures"].get_binary();
-    o.figures = point_figures_from_bytes(std::string(binary.begin(), binary.end()));
-  }
+  if (value.contains("figures")) o.figures = point_figures_from_bytes(from_binary(value["figures"]));
   return o;
 }
 
@@ -165,8 +166,7 @@ std::string compute_task(const RunInput& input, const std::string& task_bytes, L
       last.x = x;
     }
     const std::optional<double> factor = task.at("factor").is_null() ? std::nullopt : std::optional<double>(task.at("factor").get<double>());
-    const std::string figures = to_bytes(record_figures(*last.point, task.at("record").get<std::size_t>(), factor));
-    result = json{{"figures", json::binary(std::vector<std::uint8_t>(figures.begin(), figures.end()))}};
+    result = json{{"figures", as_binary(to_bytes(record_figures(*last.point, task.at("record").get<std::size_t>(), factor)))}};
   } catch (const InputError& e) {
     result = json{{"rejected", e.what()}};
   } catch (const SimulationError& e) {
@@ -346,8 +346,7 @@ class Problem {
           const std::size_t r = t - p.first_task;
           const json result = json::from_cbor(bytes);
           if (result.contains("figures")) {
-            const auto& binary = result["figures"].get_binary();
-            p.records[r] = time_history_figures_from_bytes(std::string(binary.begin(), binary.end()));
+            p.records[r] = time_history_figures_from_bytes(from_binary(result["figures"]));
           } else {
             for (const char* status : {"rejected", "failed", "error"}) {
               if (result.contains(status)) p.errors[r].emplace(status, result[status].get<std::string>());

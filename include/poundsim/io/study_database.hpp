@@ -94,6 +94,7 @@ class StudyDatabase {
   void check_is_study(const std::string* fingerprint) const;
   void enlist();
   void ensure_evaluations_table();
+  bool has_evaluations_table_ = false;
   std::filesystem::path file_;
   std::unique_ptr<SQLite::Database> db_;
   mutable std::mutex mutex_;
