@@ -9,6 +9,7 @@
 #include <Eigen/Dense>
 #include <gtest/gtest.h>
 
+#include "poundsim/dynamics/linear_phase.hpp"
 #include "poundsim/integrate/simulator.hpp"
 #include "test_models.hpp"
 
@@ -108,6 +109,62 @@ TEST(NewmarkConvergence, LinearResponseIsSecondOrderInTheStep) {
   const Eigen::VectorXd reference = run(1e-5);
   const double e1 = (run(4e-3) - reference).norm(), e2 = (run(2e-3) - reference).norm();
   EXPECT_NEAR(std::log2(e1 / e2), 2.0, 0.1);
+}
+
+TEST(NewmarkLeanStep, IsEigensExpressionsAndSolveBitForBit) {
+  // The step of a phase without locked links runs in plain loops over the sparse arrays
+  // (NewmarkIntegrator::step_unreduced); it must perform Eigen's operations in Eigen's order.
+  // The reference here is the general step's expressions, written with Eigen: two 5-storey frames
+  // with every gap element in contact, so K and C couple the frames and L has entries below its
+  // diagonal; damped, loaded by the ground, from a state with nonzero u, u̇ and ü everywhere.
+  const Model model = make_model({make_uniform_frame(5, 2e5, 3e8, 4e5, "a"), make_uniform_frame(5, 1.5e5, 1.2e8, 1e5, "b")},
+                                 GapProperties{.stiffness = 7e7, .damping = 3e5, .gap = 0.0, .shortening = 0.05,
+                                               .restitution = 0.75});
+  const DofLayout layout(model);
+  const ContactConfiguration contact(static_cast<std::size_t>(model.gap_count()),
+                                     static_cast<LinkMode>(GapMode::contact));
+  const double dt = 2e-3, ground = -1.7;
+  const LinearPhase phase(model, layout, contact, dt);
+  ASSERT_TRUE(phase.is_unreduced());
+  ASSERT_GT(phase.step_solver().unit_lower_factor().nonZeros(), 0);
+  const Eigen::Index n = phase.reduced_size();
+  KinematicState from;
+  from.resize(static_cast<int>(n));
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const auto x = static_cast<double>(i + 1);
+    from.u(i) = 1e-3 * std::sin(1.3 * x);
+    from.v(i) = 2e-2 * std::cos(0.7 * x);
+    from.a(i) = -0.4 * std::sin(2.1 * x + 0.3);
+  }
+  from.t = 0.37;
+  for (const double tau : {dt, 0.37 * dt}) {
+    const LinearPhase::Solver& solver = tau == dt ? phase.step_solver() : phase.substep_solver(tau);
+    KinematicState to;
+    to.resize(static_cast<int>(n));
+    NewmarkIntegrator(n).step(phase, solver, from, tau, ground, to);
+
+    const double half = 0.5 * tau, quarter_sq = 0.25 * tau * tau;
+    const Eigen::VectorXd w1 = from.v + half * from.a;
+    const Eigen::VectorXd w2 = from.u + tau * from.v + quarter_sq * from.a;
+    Eigen::VectorXd rhs = phase.constant_load() - ground * phase.mass();
+    rhs.noalias() -= phase.damping() * w1;
+    rhs.noalias() -= phase.stiffness() * w2;
+    const Eigen::VectorXd a_new = solver.solve(rhs);
+    const Eigen::VectorXd u_new = w2 + quarter_sq * a_new;
+    const Eigen::VectorXd v_new = from.v + half * (from.a + a_new);
+    EXPECT_EQ(to.t, from.t + tau);
+    EXPECT_EQ(to.ground, ground);
+    for (Eigen::Index i = 0; i < n; ++i) {
+      EXPECT_EQ(to.a(i), a_new(i)) << "tau " << tau << ", DOF " << i;
+      EXPECT_EQ(to.u(i), u_new(i)) << "tau " << tau << ", DOF " << i;
+      EXPECT_EQ(to.v(i), v_new(i)) << "tau " << tau << ", DOF " << i;
+    }
+    // And it is the step: the equation of motion holds at the end, to round-off.
+    Eigen::VectorXd residual = phase.constant_load() - ground * phase.mass() - phase.mass().cwiseProduct(to.a);
+    residual.noalias() -= phase.damping() * to.v;
+    residual.noalias() -= phase.stiffness() * to.u;
+    EXPECT_LT(residual.cwiseQuotient(phase.mass()).cwiseAbs().maxCoeff(), 1e-12 * from.a.cwiseAbs().maxCoeff() + 1e-9);
+  }
 }
 
 }  // namespace

@@ -49,13 +49,89 @@ void NewmarkIntegrator::finish(const LinearPhase& phase, const KinematicState& f
   }
 }
 
+namespace {
+/// y(i) += A(i,j)·(−x(j)) column by column: Eigen's `y.noalias() -= A * x` for a column-major
+/// sparse A (SparseDenseProduct.h), operation for operation, hence the same bits.
+[[gnu::always_inline]] inline void subtract_product(const LinearPhase::SparseMatrix& a, const double* x, double* y) {
+  const double* values = a.valuePtr();
+  const int* rows = a.innerIndexPtr();
+  const int* starts = a.outerIndexPtr();
+  const int* counts = a.innerNonZeroPtr();  // null when compressed
+  for (Eigen::Index j = 0; j < a.outerSize(); ++j) {
+    const double xj = -1.0 * x[j];
+    const int end = counts != nullptr ? starts[j] + counts[j] : starts[j + 1];
+    for (int p = starts[j]; p < end; ++p) y[rows[p]] += values[p] * xj;
+  }
+}
+
+/// Solves L D Lᵀ x = b in place as SimplicialLDLT::_solve_impl does without a permutation
+/// (SimplicialCholesky.h, TriangularSolver.h): forward with the unit lower L column by column
+/// (skipping zero pivots' columns), x(i) = (1/d(i))·x(i), backward with Lᵀ row by row.
+[[gnu::always_inline]] inline void solve_in_place(const LinearPhase::Solver& solver, double* x) {
+  const LinearPhase::SparseMatrix& l = solver.unit_lower_factor();
+  const double* values = l.valuePtr();
+  const int* rows = l.innerIndexPtr();
+  const int* starts = l.outerIndexPtr();
+  const int* counts = l.innerNonZeroPtr();
+  const double* d = solver.diagonal_factor().data();
+  const auto n = static_cast<int>(l.cols());
+  const auto end_of = [&](int j) { return counts != nullptr ? starts[j] + counts[j] : starts[j + 1]; };
+  for (int i = 0; i < n; ++i) {
+    const double xi = x[i];
+    if (xi == 0.0) continue;
+    for (int p = starts[i], end = end_of(i); p < end; ++p) {
+      if (rows[p] > i) x[rows[p]] -= xi * values[p];
+    }
+  }
+  for (int i = 0; i < n; ++i) x[i] = (1.0 / d[i]) * x[i];
+  for (int i = n - 1; i >= 0; --i) {
+    double sum = x[i];
+    for (int p = starts[i], end = end_of(i); p < end; ++p) {
+      if (rows[p] > i) sum -= values[p] * x[rows[p]];
+    }
+    x[i] = sum;
+  }
+}
+}  // namespace
+
 void NewmarkIntegrator::step(const LinearPhase& phase, const LinearPhase::Solver& solver,
                              const KinematicState& from, double tau, double ground_end,
                              KinematicState& to) {
+  if (phase.is_unreduced() && solver.info() == Eigen::Success && solver.permutationP().size() == 0) {
+    step_unreduced(phase, solver, from, tau, ground_end, to);
+    return;
+  }
   prepare(phase, from, tau, ground_end);
   const Eigen::Index nr = phase.reduced_size();
   qdd_new_.head(nr) = solver.solve(rhs_.head(nr));
   finish(phase, from, tau, ground_end, to);
+}
+
+void NewmarkIntegrator::step_unreduced(const LinearPhase& phase, const LinearPhase::Solver& solver,
+                                       const KinematicState& from, double tau, double ground_end,
+                                       KinematicState& to) {
+  // prepare() and finish() of the general step written out for T = I, in the same operations.
+  const auto n = static_cast<int>(phase.reduced_size());
+  const double half = 0.5 * tau, quarter_sq = 0.25 * tau * tau;
+  const double *u = from.u.data(), *v = from.v.data(), *a = from.a.data();
+  const double *mass = phase.mass().data(), *load = phase.constant_load().data();
+  double *w1 = w1_.data(), *w2 = w2_.data(), *x = qdd_new_.data();
+  for (int i = 0; i < n; ++i) {
+    w1[i] = v[i] + half * a[i];
+    w2[i] = u[i] + tau * v[i] + quarter_sq * a[i];
+    x[i] = load[i] - ground_end * mass[i];
+  }
+  subtract_product(phase.damping(), w1, x);
+  subtract_product(phase.stiffness(), w2, x);
+  solve_in_place(solver, x);
+  to.t = from.t + tau;
+  to.ground = ground_end;
+  double *u_new = to.u.data(), *v_new = to.v.data(), *a_new = to.a.data();
+  for (int i = 0; i < n; ++i) {
+    u_new[i] = w2[i] + quarter_sq * x[i];
+    v_new[i] = v[i] + half * (a[i] + x[i]);
+    a_new[i] = x[i];
+  }
 }
 
 NewtonOutcome NewmarkIntegrator::step_newton(const LinearPhase& phase, const KinematicState& from, double tau,

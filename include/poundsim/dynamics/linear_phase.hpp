@@ -55,6 +55,10 @@ class LinearPhase {
    public:
     /// The numeric factorisation of `a`, whose pattern analyzePattern() saw. Allocation-free.
     void factorize_in_place(const SparseMatrix& a) { this->template factorize_preordered<true>(a); }
+    /// The factors without copies (Eigen's matrixL() wraps a view, its vectorD() copies D):
+    /// L's strictly lower entries, column-major, and D, for the lean Newmark step's solve.
+    [[nodiscard]] const SparseMatrix& unit_lower_factor() const { return this->m_matrix; }
+    [[nodiscard]] const Eigen::VectorXd& diagonal_factor() const { return this->m_diag; }
   };
 
   /// Assembles the system of `configuration` for the Newmark step `step` [s]. The factorisations

@@ -80,6 +80,12 @@ class NewmarkIntegrator {
   /// right-hand side −m a_g + b − C w1 − K w2.
   [[gnu::always_inline]] inline void prepare(const LinearPhase& phase, const KinematicState& from, double tau,
                                              double ground_end);
+  /// step() for a phase without locked links, the common case, in plain loops over the sparse
+  /// matrices' arrays: the same operations in the same order as Eigen's expressions and
+  /// SimplicialLDLT's solve (hence the same bits), without their per-call machinery — a step of
+  /// two one-storey frames took ≈ 980 instructions that way (docs/numerics.md).
+  void step_unreduced(const LinearPhase& phase, const LinearPhase::Solver& solver, const KinematicState& from,
+                      double tau, double ground_end, KinematicState& to);
   /// `to` from q̈⁺ (the reduced accelerations in qdd_new_) and w1, w2.
   [[gnu::always_inline]] inline void finish(const LinearPhase& phase, const KinematicState& from, double tau,
                                             double ground_end, KinematicState& to);
