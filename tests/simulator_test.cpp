@@ -308,6 +308,55 @@ TEST(SimulatorEnergy, PeaksWithoutTheBalanceAreTheSameBits) {
   }
 }
 
+TEST(SimulatorRecording, ATransientNotRecordedLeavesTheWindowsPeaksTheSameBits) {
+  // What a brute-force frequency response does: no energy and no peaks through the transient,
+  // then reset_statistics() with recording on. The state, the events and the window's peaks must
+  // be those of a run that recorded everything, for both integrators; the transient's peaks are
+  // not taken at all (they would describe nothing the caller keeps).
+  for (const Integrator integrator : {Integrator::newmark, Integrator::exact}) {
+    const Model model = make_model(testing::fig2('c'), {2, 2});
+    const auto run = [&](bool record_transient) {
+      Simulator sim(model, testing::harmonic(model, 0.2, 0.8), TimeHistoryOptions{.dt = 1e-3, .integrator = integrator});
+      sim.meter_energy(record_transient);
+      sim.record_responses(record_transient);
+      sim.advance_to(3.0);
+      const ResponseStatistics transient = sim.statistics();
+      sim.record_responses(true);
+      sim.reset_statistics();
+      sim.advance_to(4.5);
+      return std::tuple(transient, sim.statistics(), Eigen::VectorXd(sim.state().u), Eigen::VectorXd(sim.state().v));
+    };
+    const auto [transient_with, with, u_with, v_with] = run(true);
+    const auto [transient_without, without, u_without, v_without] = run(false);
+    EXPECT_EQ(u_with, u_without);
+    EXPECT_EQ(v_with, v_without);
+    EXPECT_GT(transient_with.floors[0].displacement.value, 0.0);
+    EXPECT_EQ(transient_without.floors[0].displacement.value, 0.0);  // not taken
+    EXPECT_GT(transient_without.events, 0);                          // counted all the same
+    EXPECT_EQ(transient_with.events, transient_without.events);
+    ASSERT_EQ(with.floors.size(), without.floors.size());
+    for (std::size_t i = 0; i < with.floors.size(); ++i) {
+      EXPECT_EQ(with.floors[i].displacement.value, without.floors[i].displacement.value);
+      EXPECT_EQ(with.floors[i].displacement.time, without.floors[i].displacement.time);
+      EXPECT_EQ(with.floors[i].drift.value, without.floors[i].drift.value);
+      EXPECT_EQ(with.floors[i].absolute_acceleration.value, without.floors[i].absolute_acceleration.value);
+      EXPECT_EQ(with.floors[i].velocity.value, without.floors[i].velocity.value);
+    }
+    for (std::size_t f = 0; f < with.base_shear.size(); ++f) {
+      EXPECT_EQ(with.base_shear[f].value, without.base_shear[f].value);
+      EXPECT_EQ(with.storey_shear[f].value, without.storey_shear[f].value);
+    }
+    ASSERT_EQ(with.gaps.size(), without.gaps.size());
+    for (std::size_t p = 0; p < with.gaps.size(); ++p) {
+      EXPECT_EQ(with.gaps[p].impacts, without.gaps[p].impacts);
+      EXPECT_EQ(with.gaps[p].contact_time, without.gaps[p].contact_time);
+      EXPECT_EQ(with.gaps[p].force.value, without.gaps[p].force.value);
+    }
+    EXPECT_GT(with.events, 0);
+    EXPECT_EQ(with.events, without.events);
+  }
+}
+
 TEST(SimulatorDeterminism, SameInputSameBits) {
   const Model model = make_model(testing::fig2('b'), {3, 3});
   const auto run = [&] {

@@ -139,6 +139,10 @@ FrfPoint steady_state_point_at(const Model& model, double omega1, double amplitu
   point.omega = omega;
   point.free = free_response(model, amplitude, omega);
 
+  // Neither the energy balance (never reported here) nor the transient's peaks (reset before
+  // the window): the state, the configuration and the events are all the transient needs.
+  sim->meter_energy(false);
+  sim->record_responses(false);
   PoincareSection section(steady.max_periodicity, steady.tolerance);
   section.add(*sim, omega);
   int m = 0;
@@ -150,6 +154,7 @@ FrfPoint steady_state_point_at(const Model& model, double omega1, double amplitu
   }
   point.transient_periods = std::min(m, steady.max_periods);
   const int window = point.periodicity > 0 ? point.periodicity : steady.window_periods;
+  sim->record_responses(true);
   sim->reset_statistics();
   sim->advance_to((point.transient_periods + window) * period);
 

@@ -394,8 +394,10 @@ void Simulator::integrate_to(double t_end, bool nominal) {
 namespace detail {
 
 void Loop::accept(KinematicState& next) {
-  if (metering_) energy_.step(state_, next, contact_.config, contact_.states);
-  monitor_.observe_step(state_, next);
+  if (recording_) {
+    if (metering_) energy_.step(state_, next, contact_.config, contact_.states);
+    monitor_.observe_step(state_, next);
+  }
   after_accept(next);
   guards_.lo = guards_.hi;
   guards_.rate_lo = guards_.rate_hi;
@@ -475,6 +477,7 @@ void Loop::check_finite() const {
 
 void Loop::record_statistics() {
   check_finite();
+  if (!recording_) return;  // the counts go on (observe_event); the peaks wait for reset_statistics
   monitor_.observe(state_);
   for (const int f : smooth_first_storeys_) {
     const FirstStoreyForces forces = *smooth_first_storey(f);

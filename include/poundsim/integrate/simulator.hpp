@@ -295,11 +295,15 @@ class Simulator : private detail::Loop {
   /// them (1 without events): near 0 the orbit grazes a guard and J is not the map's derivative.
   [[nodiscard]] double least_transversality() const;
 
-  /// False: the exact integrator keeps the state, the events and the sensitivity but neither the
-  /// energy balance nor the peaks between its samples (locating extrema on the trajectory and the
-  /// energy integrals: a recorded period costs 4–5× one that skips them, docs/periodic-orbits.md):
-  /// statistics() and energy() then do not describe the run. A periodic orbit's Newton iterations need only the state reached; the orbit found
-  /// is run once more with them. True (the default) keeps everything. Newmark always records.
+  /// False: the simulator keeps the state, the events, their counts and the sensitivity but
+  /// neither the energy balance nor the peaks, at the samples or between them (the exact
+  /// integrator locates extrema on its trajectory and integrates the energy in closed form: a
+  /// recorded period costs 4–5× one that skips them, docs/periodic-orbits.md; for Newmark the
+  /// peaks and the balance are a third of a step): statistics() and energy() then do not describe
+  /// the run. A periodic orbit's Newton iterations need only the state reached, and the orbit
+  /// found is run once more with them; a brute-force frequency response needs no peak of its
+  /// transient: reset_statistics() after record_responses(true) starts the window's peaks there.
+  /// True (the default) keeps everything.
   void record_responses(bool record) { recording_ = record; }
   /// False: the peaks and the state are kept but not the energy balance, whose integrals cost a
   /// sixth of a Newmark step (the free frames beside a time history need the peaks alone);
