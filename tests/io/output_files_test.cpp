@@ -1,9 +1,15 @@
 #include "poundsim/io/output_files.hpp"
 
+#include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
+#include <vector>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -90,6 +96,40 @@ TEST(OutputFile, NumbersReadBackExactly) {
     std::getline(in, line);
     EXPECT_EQ(std::stod(line), v) << line;
   }
+  fs::remove_all(dir);
+}
+
+TEST(OutputFile, NumbersAreWhatFormatWritesByteForByte) {
+  // number() formats with a compiled "{}": it must write exactly what fmt::format("{}", x) does
+  // (the golden outputs' checksums were taken with the latter) — integers, exponents both ways,
+  // −0, subnormals, and a spread of random bit patterns.
+  const fs::path dir = fs::temp_directory_path() / "poundsim_output_numbers_format";
+  fs::remove_all(dir);
+  std::vector<double> values{0.0, -0.0, 1.0, -3.0, 1e15, 1e16, 1e17, 123456789012.0, 1e-4, 1e-5, 0.1,
+                             5e-324, -2.2250738585072014e-308, 1.7976931348623157e308, 9.87654321e-7};
+  std::uint64_t bits = 0x9E3779B97F4A7C15ULL;
+  while (values.size() < 2000) {
+    bits ^= bits << 13;
+    bits ^= bits >> 7;
+    bits ^= bits << 17;
+    double x = 0.0;
+    std::memcpy(&x, &bits, sizeof x);
+    if (std::isfinite(x)) values.push_back(x);
+  }
+  std::string expected;
+  {
+    OutputTransaction out(dir);
+    OutputFile& f = out.open("n.txt");
+    for (const double v : values) {
+      f.number(v);
+      f.character('\n');
+      expected += fmt::format("{}\n", v);
+    }
+    out.commit();
+  }
+  std::ifstream in(dir / "n.txt", std::ios::binary);
+  const std::string written((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(written, expected);
   fs::remove_all(dir);
 }
 

@@ -17,6 +17,7 @@
 #include <string_view>
 #include <vector>
 
+#include <fmt/compile.h>
 #include <fmt/format.h>
 #include <nlohmann/json_fwd.hpp>
 
@@ -37,7 +38,9 @@ class OutputFile {
   }
   /// Appends a number in the shortest form that reads back to the same double.
   void number(double x) {
-    fmt::format_to(std::back_inserter(buffer_), "{}", x);
+    // A compiled format: the same shortest round-trip digits (fmt's Dragonbox) without parsing
+    // "{}" at every number — a history row is mostly numbers, one per channel per step.
+    fmt::format_to(fmt::appender(buffer_), FMT_COMPILE("{}"), x);
     written();
   }
   void text(std::string_view s) {
