@@ -106,6 +106,36 @@ TEST(FrequencyResponse, PeriodTwoResponseCoexistsWithTheLinearOne) {
   EXPECT_GT(pounding.interacting.base_shear[0], 1.05 * linear.interacting.base_shear[0]);
 }
 
+TEST(FrequencyResponse, APointsWindowIsThatOfARunRecordingEverything) {
+  // steady_state_point runs the transient without peaks or energy and starts the window's peaks
+  // at reset_statistics(): the window must be that of a run that recorded everything, to the bit
+  // (a reset before recording is back on would drop the window's first sample).
+  for (const Integrator integrator : {Integrator::newmark, Integrator::exact}) {
+    const Model model = make_model(testing::fig2('a'), {1, 1});
+    SteadyStateOptions steady;
+    if (integrator == Integrator::exact) steady.steps_per_period = 16;
+    TimeHistoryOptions options;
+    options.integrator = integrator;
+    std::unique_ptr<Simulator> sim;
+    const FrfPoint point = steady_state_point(model, 0.2 * kG, 1.3, steady, options, sim);
+    ASSERT_GT(point.impacts, 0);
+    ASSERT_GT(point.periodicity, 0);
+    const double period = 2 * std::numbers::pi / point.omega;
+    TimeHistoryOptions o = options;
+    o.dt = period / steady.steps_per_period;
+    Simulator all(model, HarmonicExcitation{0.2 * kG, point.omega}, o);
+    for (int m = 1; m <= point.transient_periods; ++m) all.advance_to(m * period);
+    all.reset_statistics();
+    all.advance_to((point.transient_periods + point.periodicity) * period);
+    EXPECT_EQ(sim->state().u, all.state().u);
+    testing::expect_same_peaks(all.statistics(), sim->statistics());
+    const FrameAmplitudes amplitudes = run_amplitudes(all);
+    EXPECT_EQ(amplitudes.base_shear, point.interacting.base_shear);
+    EXPECT_EQ(amplitudes.storey_shear, point.interacting.storey_shear);
+    EXPECT_EQ(amplitudes.top_displacement, point.interacting.top_displacement);
+  }
+}
+
 TEST(FrequencyResponse, SameBitsWhateverTheThreadCount) {
   const Model model = make_model(testing::fig2('b'), {1, 1});
   FrequencyResponseOptions o;

@@ -127,6 +127,9 @@ TEST(NewmarkLeanStep, IsEigensExpressionsAndSolveBitForBit) {
   const LinearPhase phase(model, layout, contact, dt);
   ASSERT_TRUE(phase.is_unreduced());
   ASSERT_GT(phase.step_solver().unit_lower_factor().nonZeros(), 0);
+  // The conditions of the lean path (else the general one would be compared with itself).
+  ASSERT_EQ(phase.step_solver().info(), Eigen::Success);
+  ASSERT_EQ(phase.step_solver().permutationP().size(), 0);
   const Eigen::Index n = phase.reduced_size();
   KinematicState from;
   from.resize(static_cast<int>(n));

@@ -4,9 +4,11 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
+#include <gtest/gtest.h>
 
 #include "poundsim/model/dimensionless.hpp"
 #include "poundsim/io/input.hpp"
@@ -82,6 +84,44 @@ inline double momentum(const Simulator& sim) {
     p += f.mass[sim.layout().floor_of(i)] * sim.state().v(i);
   }
   return p;
+}
+
+/// Two runs' statistics the same to the bit: every floor's peaks with their times, shears,
+/// neighbours' approaches, gap elements' counts and peaks, events (and there were events).
+inline void expect_same_peaks(const ResponseStatistics& with, const ResponseStatistics& without) {
+  ASSERT_EQ(with.floors.size(), without.floors.size());
+  for (std::size_t i = 0; i < with.floors.size(); ++i) {
+    const FloorResponse &a = with.floors[i], &b = without.floors[i];
+    for (const auto& [p, q] : {std::pair{a.displacement, b.displacement}, std::pair{a.velocity, b.velocity},
+                               std::pair{a.acceleration, b.acceleration},
+                               std::pair{a.absolute_acceleration, b.absolute_acceleration}, std::pair{a.drift, b.drift}}) {
+      EXPECT_EQ(p.value, q.value) << "floor DOF " << i;
+      EXPECT_EQ(p.time, q.time) << "floor DOF " << i;
+    }
+  }
+  ASSERT_EQ(with.base_shear.size(), without.base_shear.size());
+  for (std::size_t f = 0; f < with.base_shear.size(); ++f) {
+    EXPECT_EQ(with.base_shear[f].value, without.base_shear[f].value);
+    EXPECT_EQ(with.storey_shear[f].value, without.storey_shear[f].value);
+  }
+  ASSERT_EQ(with.neighbours.size(), without.neighbours.size());
+  for (std::size_t k = 0; k < with.neighbours.size(); ++k) {
+    EXPECT_EQ(with.neighbours[k].max_approach, without.neighbours[k].max_approach);
+    EXPECT_EQ(with.neighbours[k].max_approach_time, without.neighbours[k].max_approach_time);
+  }
+  ASSERT_EQ(with.gaps.size(), without.gaps.size());
+  for (std::size_t p = 0; p < with.gaps.size(); ++p) {
+    const GapResponse &a = with.gaps[p], &b = without.gaps[p];
+    EXPECT_EQ(a.impacts, b.impacts);
+    EXPECT_EQ(a.contacts, b.contacts);
+    EXPECT_EQ(a.contact_time, b.contact_time);
+    EXPECT_EQ(a.force.value, b.force.value);
+    EXPECT_EQ(a.shortening.value, b.shortening.value);
+    EXPECT_EQ(a.impact_velocity.value, b.impact_velocity.value);
+    EXPECT_EQ(a.impulse.value, b.impulse.value);
+  }
+  EXPECT_GT(with.events, 0);
+  EXPECT_EQ(with.events, without.events);
 }
 
 }  // namespace poundsim::testing

@@ -66,7 +66,8 @@ namespace {
 
 /// Solves L D Lᵀ x = b in place as SimplicialLDLT::_solve_impl does without a permutation
 /// (SimplicialCholesky.h, TriangularSolver.h): forward with the unit lower L column by column
-/// (skipping zero pivots' columns), x(i) = (1/d(i))·x(i), backward with Lᵀ row by row.
+/// (skipping the columns whose right-hand-side entry is zero, as Eigen does), x(i) = (1/d(i))·x(i),
+/// backward with Lᵀ row by row. No FMA: the build targets x86-64 without it (docs/numerics.md).
 [[gnu::always_inline]] inline void solve_in_place(const LinearPhase::Solver& solver, double* x) {
   const LinearPhase::SparseMatrix& l = solver.unit_lower_factor();
   const double* values = l.valuePtr();

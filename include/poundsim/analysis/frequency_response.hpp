@@ -129,7 +129,9 @@ struct FrfPoint {
 
 /// One point: the steady state reached from the state of `sim` (or from rest when null, in which
 /// case `sim` is created), which is then left at that steady state (at a Poincaré section) for the
-/// next point of a sweep.
+/// next point of a sweep. The transient runs with Simulator::record_responses(false) and the
+/// whole point without the energy balance (meter_energy(false), which `sim` keeps): nothing here
+/// reports either, and the window's peaks start at its reset_statistics() as before.
 FrfPoint steady_state_point(const Model& model, double amplitude, double ratio,
                             const SteadyStateOptions& steady, const TimeHistoryOptions& options,
                             std::unique_ptr<Simulator>& sim);

@@ -303,7 +303,9 @@ class Simulator : private detail::Loop {
   /// the run. A periodic orbit's Newton iterations need only the state reached, and the orbit
   /// found is run once more with them; a brute-force frequency response needs no peak of its
   /// transient: reset_statistics() after record_responses(true) starts the window's peaks there.
-  /// True (the default) keeps everything.
+  /// The energy balance is not restarted by reset_statistics(): a run that turns recording off
+  /// and on again with meter_energy(true) has a balance with a hole in it (the frequency
+  /// response meters none). True (the default) keeps everything.
   void record_responses(bool record) { recording_ = record; }
   /// False: the peaks and the state are kept but not the energy balance, whose integrals cost a
   /// sixth of a Newmark step (the free frames beside a time history need the peaks alone);
