@@ -6,6 +6,7 @@
 #include <limits>
 #include <optional>
 #include <stdexcept>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -399,8 +400,10 @@ void Loop::accept(KinematicState& next) {
     monitor_.observe_step(state_, next);
   }
   after_accept(next);
-  guards_.lo = guards_.hi;
-  guards_.rate_lo = guards_.rate_hi;
+  // The end's guards become the start's. A swap, not a copy: the stepper evaluates every guard
+  // into hi again before it reads it (entries no law writes stay 0 in every buffer).
+  std::swap(guards_.lo, guards_.hi);
+  std::swap(guards_.rate_lo, guards_.rate_hi);
 }
 
 void Loop::after_accept(KinematicState& next) {
