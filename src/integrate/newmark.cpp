@@ -50,17 +50,23 @@ void NewmarkIntegrator::finish(const LinearPhase& phase, const KinematicState& f
 }
 
 namespace {
+/// One past the last stored entry of column j of a column-major sparse matrix, compressed or not
+/// (Eigen's InnerIterator's end).
+[[gnu::always_inline]] inline int column_end(const LinearPhase::SparseMatrix& a, int j) {
+  const int* starts = a.outerIndexPtr();
+  const int* counts = a.innerNonZeroPtr();  // null when compressed
+  return counts != nullptr ? starts[j] + counts[j] : starts[j + 1];
+}
+
 /// y(i) += A(i,j)·(−x(j)) column by column: Eigen's `y.noalias() -= A * x` for a column-major
 /// sparse A (SparseDenseProduct.h), operation for operation, hence the same bits.
 [[gnu::always_inline]] inline void subtract_product(const LinearPhase::SparseMatrix& a, const double* x, double* y) {
   const double* values = a.valuePtr();
   const int* rows = a.innerIndexPtr();
   const int* starts = a.outerIndexPtr();
-  const int* counts = a.innerNonZeroPtr();  // null when compressed
-  for (Eigen::Index j = 0; j < a.outerSize(); ++j) {
+  for (int j = 0; j < static_cast<int>(a.outerSize()); ++j) {
     const double xj = -1.0 * x[j];
-    const int end = counts != nullptr ? starts[j] + counts[j] : starts[j + 1];
-    for (int p = starts[j]; p < end; ++p) y[rows[p]] += values[p] * xj;
+    for (int p = starts[j], end = column_end(a, j); p < end; ++p) y[rows[p]] += values[p] * xj;
   }
 }
 
@@ -73,21 +79,19 @@ namespace {
   const double* values = l.valuePtr();
   const int* rows = l.innerIndexPtr();
   const int* starts = l.outerIndexPtr();
-  const int* counts = l.innerNonZeroPtr();
   const double* d = solver.diagonal_factor().data();
   const auto n = static_cast<int>(l.cols());
-  const auto end_of = [&](int j) { return counts != nullptr ? starts[j] + counts[j] : starts[j + 1]; };
   for (int i = 0; i < n; ++i) {
     const double xi = x[i];
     if (xi == 0.0) continue;
-    for (int p = starts[i], end = end_of(i); p < end; ++p) {
+    for (int p = starts[i], end = column_end(l, i); p < end; ++p) {
       if (rows[p] > i) x[rows[p]] -= xi * values[p];
     }
   }
   for (int i = 0; i < n; ++i) x[i] = (1.0 / d[i]) * x[i];
   for (int i = n - 1; i >= 0; --i) {
     double sum = x[i];
-    for (int p = starts[i], end = end_of(i); p < end; ++p) {
+    for (int p = starts[i], end = column_end(l, i); p < end; ++p) {
       if (rows[p] > i) sum -= values[p] * x[rows[p]];
     }
     x[i] = sum;

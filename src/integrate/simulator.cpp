@@ -6,6 +6,8 @@
 #include <limits>
 #include <optional>
 #include <stdexcept>
+#include <string>
+#include <string_view>
 #include <utility>
 
 #include <fmt/format.h>
@@ -423,59 +425,50 @@ void Loop::check_finite() const {
   // Magnitudes beyond double range (an amplitude of 1e300 g, k = 1e308 with m = 1e-300, ...) turn
   // the state or the energies into ±inf and then NaN, which every comparison (peaks, the balance
   // check) silently ignores. Stop at the first such state and say where it went.
-  //
-  // This runs at every accepted state, so it first asks once whether anything is not finite: x·0
-  // is NaN exactly when x is ±∞ or NaN, and a sum of such products is 0 unless one is NaN.
   const DofLayout& layout_ = system_.layout();
-  {
-    const auto n = static_cast<std::size_t>(layout_.size());
-    const double *u = state_.u.data(), *v = state_.v.data(), *a = state_.a.data();
-    double poison = state_.ground * 0.0;
-    for (std::size_t i = 0; i < n; ++i) poison += u[i] * 0.0 + v[i] * 0.0 + a[i] * 0.0;
-    for (int f = 0; f < system_.model().frame_count(); ++f) poison += monitor_.storey_shear(state_, f) * 0.0;
-    for_each_contact_link(system_.contact_table(), [&](const auto& link) {
-      poison += PoundingSystem::gap_force(state_, contact_, link) * 0.0;
-    });
-    const EnergyBalance& b = energy_.balance();
-    poison += b.input * 0.0 + b.kinetic * 0.0 + b.storey_strain * 0.0 + b.gap_strain * 0.0 + b.storey_damping * 0.0 +
-              b.gap_damping * 0.0 + b.impact_loss * 0.0 + b.storey_hysteretic * 0.0;
-    if (poison == 0.0) return;
-  }
   const auto where = [&](int dof) {
     return fmt::format("frame {} floor {}", layout_.frame_of(dof) + 1, layout_.floor_of(dof) + 1);
   };
-  const auto fail = [&](const std::string& what) {
-    throw SimulationError(fmt::format(
-        "at t = {} s {} is not finite: the input's magnitudes (accelerations, initial velocities, "
-        "stiffness over mass) exceed the range of double precision",
-        state_.t, what), StopReason::non_finite);
+  // Every quantity checked, listed once: check(value, unit, what), what() naming it.
+  const auto each_quantity = [&](auto&& check) {
+    check(state_.ground, "", [] { return std::string("the ground acceleration"); });
+    const double *u = state_.u.data(), *v = state_.v.data(), *a = state_.a.data();
+    for (int i = 0; i < layout_.size(); ++i) {
+      check(u[i], "", [&] { return "the displacement of " + where(i); });
+      check(v[i], "", [&] { return "the velocity of " + where(i); });
+      check(a[i], "", [&] { return "the acceleration of " + where(i); });
+    }
+    for (int f = 0; f < system_.model().frame_count(); ++f) {
+      check(monitor_.storey_shear(state_, f), " N", [f] { return fmt::format("the base shear of frame {}", f + 1); });
+    }
+    for_each_contact_link(system_.contact_table(), [&](const auto& link) {
+      check(PoundingSystem::gap_force(state_, contact_, link), " N", [&] {
+        return "the force of " + describe(system_.contact_links()[static_cast<std::size_t>(link.element)], layout_);
+      });
+    });
+    const EnergyBalance& b = energy_.balance();
+    const auto energy = [&](double value, const char* name) { check(value, " J", [name] { return std::string(name); }); };
+    energy(b.input, "the input energy");
+    energy(b.kinetic, "the kinetic energy");
+    energy(b.storey_strain, "the storey strain energy");
+    energy(b.gap_strain, "the gap-element strain energy");
+    energy(b.storey_damping, "the energy dissipated by the storey dashpots");
+    energy(b.gap_damping, "the energy dissipated by the gap elements");
+    energy(b.impact_loss, "the energy lost in impacts");
+    energy(b.storey_hysteretic, "the hysteretic energy of the storeys");
   };
-  if (!std::isfinite(state_.ground)) fail(fmt::format("the ground acceleration ({})", state_.ground));
-  for (int i = 0; i < layout_.size(); ++i) {
-    if (!std::isfinite(state_.u(i))) fail(fmt::format("the displacement of {} ({})", where(i), state_.u(i)));
-    if (!std::isfinite(state_.v(i))) fail(fmt::format("the velocity of {} ({})", where(i), state_.v(i)));
-    if (!std::isfinite(state_.a(i))) fail(fmt::format("the acceleration of {} ({})", where(i), state_.a(i)));
-  }
-  for (int f = 0; f < system_.model().frame_count(); ++f) {
-    const double v = monitor_.storey_shear(state_, f);
-    if (!std::isfinite(v)) fail(fmt::format("the base shear of frame {} ({} N)", f + 1, v));
-  }
-  for_each_contact_link(system_.contact_table(), [&](const auto& link) {
-    const auto p = static_cast<std::size_t>(link.element);
-    const double force = PoundingSystem::gap_force(state_, contact_, link);
-    if (!std::isfinite(force)) fail(fmt::format("the force of {} ({} N)", describe(system_.contact_links()[p], layout_), force));
+  // This runs at every accepted state, so it first asks once whether anything is not finite: x·0
+  // is NaN exactly when x is ±∞ or NaN, and a sum of such products is 0 unless one is NaN.
+  double poison = 0.0;
+  each_quantity([&](double x, std::string_view /*unit*/, const auto& /*what*/) { poison += x * 0.0; });
+  if (poison == 0.0) return;
+  each_quantity([&](double x, std::string_view unit, const auto& what) {
+    if (std::isfinite(x)) return;
+    throw SimulationError(fmt::format(
+        "at t = {} s {} ({}{}) is not finite: the input's magnitudes (accelerations, initial velocities, "
+        "stiffness over mass) exceed the range of double precision",
+        state_.t, what(), x, unit), StopReason::non_finite);
   });
-  const EnergyBalance& b = energy_.balance();
-  for (const auto& [name, value] :
-       {std::pair{"the input energy", b.input}, std::pair{"the kinetic energy", b.kinetic},
-        std::pair{"the storey strain energy", b.storey_strain},
-        std::pair{"the gap-element strain energy", b.gap_strain},
-        std::pair{"the energy dissipated by the storey dashpots", b.storey_damping},
-        std::pair{"the energy dissipated by the gap elements", b.gap_damping},
-        std::pair{"the energy lost in impacts", b.impact_loss},
-        std::pair{"the hysteretic energy of the storeys", b.storey_hysteretic}}) {
-    if (!std::isfinite(value)) fail(fmt::format("{} ({} J)", name, value));
-  }
 }
 
 void Loop::record_statistics() {
