@@ -8,6 +8,7 @@
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "hermite_cubic.hpp"
+#include "poundsim/integrate/bracketed_roots.hpp"
 #include "poundsim/error.hpp"
 
 namespace poundsim {
@@ -167,28 +168,11 @@ double GuardExpansion::derivative_bound(int j, int order, double a, double b) co
 
 namespace {
 
-/// Shrinks [lo, hi] (g(lo) ≤ 0 < g(hi)) to width ≤ resolution by Newton steps kept inside the
-/// bracket, with bisection when a step would leave it or fails to halve it.
+/// Shrinks [lo, hi] (g(lo) ≤ 0 < g(hi)) to width ≤ resolution (bracketed_roots.hpp).
 Crossing refine(const GuardExpansion& guards, int j, double lo, double hi, double resolution) {
-  double x = hi;
-  double previous_width = hi - lo;
-  for (int i = 0; i < 200 && hi - lo > resolution; ++i) {
-    const auto [g, d] = guards.value_and_rate(j, x);
-    if (g > 0) {
-      hi = x;
-    } else {
-      lo = x;
-    }
-    double next = d != 0 ? x - g / d : 0.5 * (lo + hi);
-    const double width = hi - lo;
-    if (!(next > lo && next < hi) || width > 0.5 * previous_width) next = 0.5 * (lo + hi);
-    previous_width = width;
-    // Step a hair past a converged Newton point, to land on the other side of the root.
-    if (std::abs(next - x) < 0.5 * resolution) next = g > 0 ? x - 0.5 * resolution : x + 0.5 * resolution;
-    x = std::clamp(next, lo + 0.25 * resolution, hi - 0.25 * resolution);
-    if (hi - lo <= resolution) break;
-  }
-  return Crossing{j, lo, hi};
+  const detail::RootBracket bracket =
+      detail::newton_bracket([&](double s) { return guards.value_and_rate(j, s); }, lo, hi, resolution);
+  return Crossing{j, bracket.lo, bracket.hi};
 }
 
 /// The first crossing of guard j in (a, b], b ≤ limit, proven by subdivision.

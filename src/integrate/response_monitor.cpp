@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "hermite_cubic.hpp"
+#include "poundsim/integrate/bracketed_roots.hpp"
 #include "poundsim/dynamics/link_kinematics.hpp"
 
 namespace poundsim {
@@ -182,22 +183,23 @@ void ResponseMonitor::observe_step(const KinematicState& from, const KinematicSt
   // lie where its rate changes sign: find that instant on the trajectory.
   const double t0 = origin;
   // `needs_acceleration`: the rate reads ü (the storey shear's); the others read u̇ alone, which
-  // the trajectory gives for half the work.
-  const auto extremum = [&](auto rate, double a, double b, double ra, bool needs_acceleration) {
-    for (int i = 0; i < 60 && b - a > 1e-12 * std::max(1.0, b + t0); ++i) {
-      const double m = 0.5 * (a + b);
-      if (needs_acceleration) {
-        trajectory.state_at(m, node_);
-      } else {
-        trajectory.motion_at(m, node_);
-      }
-      if ((rate(node_) > 0) == (ra > 0)) {
-        a = m;
-      } else {
-        b = m;
-      }
-    }
-    trajectory.state_at(0.5 * (a + b), node_);
+  // the trajectory gives for half the work. The rate changes sign once in [a, b]: the Illinois
+  // method (bracketed_roots.hpp) finds where to the 1e-12 of the time the bisection it replaced
+  // went to, in ~8 evaluations of the trajectory instead of ~40. node_ is left at the root found
+  // (the peaks read u, u̇ and t, which motion_at and state_at give alike).
+  const auto extremum = [&](auto rate, double a, double b, double ra, double rb, bool needs_acceleration) {
+    int evaluations = 0;
+    const double x = detail::illinois_root(
+        [&](double s) {
+          if (needs_acceleration) {
+            trajectory.state_at(s, node_);
+          } else {
+            trajectory.motion_at(s, node_);
+          }
+          return rate(node_);
+        },
+        a, b, ra, rb, 1e-12 * std::max(1.0, b + t0), evaluations);
+    if (evaluations == 0) trajectory.motion_at(x, node_);
   };
   const double a = from.t - t0, b = to.t - t0;
   for (std::size_t k = 0; k < stats_.neighbours.size(); ++k) {
@@ -205,7 +207,7 @@ void ResponseMonitor::observe_step(const KinematicState& from, const KinematicSt
     const auto rate = [&points](const KinematicState& x) { return approach_rate(std::false_type{}, x, points); };
     const double ra = rate(from), rb = rate(to);
     if (!(ra > 0 && rb < 0)) continue;
-    extremum(rate, a, b, ra, false);
+    extremum(rate, a, b, ra, rb, false);
     stats_.neighbours[k].update(approach(std::false_type{}, node_, points), node_.t);
   }
   for (int i = 0; i < layout_.size(); ++i) {
@@ -214,7 +216,7 @@ void ResponseMonitor::observe_step(const KinematicState& from, const KinematicSt
     const bool first = layout_.floor_of(i) == 0;
     const auto f = static_cast<std::size_t>(layout_.frame_of(i));
     if (va * vb < 0) {
-      extremum([i](const KinematicState& x) { return x.v(i); }, a, b, va, false);
+      extremum([i](const KinematicState& x) { return x.v(i); }, a, b, va, vb, false);
       fr.displacement.update(node_.u(i), node_.t);
       if (first) stats_.base_shear[f].update(base_shear(node_, static_cast<int>(f)), node_.t);
     }
@@ -222,7 +224,7 @@ void ResponseMonitor::observe_step(const KinematicState& from, const KinematicSt
       const double k = first_storey_[f].stiffness, c = first_storey_[f].damping;
       const double sa = k * va + c * from.a(i), sb = k * vb + c * to.a(i);
       if (sa * sb < 0) {
-        extremum([i, k, c](const KinematicState& x) { return k * x.v(i) + c * x.a(i); }, a, b, sa, true);
+        extremum([i, k, c](const KinematicState& x) { return k * x.v(i) + c * x.a(i); }, a, b, sa, sb, true);
         stats_.storey_shear[f].update(storey_shear(node_, static_cast<int>(f)), node_.t);
       }
     }
@@ -230,7 +232,7 @@ void ResponseMonitor::observe_step(const KinematicState& from, const KinematicSt
     if (below < 0) continue;
     const double da = va - from.v(below), db = vb - to.v(below);
     if (da * db < 0) {
-      extremum([i, below](const KinematicState& x) { return x.v(i) - x.v(below); }, a, b, da, false);
+      extremum([i, below](const KinematicState& x) { return x.v(i) - x.v(below); }, a, b, da, db, false);
       fr.drift.update(node_.u(i) - node_.u(below), node_.t);
     }
   }
