@@ -23,8 +23,12 @@ double power(double x, int order) {
 }
 }  // namespace
 
+Eigen::MatrixXcd GuardExpansion::modal_rows(const Eigen::MatrixXd& rows, const ExactPhase& phase) {
+  return rows.cast<Complex>() * phase.modes();
+}
+
 void GuardExpansion::build(const ExactTrajectory& trajectory, const Eigen::MatrixXd& rows,
-                           std::span<const double> at_start,
+                           const Eigen::MatrixXcd& modal_rows, std::span<const double> at_start,
                            std::span<const double> memory_amplitude,
                            std::span<const double> memory_rate) {
   trajectory_ = &trajectory;
@@ -54,7 +58,9 @@ void GuardExpansion::build(const ExactTrajectory& trajectory, const Eigen::Matri
   harmonic_ = rows.cast<Complex>() * trajectory.harmonic_part();
   harmonic_size_ = harmonic_.cwiseAbs();
   if (phase.modal()) {
-    modal_ = (rows.cast<Complex>() * phase.modes()) * trajectory.modal_coefficients().asDiagonal();
+    modal_ = modal_rows * trajectory.modal_coefficients().asDiagonal();
+    growth_a_ = growth_b_ = std::numeric_limits<double>::quiet_NaN();
+    growth_.resize(phase.eigenvalues().size());
     modal_size_ = modal_.cwiseAbs();
     rate_size_ = phase.eigenvalues().cwiseAbs();
   } else {
@@ -149,13 +155,9 @@ double GuardExpansion::derivative_bound(int j, int order, double a, double b) co
   bound += std::abs(memory_(j)) * power(memory_rate_(j), order) *
            (memory_rate_(j) != 0.0 ? std::exp(-memory_rate_(j) * a) : 1.0);
   if (tr.phase().modal()) {
-    const Eigen::VectorXcd& lambda = tr.phase().eigenvalues();
-    double growth = 0.0;  // e^{Re λ_k s} at the interval's end where it is largest
-    for (Eigen::Index k = 0; k < lambda.size(); ++k) {
-      const double re = lambda(k).real();
-      // A conjugate pair shares its real part: one exponential for both.
-      if (k == 0 || re != lambda(k - 1).real()) growth = std::exp(re * (re > 0 ? b : a));
-      bound += modal_size_(j, k) * power(rate_size_(k), order) * growth;
+    update_growth(a, b);
+    for (Eigen::Index k = 0; k < growth_.size(); ++k) {
+      bound += modal_size_(j, k) * power(rate_size_(k), order) * growth_(k);
     }
   } else {
     // r Aᵖ e^{As} h = (r D) Âᵖ e^{Âs} (D⁻¹ h) and ‖e^{Âs}‖ ≤ e^{μ s}, μ the logarithmic norm of Â.
@@ -164,6 +166,18 @@ double GuardExpansion::derivative_bound(int j, int order, double a, double b) co
              std::exp(mu * (mu > 0 ? b : a));
   }
   return bound;
+}
+
+void GuardExpansion::update_growth(double a, double b) const {
+  if (a == growth_a_ && b == growth_b_) return;
+  const Eigen::VectorXcd& lambda = trajectory_->phase().eigenvalues();
+  for (Eigen::Index k = 0; k < lambda.size(); ++k) {
+    const double re = lambda(k).real();
+    // A conjugate pair shares its real part: one exponential for both.
+    growth_(k) = k > 0 && re == lambda(k - 1).real() ? growth_(k - 1) : std::exp(re * (re > 0 ? b : a));
+  }
+  growth_a_ = a;
+  growth_b_ = b;
 }
 
 namespace {

@@ -32,12 +32,15 @@ namespace poundsim {
 
 class GuardExpansion {
  public:
-  /// `rows` R (guards × states); `at_start` the guard values at s = 0 (which fix κ); the free
-  /// ends of relaxing elements contribute −m_j e^{−ν_j s} (m_j = 0 for others). Guards equal to
-  /// −∞ at the start are inactive.
-  void build(const ExactTrajectory& trajectory, const Eigen::MatrixXd& rows,
+  /// `rows` R (guards × states); `modal_rows` R V on a modal phase (modal_rows(), made once per
+  /// phase: every segment's γ is R V diag(c)); `at_start` the guard values at s = 0 (which fix κ);
+  /// the free ends of relaxing elements contribute −m_j e^{−ν_j s} (m_j = 0 for others). Guards
+  /// equal to −∞ at the start are inactive.
+  void build(const ExactTrajectory& trajectory, const Eigen::MatrixXd& rows, const Eigen::MatrixXcd& modal_rows,
              std::span<const double> at_start, std::span<const double> memory_amplitude,
              std::span<const double> memory_rate);
+  /// R V of a modal phase.
+  [[nodiscard]] static Eigen::MatrixXcd modal_rows(const Eigen::MatrixXd& rows, const ExactPhase& phase);
 
   [[nodiscard]] int size() const { return static_cast<int>(constant_.size()); }
   [[nodiscard]] bool active(int j) const { return active_[static_cast<std::size_t>(j)]; }
@@ -67,6 +70,12 @@ class GuardExpansion {
     double s = std::numeric_limits<double>::quiet_NaN(), value = 0.0, rate = 0.0;
   };
   mutable std::vector<std::array<Remembered, 2>> remembered_;
+  // e^{Re λ_k s} at the end of [a, b] where it is largest, for the derivative bounds: every guard's
+  // search starts on the same interval and asks the bounds of orders 2 and 4 there.
+  mutable double growth_a_ = std::numeric_limits<double>::quiet_NaN();
+  mutable double growth_b_ = std::numeric_limits<double>::quiet_NaN();
+  mutable Eigen::VectorXd growth_;
+  void update_growth(double a, double b) const;
   [[nodiscard]] std::pair<double, double> compute(int j, double s) const;
 };
 
