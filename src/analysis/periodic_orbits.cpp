@@ -149,6 +149,7 @@ StroboscopicMap::StroboscopicMap(const Model& model, double amplitude, double om
   dofs_ = DofLayout(model_).size();
   sim_ = std::make_unique<Simulator>(model_, HarmonicExcitation{amplitude_, omega_}, options_);
   sim_->track_sensitivity();
+  sim_->meter_energy(false);
 }
 
 StroboscopicMap::~StroboscopicMap() = default;

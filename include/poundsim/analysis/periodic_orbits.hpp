@@ -90,9 +90,10 @@ class StroboscopicMap {
   [[nodiscard]] const Model& model() const { return model_; }
   [[nodiscard]] int dofs() const { return dofs_; }
 
-  /// What a run keeps besides the state: its peaks and energy balance (Responses::record) or
-  /// only its events (Responses::skip, a fifth to a quarter of a recorded period's cost:
-  /// Simulator::record_responses).
+  /// What a run keeps besides the state: its peaks (Responses::record) or only its events
+  /// (Responses::skip, a fifth to a quarter of a recorded period's cost:
+  /// Simulator::record_responses). No run of the map keeps an energy balance: an orbit reports
+  /// its peaks alone, and the closed-form power integrals were a quarter of a recorded period.
   enum class Responses { skip, record };
 
   /// Runs k periods from x = [u; v] (2N); the state reached and, when `jacobian` is given, the
@@ -102,7 +103,7 @@ class StroboscopicMap {
   Eigen::VectorXd evaluate(const Eigen::VectorXd& x, int k, Eigen::MatrixXd* jacobian = nullptr,
                            Responses responses = Responses::skip);
   /// The simulator of the last evaluation (its statistics are the run's counts, and its peaks
-  /// when it recorded them).
+  /// when it recorded them; its energy() stays at the start: it meters none).
   [[nodiscard]] const Simulator& simulator() const { return *sim_; }
 
  private:
