@@ -1,5 +1,6 @@
 // Time-history cost: one Newmark step (no event in it) and whole runs with pounding, for two
-// frames of 1, 20 and 100 storeys. Cost per step must grow linearly with the storeys (banded
+// frames of 1 to 200 storeys (issue 14 asks 2×1, 2×10, 2×50, 2×200; 20 and 100 are kept for the
+// earlier sessions' figures). Cost per step must grow linearly with the storeys (banded
 // matrices, interleaved DOFs) and a 2 × 1 step must stay well under 1 µs.
 
 #include <cmath>
@@ -42,7 +43,7 @@ void BM_StepWithoutContact(benchmark::State& state) {
       static_cast<double>(state.iterations()) * 2.0 * storeys,
       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
-BENCHMARK(BM_StepWithoutContact)->Arg(1)->Arg(10)->Arg(20)->Arg(100);
+BENCHMARK(BM_StepWithoutContact)->Arg(1)->Arg(10)->Arg(20)->Arg(50)->Arg(100)->Arg(200);
 
 /// One grid step of `m` with its Hertzdamp contacts pressed (a soft frame left of a stiff one, no
 /// gap, a varying ground push), with Newton's iterations per step.
@@ -127,20 +128,27 @@ BENCHMARK(BM_WholeRunWithYieldingStoreys)->DenseRange(0, 3)->Unit(benchmark::kMi
 void BM_WholeRunWithPounding(benchmark::State& state) {
   const int storeys = static_cast<int>(state.range(0));
   const Model m = paper_model(storeys, 0.25);
-  std::int64_t steps = 0, events = 0;
+  std::int64_t steps = 0, events = 0, trial_substeps = 0, grazing_checks = 0;
   for (auto _ : state) {
     Simulator sim(m, excitation_for(m, 0.8), TimeHistoryOptions{.dt = 1e-3});
     sim.advance_to(20.0);
     steps += sim.statistics().steps;
     events += sim.statistics().events;
+    trial_substeps += sim.statistics().guard_evaluations - sim.statistics().grazing_checks;
+    grazing_checks += sim.statistics().grazing_checks;
   }
   state.SetItemsProcessed(steps);
   state.counters["events_per_run"] =
       static_cast<double>(events) / static_cast<double>(state.iterations());
+  // Issue 14 asks ≤ 3 on average with pounding at many floors: the sub-steps that locate events,
+  // and apart from them the sub-steps that check a step for a guard rising and falling inside it.
+  const double per_event = events > 0 ? 1.0 / static_cast<double>(events) : 0.0;
+  state.counters["location_substeps_per_event"] = static_cast<double>(trial_substeps) * per_event;
+  state.counters["grazing_checks_per_event"] = static_cast<double>(grazing_checks) * per_event;
   state.counters["ns_per_step"] = benchmark::Counter(
       static_cast<double>(steps), benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
-BENCHMARK(BM_WholeRunWithPounding)->Arg(1)->Arg(20)->Arg(100)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_WholeRunWithPounding)->Arg(1)->Arg(10)->Arg(20)->Arg(50)->Arg(100)->Arg(200)->Unit(benchmark::kMillisecond);
 
 /// The same 20 s run with the exact integrator, sampled every 1e-3 s.
 void BM_WholeRunExact(benchmark::State& state) {

@@ -247,9 +247,14 @@ TEST(SimulatorEvents, GrazingContactInsideOneStepIsFound) {
   });
   sim.advance_to(0.1);
   EXPECT_LT(sim.state().u(0), delta);  // the grid point itself misses the contact
+  EXPECT_EQ(sim.statistics().grazing_checks, 0);  // the guard rises through both ends so far
   sim.advance_to(0.2);
   EXPECT_GT(first, 0.1);
   EXPECT_LT(first, 0.12);
+  // The step found by its interior maximum: one grazing check, counted among the trial sub-steps
+  // (guard_evaluations) and apart from those that locate the event.
+  EXPECT_EQ(sim.statistics().grazing_checks, 1);
+  EXPECT_GT(sim.statistics().guard_evaluations, sim.statistics().grazing_checks);
 }
 
 TEST(SimulatorEvents, ForceCriterionNeverPullsTheFloorsTogether) {

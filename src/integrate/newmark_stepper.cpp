@@ -117,6 +117,7 @@ bool NewmarkStepper::find_grazing(Loop& loop, double tau) {
   trial_step(loop, best_theta * tau, false, trial_);
   loop.evaluate_guards(trial_, g.work, g.rate_work);
   ++loop.monitor().counts().guard_evaluations;
+  ++loop.monitor().counts().grazing_checks;
   if (!any_fired(g.work)) {
     loop.compute_stop_reactions(upper_);  // the step is accepted at upper_, not at this trial
     return false;

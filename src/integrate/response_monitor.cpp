@@ -66,7 +66,8 @@ ResponseMonitor::ResponseMonitor(const Model& model, const DofLayout& layout, st
 }
 
 void ResponseMonitor::reset() {
-  stats_.steps = stats_.substeps = stats_.guard_evaluations = stats_.events = stats_.phases_factorised = 0;
+  stats_.steps = stats_.substeps = stats_.guard_evaluations = stats_.grazing_checks = stats_.events =
+      stats_.phases_factorised = 0;
   stats_.newton_steps = stats_.newton_iterations = 0;
   for (FloorResponse& f : stats_.floors) f = FloorResponse{};
   for (Peak& p : stats_.base_shear) p = Peak{};
