@@ -82,7 +82,28 @@ TEST(IllinoisRoot, AStronglyCurvedRateStillConverges) {
   int evaluations = 0;
   const double x = illinois_root(f, 0.0, 1.0, f(0.0), f(1.0), 1e-12, evaluations);
   EXPECT_NEAR(x, std::log(2.0) / 10, 1e-12);
-  EXPECT_LE(evaluations, 20);
+  EXPECT_LE(evaluations, 24);
+}
+
+TEST(IllinoisRoot, TwoCloseEstimatesFarFromTheRootDoNotStopIt) {
+  // e^{50 s} − e^{25}, root 0.5: the first two estimates lie within 1e-10 of each other near 0
+  // (a review found the search stopping there when two close estimates were taken as converged).
+  const auto f = [](double s) { return std::exp(50 * s) - std::exp(25.0); };
+  int evaluations = 0;
+  const double x = illinois_root(f, 0.0, 1.0, f(0.0), f(1.0), 1e-10, evaluations);
+  EXPECT_NEAR(x, 0.5, 1e-10);
+  EXPECT_LE(evaluations, 10);
+}
+
+TEST(IllinoisRoot, AFlatRootIsBisectedToTheTolerance) {
+  // (s − s₀)³: regula falsi crawls; the bisections when the bracket does not halve in three steps
+  // still bring it to the tolerance, within four times a bisection's ~40 evaluations.
+  const double root = 5e-5;
+  const auto f = [&](double s) { return std::pow(s - root, 3); };
+  int evaluations = 0;
+  const double x = illinois_root(f, 0.0, 1.0, f(0.0), f(1.0), 1e-12, evaluations);
+  EXPECT_NEAR(x, root, 1e-12);
+  EXPECT_LE(evaluations, 160);
 }
 
 TEST(IllinoisRoot, ANarrowBracketIsNotEvaluated) {

@@ -98,8 +98,9 @@ TEST(StroboscopicMap, TheMonodromyOfImpactsAndContactsIsTheMapsDerivative) {
     ASSERT_TRUE(r.converged) << c.name << ": " << r.failure;
     ASSERT_GT(r.orbit.events, 0) << c.name;
     const Eigen::VectorXd x = state_of(r.orbit);
-    // Recording the peaks and the energy balance changes nothing of the run: the same state, the
-    // same monodromy, the same events, bit for bit.
+    // Recording the peaks changes nothing of the run: the same state, the same monodromy, the same
+    // events, bit for bit (the map meters no energy; that metering leaves a run's bits alone is
+    // SimulatorEnergy.PeaksWithoutTheBalanceAreTheSameBits).
     Eigen::MatrixXd recorded_monodromy;
     const Eigen::VectorXd recorded = map.evaluate(x, 1, &recorded_monodromy, StroboscopicMap::Responses::record);
     const long recorded_events = map.simulator().statistics().events;

@@ -186,7 +186,7 @@ void ResponseMonitor::observe_step(const KinematicState& from, const KinematicSt
   // `needs_acceleration`: the rate reads ü (the storey shear's); the others read u̇ alone, which
   // the trajectory gives for half the work. The rate changes sign once in [a, b]: the Illinois
   // method (bracketed_roots.hpp) finds where to the 1e-12 of the time the bisection it replaced
-  // went to, in ~8 evaluations of the trajectory instead of ~40. node_ is left at the root found
+  // went to, in ~7 evaluations of the trajectory instead of ~40. node_ is left at the root found
   // (the peaks read u, u̇ and t, which motion_at and state_at give alike).
   const auto extremum = [&](auto rate, double a, double b, double ra, double rb, bool needs_acceleration) {
     int evaluations = 0;

@@ -103,7 +103,7 @@ class StroboscopicMap {
   Eigen::VectorXd evaluate(const Eigen::VectorXd& x, int k, Eigen::MatrixXd* jacobian = nullptr,
                            Responses responses = Responses::skip);
   /// The simulator of the last evaluation (its statistics are the run's counts, and its peaks
-  /// when it recorded them; its energy() stays at the start: it meters none).
+  /// when it recorded them; its energy() is no balance: it meters none).
   [[nodiscard]] const Simulator& simulator() const { return *sim_; }
 
  private:

@@ -4,7 +4,8 @@
 /// exact integrator crosses zero (guard_expansion.cpp) and where a response's rate vanishes
 /// between two samples, its extremum (response_monitor.cpp). Both searches ran bisection-like
 /// until session 21 (~34 and ~40 evaluations of the trajectory); these safeguarded methods take
-/// ~7 and ~8 on the same searches, each evaluation the costliest thing in an exact period.
+/// ~8 and ~7 on the same searches (Fig. 3a by continuation), each evaluation the costliest thing
+/// in an exact period.
 ///
 /// References: W. H. Press et al., Numerical Recipes, 3rd ed. (2007), §9.4 "rtsafe" (Newton with
 /// bisection when a step leaves the bracket or does not halve); M. Dowell and P. Jarratt, "A
@@ -56,23 +57,43 @@ RootBracket newton_bracket(ValueAndRate&& value_and_rate, double lo, double hi, 
   return out;
 }
 
-/// Where f vanishes in (a, b), given fa = f(a) and fb = f(b) of opposite signs: regula falsi with
-/// the Illinois modification (an end that stays put twice running has its value halved, so both
-/// ends close in and convergence is superlinear, order ≈ 1.44). Stops when the bracket is at most
-/// `tolerance` wide, two successive estimates are within half of it, f is exactly zero, or after
-/// 60 evaluations. Returns the last point evaluated (the midpoint when none was: a bracket already
-/// that narrow); `evaluations` counts the calls of f.
+/// Where f vanishes in (a, b), given fa = f(a) and fb = f(b) of opposite signs, to `tolerance`:
+/// regula falsi with the Illinois modification (an end that stays put twice running has its value
+/// halved, so both ends close in; superlinear, order ≈ 1.44). Two safeguards:
+/// - when an estimate is within half the tolerance of the one before, it is taken as converged and
+///   the next point is half a tolerance past it, towards the end that stayed put: a converged
+///   estimate then closes the bracket; one that was not (on a strongly curved f two estimates can
+///   sit side by side far from the root: e^{50s} − e^{25} on [0, 1] had two within 1e-10 at
+///   3e-11, the root at 0.5) only moves that end;
+/// - a bisection when the bracket has not halved in three steps (a flat root, (s − s₀)³, makes
+///   regula falsi crawl), so that no search takes more than four times a bisection's evaluations.
+/// Stops when the bracket is at most `tolerance` wide, f is exactly zero, or after 200
+/// evaluations. Returns the last point evaluated — within `tolerance` of the root unless the 200
+/// ran out — or the midpoint when none was (a bracket already that narrow); `evaluations` counts
+/// the calls of f.
 template <class Value>
 double illinois_root(Value&& f, double a, double b, double fa, double fb, double tolerance, int& evaluations) {
+  constexpr double nan = std::numeric_limits<double>::quiet_NaN();
   evaluations = 0;
-  double x = 0.5 * (a + b), last = std::numeric_limits<double>::quiet_NaN();
+  double x = 0.5 * (a + b), last = nan;
   int kept = 0;  // which end stayed put at the last step: −1 a, +1 b
-  while (evaluations < 60 && b - a > tolerance) {
-    x = (a * fb - b * fa) / (fb - fa);
-    if (!(x > a && x < b)) x = 0.5 * (a + b);
+  double reference = b - a;  // the width the bracket must halve from
+  int steps_since_halved = 0;
+  while (evaluations < 200 && b - a > tolerance) {
+    if (steps_since_halved >= 3) {
+      x = 0.5 * (a + b);
+      last = nan;
+    } else {
+      x = (a * fb - b * fa) / (fb - fa);
+      if (!(x > a && x < b)) x = 0.5 * (a + b);
+      if (std::abs(x - last) <= 0.5 * tolerance) {
+        x = std::clamp(kept == 1 ? x + 0.5 * tolerance : x - 0.5 * tolerance, a + 0.25 * tolerance,
+                       b - 0.25 * tolerance);
+      }
+    }
     const double fx = f(x);
     ++evaluations;
-    if (fx == 0 || std::abs(x - last) <= 0.5 * tolerance) break;
+    if (fx == 0) break;
     last = x;
     if ((fx > 0) == (fa > 0)) {
       a = x;
@@ -84,6 +105,12 @@ double illinois_root(Value&& f, double a, double b, double fa, double fb, double
       fb = fx;
       if (kept == -1) fa *= 0.5;
       kept = -1;
+    }
+    if (b - a <= 0.5 * reference) {
+      reference = b - a;
+      steps_since_halved = 0;
+    } else {
+      ++steps_since_halved;
     }
   }
   return x;
