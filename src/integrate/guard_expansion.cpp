@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 #include <unsupported/Eigen/MatrixFunctions>
 
@@ -62,7 +63,13 @@ void GuardExpansion::build(const ExactTrajectory& trajectory, const Eigen::Matri
     growth_a_ = growth_b_ = std::numeric_limits<double>::quiet_NaN();
     growth_.resize(phase.eigenvalues().size());
     modal_size_ = modal_.cwiseAbs();
-    rate_size_ = phase.eigenvalues().cwiseAbs();
+    // |λ_k|^p for the bounds' orders p = 0 … 4 (by power(), the products the bounds took).
+    const Eigen::Index modes = phase.eigenvalues().size();
+    rate_powers_.resize(modes, kBoundOrders);
+    for (Eigen::Index k = 0; k < modes; ++k) {
+      const double size = std::abs(phase.eigenvalues()(k));
+      for (int p = 0; p < kBoundOrders; ++p) rate_powers_(k, p) = power(size, p);
+    }
   } else {
     rows_ = rows;
     row_norm_ = rows.rowwise().norm();
@@ -156,8 +163,10 @@ double GuardExpansion::derivative_bound(int j, int order, double a, double b) co
            (memory_rate_(j) != 0.0 ? std::exp(-memory_rate_(j) * a) : 1.0);
   if (tr.phase().modal()) {
     update_growth(a, b);
+    if (order >= kBoundOrders) throw std::invalid_argument("derivative_bound: an order above 4");
+    const auto rate_power = rate_powers_.col(order);
     for (Eigen::Index k = 0; k < growth_.size(); ++k) {
-      bound += modal_size_(j, k) * power(rate_size_(k), order) * growth_(k);
+      bound += modal_size_(j, k) * rate_power(k) * growth_(k);
     }
   } else {
     // r Aᵖ e^{As} h = (r D) Âᵖ e^{Âs} (D⁻¹ h) and ‖e^{Âs}‖ ≤ e^{μ s}, μ the logarithmic norm of Â.

@@ -48,7 +48,7 @@ class GuardExpansion {
   /// guard is shifted down by), not the sum. The last two points asked of each guard are
   /// remembered, since the search of consecutive intervals starts where the previous one ended.
   [[nodiscard]] std::pair<double, double> value_and_rate(int j, double s) const;
-  /// An upper bound of |dᵐg_j/dsᵐ| over [a, b], m ≥ 1.
+  /// An upper bound of |dᵐg_j/dsᵐ| over [a, b], 1 ≤ m ≤ 4.
   [[nodiscard]] double derivative_bound(int j, int order, double a, double b) const;
 
  private:
@@ -61,7 +61,9 @@ class GuardExpansion {
   Eigen::MatrixXcd modal_;            // γ (modal path)
   // |γ_jk|, |λ_k|, |H_j| of the segment: the derivative bounds ask for them at every interval.
   Eigen::MatrixXd modal_size_;
-  Eigen::VectorXd rate_size_, harmonic_size_;
+  Eigen::VectorXd harmonic_size_;
+  static constexpr int kBoundOrders = 5;  // derivative_bound's orders 0 … 4
+  Eigen::MatrixXd rate_powers_;           // |λ_k|^p, column p
   Eigen::MatrixXd rows_;              // R (matrix-exponential path)
   Eigen::VectorXd row_norm_;
   Eigen::VectorXd balanced_row_norm_;  // ‖r_j D‖, D the phase's balancing (derivative bounds)
