@@ -186,7 +186,8 @@ class ResponseMonitor {
   /// Hermite interpolant of (q, q̇) at both ends, which peaks where q̇ changes sign.
   void observe_step(const KinematicState& a, const KinematicState& b);
   /// Peaks strictly inside a step from a to b of an integrator that knows its trajectory: where
-  /// a rate changes sign, the instant is bisected on `trajectory` (times from `origin`).
+  /// a rate changes sign, the instant is found on `trajectory` (times from `origin`) by the Illinois
+  /// method (bracketed_roots.hpp).
   void observe_step(const KinematicState& a, const KinematicState& b, double origin, DenseOutput& trajectory);
 
  private:
