@@ -3,6 +3,7 @@
 
 #include <atomic>
 #include <cstddef>
+#include <cstdint>
 #include <cstdlib>
 
 #include <gtest/gtest.h>
@@ -96,6 +97,24 @@ TEST(Allocation, ExactStepsWithoutEventsAllocateNothing) {
     for (int k = 0; k < 2000; ++k) sim.step();
   });
   EXPECT_EQ(sim.statistics().events, 0);
+  EXPECT_EQ(n, 0);
+}
+
+TEST(Allocation, ExactContactsAndSeparationsInKnownPhasesAllocateNothing) {
+  // Every event of the exact integrator starts a segment: the trajectory's particular solution
+  // and modal coordinates, the guard expansion, the energy integrals. Once the phases are known
+  // (the first 20 s meet them all), none of it allocates. ε so large that no stop is reached:
+  // contacts and separations only (an impact's resolution still allocates its work vectors).
+  DimensionlessParameters p = testing::fig2('c');
+  p.epsilon = 1e6;
+  const Model model = make_model(p, {3, 3});
+  Simulator sim(model, testing::harmonic(model, 0.2, 0.8),
+                TimeHistoryOptions{.dt = 1e-3, .integrator = Integrator::exact});
+  sim.advance_to(20.0);
+  const std::int64_t events = sim.statistics().events, phases = sim.statistics().phases_factorised;
+  const long n = allocations_during([&] { sim.advance_to(40.0); });
+  EXPECT_GE(sim.statistics().events - events, 50);  // 96 when written
+  EXPECT_EQ(sim.statistics().phases_factorised, phases);
   EXPECT_EQ(n, 0);
 }
 

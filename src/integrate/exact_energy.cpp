@@ -75,6 +75,7 @@ ExactPowerIntegrals::ExactPowerIntegrals(const ExactPhase& phase, PowerForms for
   modal_storey_ = w.transpose() * forms_.storey_damping * w;
   modal_gap_ = w.transpose() * forms_.gap_damping * w;
   modal_mass_ = forms_.mass.transpose() * w;
+  complex_mass_transposed_ = forms_.mass.transpose().cast<Complex>();
   gap_active_ = forms_.gap_damping.cwiseAbs().maxCoeff() > 0.0;
 }
 
@@ -116,7 +117,7 @@ void ExactPowerIntegrals::start(const ExactTrajectory& trajectory) {
   };
   cross(forms_.storey_damping, cross_storey_, among_storey_);
   cross(forms_.gap_damping, cross_gap_, among_gap_);
-  extra_mass_.noalias() = forms_.mass.transpose().cast<Complex>() * x;
+  extra_mass_.noalias() = complex_mass_transposed_ * x;
 
   terms_.clear();
   for (Eigen::Index e = 0; e < extras; ++e) {

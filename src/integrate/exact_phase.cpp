@@ -116,6 +116,8 @@ Eigen::VectorXcd ExactPhase::modal_coordinates(const Eigen::VectorXd& r) const {
   return v_lu_.solve(r.cwiseQuotient(scale_).cast<std::complex<double>>());
 }
 
+void ExactPhase::modal_solve(const Eigen::VectorXcd& scaled, Eigen::VectorXcd& out) const { out = v_lu_.solve(scaled); }
+
 const Eigen::VectorXcd& ExactPhase::harmonic_response(double omega) const {
   using Complex = std::complex<double>;
   if (omega == harmonic_omega_) return harmonic_response_;
@@ -144,7 +146,9 @@ void ExactTrajectory::start(const ExactPhase& phase, const Eigen::VectorXd& mass
   t0_ = t0;
   piece_ = piece;
   const Eigen::Index n = phase.groups();
-  Eigen::VectorXd f = Eigen::VectorXd::Zero(2 * n);
+  // Work vectors are members: a segment starts at every event, and allocates nothing.
+  Eigen::VectorXd& f = load_;
+  f.setZero(2 * n);
   f.tail(n) = constant_load.cwiseQuotient(mass);
   beta_.setZero(2 * n);
   quadratic_.setZero(2 * n);
@@ -164,9 +168,11 @@ void ExactTrajectory::start(const ExactPhase& phase, const Eigen::VectorXd& mass
     quadratic_ = polynomial_work_[2];
     cubic_ = polynomial_work_[3];
   } else {
-    xc_ = -phase.solve(f);
+    phase.solve_into(f, xc_);
+    xc_ = -xc_;
   }
-  Eigen::VectorXd x_p0 = xc_;
+  Eigen::VectorXd& x_p0 = particular_start_;
+  x_p0 = xc_;
   if (phase.singular()) {
     if (piece.kind == ForcingPiece::Kind::harmonic) {
       harmonic_ = piece.amplitude * phase.harmonic_response(piece.omega);
@@ -176,14 +182,19 @@ void ExactTrajectory::start(const ExactPhase& phase, const Eigen::VectorXd& mass
     // a_g = a₀ + a₁ s with s = t − t₀ (the piece may have started earlier).
     const double a0 = piece.at(t0), a1 = piece.slope;
     beta_ = -a1 * phase.ground_response();
-    xc_ += phase.solve(beta_) - a0 * phase.ground_response();
+    phase.solve_into(beta_, solved_);
+    xc_ += solved_ - a0 * phase.ground_response();
     x_p0 = xc_;
   } else {
     harmonic_ = piece.amplitude * phase.harmonic_response(piece.omega);
     x_p0 += (harmonic_ * std::exp(std::complex<double>(0.0, piece.omega * t0))).imag();
   }
   r0_ = x0 - x_p0;
-  if (phase.modal()) c_ = phase.modal_coordinates(r0_);
+  if (phase.modal()) {
+    // modal_coordinates(r0_), into the member vectors.
+    scaled_start_ = r0_.cwiseQuotient(phase.scale()).cast<std::complex<double>>();
+    phase.modal_solve(scaled_start_, c_);
+  }
   exponentials_at_ = std::numeric_limits<double>::quiet_NaN();
   work_.resize(2 * n);
   product_.resize(2 * n);

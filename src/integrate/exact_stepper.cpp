@@ -115,7 +115,8 @@ void ExactStepper::start_segment(Loop& loop) {
     PhaseData data;
     data.phase = std::make_unique<ExactPhase>(loop.phase());
     data.guard_rows = guard_rows(loop, *data.phase);
-    if (data.phase->modal()) data.guard_modes = GuardExpansion::modal_rows(data.guard_rows, *data.phase);
+    data.complex_guard_rows = data.guard_rows.cast<std::complex<double>>();
+    if (data.phase->modal()) data.guard_modes = GuardExpansion::modal_rows(data.complex_guard_rows, *data.phase);
     if (data.phase->modal()) {
       data.powers = std::make_unique<ExactPowerIntegrals>(
           *data.phase, loop.meter().power_forms(loop.contact().config, loop.phase().group_of(), data.phase->groups()));
@@ -146,8 +147,8 @@ void ExactStepper::start_segment(Loop& loop) {
     memory_amplitude_[2 * p] = relaxation.amplitude;
     memory_rate_[2 * p] = relaxation.rate;
   }
-  expansion_.build(trajectory_, it->second.guard_rows, it->second.guard_modes, loop.guards().lo, memory_amplitude_,
-                   memory_rate_);
+  expansion_.build(trajectory_, it->second.guard_rows, it->second.complex_guard_rows, it->second.guard_modes,
+                   loop.guards().lo, memory_amplitude_, memory_rate_);
   segment_valid_ = true;
 }
 

@@ -24,12 +24,13 @@ double power(double x, int order) {
 }
 }  // namespace
 
-Eigen::MatrixXcd GuardExpansion::modal_rows(const Eigen::MatrixXd& rows, const ExactPhase& phase) {
-  return rows.cast<Complex>() * phase.modes();
+Eigen::MatrixXcd GuardExpansion::modal_rows(const Eigen::MatrixXcd& complex_rows, const ExactPhase& phase) {
+  return complex_rows * phase.modes();
 }
 
 void GuardExpansion::build(const ExactTrajectory& trajectory, const Eigen::MatrixXd& rows,
-                           const Eigen::MatrixXcd& modal_rows, std::span<const double> at_start,
+                           const Eigen::MatrixXcd& complex_rows, const Eigen::MatrixXcd& modal_rows,
+                           std::span<const double> at_start,
                            std::span<const double> memory_amplitude,
                            std::span<const double> memory_rate) {
   trajectory_ = &trajectory;
@@ -37,18 +38,19 @@ void GuardExpansion::build(const ExactTrajectory& trajectory, const Eigen::Matri
   const Eigen::Index g = rows.rows();
   remembered_.assign(static_cast<std::size_t>(g), {});
   active_.assign(static_cast<std::size_t>(g), false);
-  Eigen::VectorXd x0, x0_rate;
-  trajectory.evaluate(0.0, x0, x0_rate);
+  Eigen::VectorXd& x0 = start_state_;  // a member: a segment starts at every event
+  trajectory.evaluate(0.0, x0);
   memory_ = Eigen::Map<const Eigen::VectorXd>(memory_amplitude.data(), g);
   memory_rate_ = Eigen::Map<const Eigen::VectorXd>(memory_rate.data(), g);
   // κ from the start: g(0) = R x₀ + κ − m; the expansion's constant collects κ, R x_c and m.
-  constant_ = rows * trajectory.constant_part() + memory_;
+  constant_.noalias() = rows * trajectory.constant_part();
+  constant_ += memory_;
   for (Eigen::Index j = 0; j < g; ++j) {
     const double start = at_start[static_cast<std::size_t>(j)];
     active_[static_cast<std::size_t>(j)] = std::isfinite(start);
     constant_(j) += std::isfinite(start) ? start - rows.row(j).dot(x0) : 0.0;
   }
-  slope_ = rows * trajectory.linear_part();
+  slope_.noalias() = rows * trajectory.linear_part();
   if (phase.singular()) {
     quadratic_ = rows * trajectory.quadratic_part();
     cubic_ = rows * trajectory.cubic_part();
@@ -56,7 +58,7 @@ void GuardExpansion::build(const ExactTrajectory& trajectory, const Eigen::Matri
     quadratic_.resize(0);
     cubic_.resize(0);
   }
-  harmonic_ = rows.cast<Complex>() * trajectory.harmonic_part();
+  harmonic_.noalias() = complex_rows * trajectory.harmonic_part();
   harmonic_size_ = harmonic_.cwiseAbs();
   if (phase.modal()) {
     modal_ = modal_rows * trajectory.modal_coefficients().asDiagonal();

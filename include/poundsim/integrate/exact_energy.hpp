@@ -91,6 +91,7 @@ class ExactPowerIntegrals {
   // Work space of start(), kept so that a new segment of the same phase allocates nothing.
   Eigen::MatrixXcd extra_terms_, form_x_, cross_storey_, cross_gap_, among_storey_, among_gap_;
   Eigen::RowVectorXcd extra_mass_;
+  Eigen::MatrixXcd complex_mass_transposed_;  // the mass form's transpose as complex numbers
   std::vector<Complex> extra_mu_;
   std::vector<int> extra_degree_, extra_factor_;
 };

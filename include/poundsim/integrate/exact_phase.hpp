@@ -87,8 +87,12 @@ class ExactPhase {
   [[nodiscard]] const Eigen::MatrixXcd& modes() const { return v_; }
   /// V⁻¹ r (through the balanced modes V̂ = D⁻¹V, see the constructor).
   [[nodiscard]] Eigen::VectorXcd modal_coordinates(const Eigen::VectorXd& r) const;
+  /// V̂⁻¹ `scaled` into `out` (modal_coordinates with D⁻¹ r given, and no allocation).
+  void modal_solve(const Eigen::VectorXcd& scaled, Eigen::VectorXcd& out) const;
   /// A⁻¹ r (not singular()).
   [[nodiscard]] Eigen::VectorXd solve(const Eigen::VectorXd& r) const { return a_lu_.solve(r); }
+  /// solve() into `out`, which keeps its storage (a segment's start allocates nothing).
+  void solve_into(const Eigen::VectorXd& r, Eigen::VectorXd& out) const { out = a_lu_.solve(r); }
   /// A has no inverse (a rigid-body mode): the particular solution is a polynomial.
   [[nodiscard]] bool singular() const { return singular_; }
   /// p₀ … p₃ of the polynomial particular solution of ẋ = A x + c₀ + c₁ s (see the file
@@ -178,6 +182,8 @@ class ExactTrajectory {
   double t0_ = 0.0;
   ForcingPiece piece_;
   Eigen::VectorXd xc_, beta_, quadratic_, cubic_, r0_;
+  Eigen::VectorXd load_, particular_start_, solved_;  // start()'s work vectors
+  Eigen::VectorXcd scaled_start_;                     // D⁻¹ r₀, for the modal coordinates
   std::array<Eigen::VectorXd, 4> polynomial_work_;
   Eigen::VectorXcd harmonic_, c_;
   void evaluate(double s, Eigen::VectorXd& x, Eigen::VectorXd* x_rate) const;

@@ -32,15 +32,17 @@ namespace poundsim {
 
 class GuardExpansion {
  public:
-  /// `rows` R (guards × states); `modal_rows` R V on a modal phase (modal_rows(), made once per
-  /// phase: every segment's γ is R V diag(c)); `at_start` the guard values at s = 0 (which fix κ);
+  /// `rows` R (guards × states) and `complex_rows` the same as complex numbers; `modal_rows` R V
+  /// on a modal phase (modal_rows(); both made once per phase: every segment's γ is R V diag(c),
+  /// its harmonic part R h, and a segment starts at every event); `at_start` the guard values at
+  /// s = 0 (which fix κ);
   /// the free ends of relaxing elements contribute −m_j e^{−ν_j s} (m_j = 0 for others). Guards
   /// equal to −∞ at the start are inactive.
-  void build(const ExactTrajectory& trajectory, const Eigen::MatrixXd& rows, const Eigen::MatrixXcd& modal_rows,
-             std::span<const double> at_start, std::span<const double> memory_amplitude,
-             std::span<const double> memory_rate);
-  /// R V of a modal phase.
-  [[nodiscard]] static Eigen::MatrixXcd modal_rows(const Eigen::MatrixXd& rows, const ExactPhase& phase);
+  void build(const ExactTrajectory& trajectory, const Eigen::MatrixXd& rows, const Eigen::MatrixXcd& complex_rows,
+             const Eigen::MatrixXcd& modal_rows, std::span<const double> at_start,
+             std::span<const double> memory_amplitude, std::span<const double> memory_rate);
+  /// R V of a modal phase, from R as complex numbers.
+  [[nodiscard]] static Eigen::MatrixXcd modal_rows(const Eigen::MatrixXcd& complex_rows, const ExactPhase& phase);
 
   [[nodiscard]] int size() const { return static_cast<int>(constant_.size()); }
   [[nodiscard]] bool active(int j) const { return active_[static_cast<std::size_t>(j)]; }
@@ -55,6 +57,7 @@ class GuardExpansion {
   const ExactTrajectory* trajectory_ = nullptr;
   std::vector<bool> active_;
   Eigen::VectorXd constant_, slope_, memory_, memory_rate_, start_;
+  Eigen::VectorXd start_state_;  // the trajectory at s = 0 (build's work vector)
   /// R p₂ and R p₃ of a singular phase's polynomial (empty otherwise).
   Eigen::VectorXd quadratic_, cubic_;
   Eigen::VectorXcd harmonic_;
