@@ -112,11 +112,10 @@ void ExactPhase::exponentials(double s, Eigen::VectorXcd& out) const {
   }
 }
 
-Eigen::VectorXcd ExactPhase::modal_coordinates(const Eigen::VectorXd& r) const {
-  return v_lu_.solve(r.cwiseQuotient(scale_).cast<std::complex<double>>());
+void ExactPhase::modal_coordinates(const Eigen::VectorXd& r, Eigen::VectorXcd& scaled, Eigen::VectorXcd& out) const {
+  scaled = r.cwiseQuotient(scale_).cast<std::complex<double>>();
+  out = v_lu_.solve(scaled);
 }
-
-void ExactPhase::modal_solve(const Eigen::VectorXcd& scaled, Eigen::VectorXcd& out) const { out = v_lu_.solve(scaled); }
 
 const Eigen::VectorXcd& ExactPhase::harmonic_response(double omega) const {
   using Complex = std::complex<double>;
@@ -168,7 +167,7 @@ void ExactTrajectory::start(const ExactPhase& phase, const Eigen::VectorXd& mass
     quadratic_ = polynomial_work_[2];
     cubic_ = polynomial_work_[3];
   } else {
-    phase.solve_into(f, xc_);
+    phase.solve(f, xc_);
     xc_ = -xc_;
   }
   Eigen::VectorXd& x_p0 = particular_start_;
@@ -182,7 +181,7 @@ void ExactTrajectory::start(const ExactPhase& phase, const Eigen::VectorXd& mass
     // a_g = a₀ + a₁ s with s = t − t₀ (the piece may have started earlier).
     const double a0 = piece.at(t0), a1 = piece.slope;
     beta_ = -a1 * phase.ground_response();
-    phase.solve_into(beta_, solved_);
+    phase.solve(beta_, solved_);
     xc_ += solved_ - a0 * phase.ground_response();
     x_p0 = xc_;
   } else {
@@ -190,11 +189,7 @@ void ExactTrajectory::start(const ExactPhase& phase, const Eigen::VectorXd& mass
     x_p0 += (harmonic_ * std::exp(std::complex<double>(0.0, piece.omega * t0))).imag();
   }
   r0_ = x0 - x_p0;
-  if (phase.modal()) {
-    // modal_coordinates(r0_), into the member vectors.
-    scaled_start_ = r0_.cwiseQuotient(phase.scale()).cast<std::complex<double>>();
-    phase.modal_solve(scaled_start_, c_);
-  }
+  if (phase.modal()) phase.modal_coordinates(r0_, scaled_start_, c_);
   exponentials_at_ = std::numeric_limits<double>::quiet_NaN();
   work_.resize(2 * n);
   product_.resize(2 * n);

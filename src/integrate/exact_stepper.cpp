@@ -114,9 +114,7 @@ void ExactStepper::start_segment(Loop& loop) {
   if (it == phases_.end()) {
     PhaseData data;
     data.phase = std::make_unique<ExactPhase>(loop.phase());
-    data.guard_rows = guard_rows(loop, *data.phase);
-    data.complex_guard_rows = data.guard_rows.cast<std::complex<double>>();
-    if (data.phase->modal()) data.guard_modes = GuardExpansion::modal_rows(data.complex_guard_rows, *data.phase);
+    data.guard_rows = GuardRows(guard_rows(loop, *data.phase), *data.phase);
     if (data.phase->modal()) {
       data.powers = std::make_unique<ExactPowerIntegrals>(
           *data.phase, loop.meter().power_forms(loop.contact().config, loop.phase().group_of(), data.phase->groups()));
@@ -131,7 +129,7 @@ void ExactStepper::start_segment(Loop& loop) {
   trajectory_.start(exact, loop.phase().mass(), loop.phase().constant_load(), loop.state().t, x_work_,
                     forcing_piece(loop.system().excitation(), loop.state().t));
   segment_powers_ = it->second.powers.get();
-  segment_guard_rows_ = &it->second.guard_rows;
+  segment_guard_rows_ = &it->second.guard_rows.real;
   if (TangentFlow* tangent = loop.tangent()) tangent->start_segment(loop.phase(), exact, loop.state().t);
   // The power integrals serve the energy balance only: a run that records nothing (a shooting
   // run of the periodic orbits) never needs them, so they start with the first recorded step.
@@ -147,8 +145,7 @@ void ExactStepper::start_segment(Loop& loop) {
     memory_amplitude_[2 * p] = relaxation.amplitude;
     memory_rate_[2 * p] = relaxation.rate;
   }
-  expansion_.build(trajectory_, it->second.guard_rows, it->second.complex_guard_rows, it->second.guard_modes,
-                   loop.guards().lo, memory_amplitude_, memory_rate_);
+  expansion_.build(trajectory_, it->second.guard_rows, loop.guards().lo, memory_amplitude_, memory_rate_);
   segment_valid_ = true;
 }
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 #include <unsupported/Eigen/MatrixFunctions>
 
@@ -24,15 +25,15 @@ double power(double x, int order) {
 }
 }  // namespace
 
-Eigen::MatrixXcd GuardExpansion::modal_rows(const Eigen::MatrixXcd& complex_rows, const ExactPhase& phase) {
-  return complex_rows * phase.modes();
+GuardRows::GuardRows(Eigen::MatrixXd rows, const ExactPhase& phase)
+    : real(std::move(rows)), complex(real.cast<Complex>()) {
+  if (phase.modal()) modal = complex * phase.modes();
 }
 
-void GuardExpansion::build(const ExactTrajectory& trajectory, const Eigen::MatrixXd& rows,
-                           const Eigen::MatrixXcd& complex_rows, const Eigen::MatrixXcd& modal_rows,
-                           std::span<const double> at_start,
-                           std::span<const double> memory_amplitude,
+void GuardExpansion::build(const ExactTrajectory& trajectory, const GuardRows& guard_rows,
+                           std::span<const double> at_start, std::span<const double> memory_amplitude,
                            std::span<const double> memory_rate) {
+  const Eigen::MatrixXd& rows = guard_rows.real;
   trajectory_ = &trajectory;
   const ExactPhase& phase = trajectory.phase();
   const Eigen::Index g = rows.rows();
@@ -58,10 +59,10 @@ void GuardExpansion::build(const ExactTrajectory& trajectory, const Eigen::Matri
     quadratic_.resize(0);
     cubic_.resize(0);
   }
-  harmonic_.noalias() = complex_rows * trajectory.harmonic_part();
+  harmonic_.noalias() = guard_rows.complex * trajectory.harmonic_part();
   harmonic_size_ = harmonic_.cwiseAbs();
   if (phase.modal()) {
-    modal_ = modal_rows * trajectory.modal_coefficients().asDiagonal();
+    modal_ = guard_rows.modal * trajectory.modal_coefficients().asDiagonal();
     growth_a_ = growth_b_ = std::numeric_limits<double>::quiet_NaN();
     growth_.resize(phase.eigenvalues().size());
     modal_size_ = modal_.cwiseAbs();

@@ -67,9 +67,7 @@ class ExactStepper final : public Stepper {
  private:
   struct PhaseData {
     std::unique_ptr<ExactPhase> phase;
-    Eigen::MatrixXd guard_rows;  ///< R: guards as affine functions of the phase state
-    Eigen::MatrixXcd complex_guard_rows;  ///< R as complex numbers (every segment's R h)
-    Eigen::MatrixXcd guard_modes;  ///< R V, the guards' modal rows (modal phases; every segment's γ)
+    GuardRows guard_rows;  ///< R: guards as affine functions of the phase state
     std::unique_ptr<ExactPowerIntegrals> powers;  ///< closed-form energy integrals (modal phases)
   };
   /// The trajectory of the current segment as dense output for the response monitor.

@@ -85,14 +85,12 @@ class ExactPhase {
   /// both — half the transcendental work of the guard search and the trajectory, same bits.
   void exponentials(double s, Eigen::VectorXcd& out) const;
   [[nodiscard]] const Eigen::MatrixXcd& modes() const { return v_; }
-  /// V⁻¹ r (through the balanced modes V̂ = D⁻¹V, see the constructor).
-  [[nodiscard]] Eigen::VectorXcd modal_coordinates(const Eigen::VectorXd& r) const;
-  /// V̂⁻¹ `scaled` into `out` (modal_coordinates with D⁻¹ r given, and no allocation).
-  void modal_solve(const Eigen::VectorXcd& scaled, Eigen::VectorXcd& out) const;
-  /// A⁻¹ r (not singular()).
-  [[nodiscard]] Eigen::VectorXd solve(const Eigen::VectorXd& r) const { return a_lu_.solve(r); }
-  /// solve() into `out`, which keeps its storage (a segment's start allocates nothing).
-  void solve_into(const Eigen::VectorXd& r, Eigen::VectorXd& out) const { out = a_lu_.solve(r); }
+  /// `out` = V⁻¹ r through the balanced modes V̂ = D⁻¹V (see the constructor): `scaled` = D⁻¹ r
+  /// as complex numbers, then V̂⁻¹ `scaled`. Both keep their storage: a segment starts at every
+  /// event and allocates nothing.
+  void modal_coordinates(const Eigen::VectorXd& r, Eigen::VectorXcd& scaled, Eigen::VectorXcd& out) const;
+  /// `out` = A⁻¹ r (not singular()), into `out`'s storage.
+  void solve(const Eigen::VectorXd& r, Eigen::VectorXd& out) const { out = a_lu_.solve(r); }
   /// A has no inverse (a rigid-body mode): the particular solution is a polynomial.
   [[nodiscard]] bool singular() const { return singular_; }
   /// p₀ … p₃ of the polynomial particular solution of ẋ = A x + c₀ + c₁ s (see the file

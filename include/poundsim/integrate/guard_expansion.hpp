@@ -30,19 +30,23 @@
 
 namespace poundsim {
 
+/// A phase's guards as affine functions of its state (R, guards × states) in the forms every
+/// segment's expansion takes, made once per phase: a segment starts at every event.
+struct GuardRows {
+  GuardRows() = default;
+  GuardRows(Eigen::MatrixXd rows, const ExactPhase& phase);
+  Eigen::MatrixXd real;      ///< R
+  Eigen::MatrixXcd complex;  ///< R as complex numbers (a segment's harmonic part is R h)
+  Eigen::MatrixXcd modal;    ///< R V on a modal phase (a segment's γ is R V diag(c)); empty otherwise
+};
+
 class GuardExpansion {
  public:
-  /// `rows` R (guards × states) and `complex_rows` the same as complex numbers; `modal_rows` R V
-  /// on a modal phase (modal_rows(); both made once per phase: every segment's γ is R V diag(c),
-  /// its harmonic part R h, and a segment starts at every event); `at_start` the guard values at
-  /// s = 0 (which fix κ);
-  /// the free ends of relaxing elements contribute −m_j e^{−ν_j s} (m_j = 0 for others). Guards
-  /// equal to −∞ at the start are inactive.
-  void build(const ExactTrajectory& trajectory, const Eigen::MatrixXd& rows, const Eigen::MatrixXcd& complex_rows,
-             const Eigen::MatrixXcd& modal_rows, std::span<const double> at_start,
+  /// `at_start` the guard values at s = 0 (which fix κ); the free ends of relaxing elements
+  /// contribute −m_j e^{−ν_j s} (m_j = 0 for others). Guards equal to −∞ at the start are
+  /// inactive.
+  void build(const ExactTrajectory& trajectory, const GuardRows& guard_rows, std::span<const double> at_start,
              std::span<const double> memory_amplitude, std::span<const double> memory_rate);
-  /// R V of a modal phase, from R as complex numbers.
-  [[nodiscard]] static Eigen::MatrixXcd modal_rows(const Eigen::MatrixXcd& complex_rows, const ExactPhase& phase);
 
   [[nodiscard]] int size() const { return static_cast<int>(constant_.size()); }
   [[nodiscard]] bool active(int j) const { return active_[static_cast<std::size_t>(j)]; }
