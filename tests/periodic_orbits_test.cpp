@@ -70,10 +70,9 @@ struct MapCase {
   double ratio;
 };
 
-TEST(StroboscopicMap, TheMonodromyOfImpactsAndContactsIsTheMapsDerivative) {
-  // Fig. 2c's frames (gap elements: contact, impact on the stop, separation) and Fig. 2b's (bare
-  // pounding, e = 0.75), Fig. 3's three-storey frames: the exact monodromy against central
-  // differences of the map.
+/// Fig. 2c's frames (gap elements: contact, impact on the stop, separation) and Fig. 2b's (bare
+/// pounding, e = 0.75), Fig. 3's three-storey frames, Fig. 4's frames touching at rest (locks).
+std::vector<MapCase> map_cases() {
   DimensionlessParameters hard = testing::fig2('c');
   hard.epsilon = 0.1;  // a short stroke: the spring bottoms out on the stop
   DimensionlessParameters fig3b = testing::fig2('c');
@@ -82,13 +81,17 @@ TEST(StroboscopicMap, TheMonodromyOfImpactsAndContactsIsTheMapsDerivative) {
   fig3a.lambda2 = 400; fig3a.delta = 0.5;
   DimensionlessParameters plastic = testing::fig2('b');
   plastic.restitution = 0.0;
-  const std::vector<MapCase> cases{
-      {"2b", make_model(testing::fig2('b'), {1, 1}), 0.8},  {"2c", make_model(testing::fig2('c'), {1, 1}), 0.8},
-      {"2c-short", make_model(hard, {1, 1}), 0.9},          {"2c-short", make_model(hard, {1, 1}), 0.6},
-      {"3a", make_model(fig3a, {3, 3}), 0.9},               {"3b", make_model(fig3b, {3, 3}), 0.9},
-      {"4b", make_model(testing::fig4('b'), {1, 3}), 0.8}, {"4a", make_model(testing::fig4('a'), {1, 3}), 0.8},
-      {"4a", make_model(testing::fig4('a'), {1, 3}), 1.5}, {"2-plastic", make_model(plastic, {1, 1}), 0.9},
-      {"2-plastic", make_model(plastic, {1, 1}), 0.6}};
+  return {{"2b", make_model(testing::fig2('b'), {1, 1}), 0.8},  {"2c", make_model(testing::fig2('c'), {1, 1}), 0.8},
+          {"2c-short", make_model(hard, {1, 1}), 0.9},          {"2c-short", make_model(hard, {1, 1}), 0.6},
+          {"3a", make_model(fig3a, {3, 3}), 0.9},               {"3b", make_model(fig3b, {3, 3}), 0.9},
+          {"4b", make_model(testing::fig4('b'), {1, 3}), 0.8}, {"4a", make_model(testing::fig4('a'), {1, 3}), 0.8},
+          {"4a", make_model(testing::fig4('a'), {1, 3}), 1.5}, {"2-plastic", make_model(plastic, {1, 1}), 0.9},
+          {"2-plastic", make_model(plastic, {1, 1}), 0.6}};
+}
+
+TEST(StroboscopicMap, TheMonodromyOfImpactsAndContactsIsTheMapsDerivative) {
+  // The exact monodromy against central differences of the map.
+  const std::vector<MapCase> cases = map_cases();
   std::array<int, 5> kinds{};
   for (const MapCase& c : cases) {
     const double omega1 = reference_frequency(c.model);
@@ -129,6 +132,60 @@ TEST(StroboscopicMap, TheMonodromyOfImpactsAndContactsIsTheMapsDerivative) {
   }
   // Every kind of event was crossed: contact, separation, impact, lock, unlock.
   for (const int count : kinds) EXPECT_GT(count, 0);
+}
+
+TEST(StroboscopicMap, ItsFrequencyDerivativeIsTheMapsDerivativeInTheFrequency) {
+  // ∂P/∂ω̄ carried through the run (the sensitivity to ω̄ within each phase, the events'
+  // saltation, the period's shortening) against central differences of the map in ω̄ at the same
+  // state, on the orbits of every kind of event above; and for linear frames against the closed
+  // form: P(x*(ω̄); ω̄) = x*(ω̄) for their steady state x*, so ∂P/∂ω̄ = (I − M) dx*/dω̄.
+  for (const MapCase& c : map_cases()) {
+    const double omega = c.ratio * reference_frequency(c.model);
+    StroboscopicMap map(c.model, 0.2 * kG, omega, exact_options(), 64);
+    const Eigen::VectorXd start = settled_state(map, Eigen::VectorXd::Zero(2 * map.dofs()), 40);
+    const ShootingResult r = shoot(map, start, 1, ShootingOptions{});
+    ASSERT_TRUE(r.converged) << c.name << ": " << r.failure;
+    const Eigen::VectorXd x = state_of(r.orbit);
+    Eigen::MatrixXd monodromy, without;
+    Eigen::VectorXd rate;
+    const Eigen::VectorXd image = map.evaluate(x, 1, &monodromy, StroboscopicMap::Responses::skip, &rate);
+    // Carrying ∂x/∂ω̄ leaves the run and its monodromy as they were, bit for bit.
+    EXPECT_TRUE(map.evaluate(x, 1, &without) == image) << c.name;
+    EXPECT_TRUE(without == monodromy) << c.name;
+    const double h = 1e-6 * omega;
+    map.set_omega(omega + h);
+    const Eigen::VectorXd plus = map.evaluate(x, 1);
+    map.set_omega(omega - h);
+    const Eigen::VectorXd minus = map.evaluate(x, 1);
+    map.set_omega(omega);
+    const Eigen::VectorXd difference = (plus - minus) / (2 * h);
+    const Eigen::Index n = map.dofs();
+    // Displacements and velocities apart: they differ by ω̄.
+    for (const Eigen::Index first : {Eigen::Index{0}, n}) {
+      const Eigen::VectorXd a = rate.segment(first, n), d = difference.segment(first, n);
+      EXPECT_LT((a - d).cwiseAbs().maxCoeff(), 1e-6 * d.cwiseAbs().maxCoeff())
+          << c.name << " at " << c.ratio << "\nexact " << rate.transpose() << "\ndifferences " << difference.transpose();
+    }
+  }
+
+  // Frames far apart: no contact, the map is the linear frames'.
+  DimensionlessParameters far = testing::fig2('c');
+  far.delta = 100.0;
+  const Model apart = make_model(far, {2, 3});
+  for (const double ratio : {0.5, 0.9, 1.4}) {
+    const double omega = ratio * reference_frequency(apart);
+    StroboscopicMap map(apart, 0.2 * kG, omega, exact_options(), 64);
+    const Eigen::VectorXd steady = linear_steady_state(apart, 0.2 * kG, omega);
+    Eigen::MatrixXd monodromy;
+    Eigen::VectorXd rate;
+    map.evaluate(steady, 1, &monodromy, StroboscopicMap::Responses::skip, &rate);
+    ASSERT_EQ(map.simulator().statistics().events, 0);
+    const double h = 1e-5 * omega;
+    const Eigen::VectorXd steady_rate =
+        (linear_steady_state(apart, 0.2 * kG, omega + h) - linear_steady_state(apart, 0.2 * kG, omega - h)) / (2 * h);
+    const Eigen::VectorXd closed = (Eigen::MatrixXd::Identity(rate.size(), rate.size()) - monodromy) * steady_rate;
+    EXPECT_LT((rate - closed).cwiseAbs().maxCoeff(), 1e-7 * closed.cwiseAbs().maxCoeff()) << ratio;
+  }
 }
 
 

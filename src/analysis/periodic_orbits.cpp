@@ -164,8 +164,12 @@ void StroboscopicMap::set_omega(double omega) {
 }
 
 Eigen::VectorXd StroboscopicMap::evaluate(const Eigen::VectorXd& x, int k, Eigen::MatrixXd* jacobian,
-                                          Responses responses) {
+                                          Responses responses, Eigen::VectorXd* frequency_derivative) {
+  if (frequency_derivative != nullptr && jacobian == nullptr) {
+    throw std::invalid_argument("StroboscopicMap::evaluate: ∂P/∂ω̄ comes with the monodromy");
+  }
   sim_->track_sensitivity(jacobian != nullptr);
+  if (jacobian != nullptr) sim_->track_frequency_sensitivity(frequency_derivative != nullptr);
   sim_->record_responses(responses == Responses::record);
   // A run cannot start with a pair pressed past its stop, yet an orbit whose section finds a pair
   // on its stop (touching at rest, δ = 0, or pressed together) is reached by Newton's iterates
@@ -201,10 +205,24 @@ Eigen::VectorXd StroboscopicMap::evaluate(const Eigen::VectorXd& x, int k, Eigen
         link.law);
   }
   sim_->reset_state(start_.head(dofs_), start_.tail(dofs_));
-  sim_->advance_to(k * kTwoPi / omega_);
+  const double period = k * kTwoPi / omega_;
+  sim_->advance_to(period);
   Eigen::VectorXd out(2 * dofs_);
   out << sim_->state().u, sim_->state().v;
-  if (jacobian != nullptr) *jacobian = projected ? Eigen::MatrixXd(sim_->sensitivity() * projection_) : sim_->sensitivity();
+  if (jacobian != nullptr) {
+    if (projected) {
+      *jacobian = sim_->sensitivity() * projection_;
+    } else {
+      *jacobian = sim_->sensitivity();
+    }
+  }
+  if (frequency_derivative != nullptr) {
+    // P^k(x; ω̄) = x(kT; ω̄) with T = 2π/ω̄: dP/dω̄ = ∂x/∂ω̄ + ẋ(kT)·d(kT)/dω̄, d(kT)/dω̄ = −kT/ω̄.
+    const double shortening = period / omega_;
+    *frequency_derivative = sim_->frequency_sensitivity();
+    frequency_derivative->head(dofs_) -= shortening * sim_->state().v;
+    frequency_derivative->tail(dofs_) -= shortening * sim_->state().a;
+  }
   return out;
 }
 
@@ -347,7 +365,9 @@ class BranchProblem {
   [[nodiscard]] Scaling scaling(StroboscopicMap& map) const { return {family_.length_scale(), map.omega()}; }
 
   /// F, ∂F/∂w and ∂F/∂p at (w, p); the orbit described from the run. False when a run failed.
-  /// `with_fp` false keeps fp as it is (a chord: ∂F/∂p changes little within a step).
+  /// In the forcing frequency ∂F/∂p comes with the run, exact; in a model parameter it is a
+  /// forward difference, and `with_fp` false keeps fp as it is (a chord: one run fewer, but
+  /// Newton then converges only linearly).
   bool evaluate(const Eigen::VectorXd& w, double p, Eigen::VectorXd& f, Eigen::MatrixXd& fw, Eigen::VectorXd& fp,
                 PeriodicOrbit& orbit, std::string& failure, bool with_fp = true) {
     if (!std::isfinite(p) || !w.allFinite()) {
@@ -359,7 +379,10 @@ class BranchProblem {
       const Scaling s = scaling(map);
       const Eigen::VectorXd x = s.to_state(w);
       Eigen::MatrixXd monodromy;
-      const Eigen::VectorXd image = map.evaluate(x, k_, &monodromy);
+      const std::optional<double> frequency_rate = family_.frequency_rate();
+      Eigen::VectorXd frequency_derivative;
+      const Eigen::VectorXd image = map.evaluate(x, k_, &monodromy, StroboscopicMap::Responses::skip,
+                                                 frequency_rate ? &frequency_derivative : nullptr);
       ++counts_.map_evaluations;
       f = s.to_scaled(image) - w;
       fw = s.jacobian(monodromy) - Eigen::MatrixXd::Identity(w.size(), w.size());
@@ -367,6 +390,18 @@ class BranchProblem {
       orbit.periodicity = k_;
       describe_run(map, x, monodromy, orbit);
       counts_.events += orbit.events;
+      if (frequency_rate) {
+        // F = S(P(S⁻¹w; ω̄)) − w with S = diag(1/L, 1/(ω̄L)): dF/dω̄ = S(∂P/∂ω̄ + M ∂(S⁻¹w)/∂ω̄) + (dS/dω̄) P,
+        // ∂(S⁻¹w)/∂ω̄ = [0; u̇/ω̄], (dS/dω̄) P = [0; −P_u̇/(ω̄²L)].
+        const Eigen::Index n = map.dofs();
+        const double omega = map.omega();
+        Eigen::VectorXd moved = Eigen::VectorXd::Zero(2 * n);
+        moved.tail(n) = x.tail(n) / omega;
+        fp = s.to_scaled(frequency_derivative + monodromy * moved);
+        fp.tail(n) -= image.tail(n) / (omega * omega * s.length);
+        fp *= *frequency_rate;
+        return true;
+      }
       if (!with_fp) return true;
       const double dp = options_.difference_step * std::max(1.0, std::abs(p));
       StroboscopicMap& shifted = family_.difference_at(p + dp);
@@ -706,16 +741,24 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
       PeriodicOrbit orbit;
       bool converged = false;
       int iterations = 0;
+      double last_residual = std::numeric_limits<double>::infinity();
       for (; iterations < options.newton_iterations; ++iterations) {
         ++result.newton_iterations;
         if (!problem.evaluate(trial.head(m), trial(m), f, fw, fp, orbit, failure, iterations == 0)) break;
         const double arclength = tangent.dot(trial - predicted);
-        if (f.cwiseAbs().maxCoeff() <= shooting.tolerance * std::max(1.0, trial.head(m).cwiseAbs().maxCoeff()) &&
+        const double residual = f.cwiseAbs().maxCoeff();
+        if (residual <= shooting.tolerance * std::max(1.0, trial.head(m).cwiseAbs().maxCoeff()) &&
             std::abs(arclength) <= 1e-6 * step) {
           // A corrector that ran far along the parameter landed on another branch: a smaller step.
           converged = std::abs(trial(m) - p) <= 2 * options.max_parameter_step;
           break;
         }
+        // With the exact F_w and F_p Newton converges quadratically once near the branch; a
+        // corrector that does not halve the residual after its first correction is cycling or
+        // diverging (the map is not smooth between predictor and branch: a grazing, a lock), and
+        // its remaining iterations were half of all the runs (Fig. 3a): halve the step instead.
+        if (iterations >= 2 && residual > 0.5 * last_residual) break;
+        last_residual = residual;
         Eigen::MatrixXd a(m + 1, m + 1);
         a.topLeftCorner(m, m) = fw;
         a.topRightCorner(m, 1) = fp;
@@ -786,10 +829,17 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
       }
       branch.points.push_back(orbit);
       // An isola: the branch comes back to its first point (having gone further from it than a
-      // few steps) and would go round again.
+      // few steps) and would go round again. Measured to the chord of the last step, not to its
+      // end: the steps grow as Newton converges fast, and a step that passes the first point
+      // (round a fold, say) need not land within a step of it.
+      Eigen::VectorXd last(m + 1);
+      last << w, p;
+      const Eigen::VectorXd chord = trial - last;
+      const double along = chord.squaredNorm() > 0 ? std::clamp((first - last).dot(chord) / chord.squaredNorm(), 0.0, 1.0) : 0.0;
       const double from_start = (trial - first).norm(), this_step = (trial.head(m) - w).norm() + std::abs(trial(m) - p);
+      const double chord_from_start = (last + along * chord - first).norm();
       farthest = std::max(farthest, from_start);
-      if (farthest > 4 * this_step && from_start <= this_step) {
+      if (farthest > 4 * this_step && chord_from_start <= this_step) {
         branch.ended = "closed on itself (an isola or a loop)";
         break;
       }

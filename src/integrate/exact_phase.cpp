@@ -124,7 +124,10 @@ const Eigen::VectorXcd& ExactPhase::harmonic_response(double omega) const {
   // for a wall) makes rcond ~ ω/‖A‖ and would pass for a resonance.
   Eigen::MatrixXcd m = -(scale_.cwiseInverse().asDiagonal() * a_ * scale_.asDiagonal()).cast<Complex>();
   m.diagonal().array() += Complex(0.0, omega);
-  const Eigen::PartialPivLU<Eigen::MatrixXcd> lu(m);
+  harmonic_omega_ = std::numeric_limits<double>::quiet_NaN();  // the factorisation is another ω's now
+  harmonic_rate_omega_ = std::numeric_limits<double>::quiet_NaN();
+  harmonic_lu_.compute(m);
+  const Eigen::PartialPivLU<Eigen::MatrixXcd>& lu = harmonic_lu_;
   if (!(lu.rcond() > 1e-13)) {
     throw SimulationError(fmt::format(
         "exact integrator: the forcing frequency {} rad/s is a natural frequency of an undamped "
@@ -136,6 +139,17 @@ const Eigen::VectorXcd& ExactPhase::harmonic_response(double omega) const {
   harmonic_response_ = scale_.cast<Complex>().cwiseProduct(lu.solve(e.cwiseQuotient(scale_.cast<Complex>())));
   harmonic_omega_ = omega;
   return harmonic_response_;
+}
+
+const Eigen::VectorXcd& ExactPhase::harmonic_response_rate(double omega) const {
+  using Complex = std::complex<double>;
+  if (omega == harmonic_rate_omega_) return harmonic_response_rate_;
+  const Eigen::VectorXcd& h = harmonic_response(omega);  // factorises D⁻¹(iωI − A)D at ω
+  // d/dω of (iωI − A) h = e: (iωI − A) h' = −i h; balanced as harmonic_response solves.
+  const Eigen::VectorXcd scale = scale_.cast<Complex>();
+  harmonic_response_rate_ = scale.cwiseProduct(harmonic_lu_.solve(Complex(0.0, -1.0) * h.cwiseQuotient(scale)));
+  harmonic_rate_omega_ = omega;
+  return harmonic_response_rate_;
 }
 
 void ExactTrajectory::start(const ExactPhase& phase, const Eigen::VectorXd& mass,

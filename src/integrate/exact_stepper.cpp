@@ -130,7 +130,7 @@ void ExactStepper::start_segment(Loop& loop) {
                     forcing_piece(loop.system().excitation(), loop.state().t));
   segment_powers_ = it->second.powers.get();
   segment_guard_rows_ = &it->second.guard_rows.real;
-  if (TangentFlow* tangent = loop.tangent()) tangent->start_segment(loop.phase(), exact, loop.state().t);
+  if (TangentFlow* tangent = loop.tangent()) tangent->start_segment(loop.phase(), trajectory_, loop.state().t);
   // The power integrals serve the energy balance only: a run that records nothing (a shooting
   // run of the periodic orbits) never needs them, so they start with the first recorded step.
   powers_started_ = false;

@@ -251,10 +251,31 @@ void Simulator::track_sensitivity(bool track) {
   tangent_->reset(state_.t);
 }
 
-const Eigen::MatrixXd& Simulator::sensitivity() {
+Eigen::Ref<const Eigen::MatrixXd> Simulator::sensitivity() {
   if (!tracking_) throw std::logic_error("sensitivity(): track_sensitivity() was not called");
   tangent_->propagate_to(state_.t);
   return tangent_->sensitivity();
+}
+
+void Simulator::track_frequency_sensitivity(bool track) {
+  if (track) {
+    if (!tracking_) throw std::invalid_argument("track_frequency_sensitivity: track_sensitivity() first");
+    if (!std::holds_alternative<HarmonicExcitation>(system_.excitation())) {
+      throw std::invalid_argument("the sensitivity to the forcing frequency needs a harmonic excitation");
+    }
+  }
+  if (tangent_ && tangent_->tracks_frequency() != track) {
+    tangent_->track_frequency(track);
+    tangent_->reset(state_.t);
+  }
+}
+
+Eigen::Ref<const Eigen::VectorXd> Simulator::frequency_sensitivity() {
+  if (!tracking_ || !tangent_->tracks_frequency()) {
+    throw std::logic_error("frequency_sensitivity(): track_frequency_sensitivity() was not called");
+  }
+  tangent_->propagate_to(state_.t);
+  return tangent_->frequency_sensitivity();
 }
 
 double Simulator::least_transversality() const { return tracking_ ? tangent_->least_transversality() : 1.0; }

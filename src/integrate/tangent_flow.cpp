@@ -2,44 +2,68 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <stdexcept>
 
 namespace poundsim::detail {
 
 TangentFlow::TangentFlow(Eigen::Index dofs) : n_(dofs) {
-  j_.setIdentity(2 * n_, 2 * n_);
+  j_.setIdentity(2 * n_, columns());
   velocity_map_.setIdentity(n_, n_);
 }
 
+void TangentFlow::track_frequency(bool track) { frequency_ = track; }
+
 void TangentFlow::reset(double t) {
-  j_.setIdentity(2 * n_, 2 * n_);
+  j_.setIdentity(2 * n_, columns());  // y's column (if any) starts at 0
   time_ = start_ = t;
   segment_ = in_events_ = false;
   events_ = 0;
   least_transversality_ = 1.0;
 }
 
-void TangentFlow::start_segment(const LinearPhase& phase, const ExactPhase& exact, double t) {
+void TangentFlow::start_segment(const LinearPhase& phase, const ExactTrajectory& trajectory, double t) {
   if (segment_) propagate_to(t);  // a forcing piece ended: the same phase goes on
+  const ExactPhase& exact = trajectory.phase();
   phase_ = &phase;
   exact_ = &exact;
   start_ = t;
   segment_ = true;
-  j_start_ = j_;
   // G J: the rows of the leftmost floor of each group, displacements then velocities.
   const Eigen::Index groups = exact.groups();
-  gathered_.resize(2 * groups, 2 * n_);
-  for (Eigen::Index c = 0; c < 2 * n_; ++c) {
-    phase.gather(j_start_.col(c).head(n_), gathered_.col(c).head(groups));
-    phase.gather(j_start_.col(c).tail(n_), gathered_.col(c).tail(groups));
+  gathered_.resize(2 * groups, columns());
+  for (Eigen::Index c = 0; c < columns(); ++c) {
+    phase.gather(j_.col(c).head(n_), gathered_.col(c).head(groups));
+    phase.gather(j_.col(c).tail(n_), gathered_.col(c).tail(groups));
   }
+  if (frequency_) {
+    if (trajectory.omega() == 0.0) throw std::logic_error("TangentFlow: ∂x/∂ω̄ needs a harmonic forcing");
+    omega_ = trajectory.omega();
+    harmonic_ = trajectory.harmonic_part();
+    harmonic_rate_ = trajectory.piece().amplitude * exact.harmonic_response_rate(omega_);
+    particular_rate(t);
+    gathered_.col(2 * n_) -= particular_;  // y − z follows the homogeneous flow
+  }
+}
+
+void TangentFlow::particular_rate(double t) {
+  using Complex = std::complex<double>;
+  // z(t) = Im((H' + i t H) e^{iω̄t}).
+  const Complex rotation = std::exp(Complex(0.0, omega_ * t));
+  const Complex it(0.0, t);
+  particular_.resize(harmonic_.size());
+  for (Eigen::Index i = 0; i < harmonic_.size(); ++i) particular_(i) = ((harmonic_rate_(i) + it * harmonic_(i)) * rotation).imag();
 }
 
 void TangentFlow::propagate_to(double t) {
   if (!segment_ || t == time_) return;
   const Eigen::Index groups = exact_->groups();
   propagated_.noalias() = exact_->propagator(t - start_) * gathered_;
-  for (Eigen::Index c = 0; c < 2 * n_; ++c) {
+  if (frequency_) {
+    particular_rate(t);
+    propagated_.col(2 * n_) += particular_;
+  }
+  for (Eigen::Index c = 0; c < columns(); ++c) {
     phase_->scatter(propagated_.col(c).head(groups), j_.col(c).head(n_), false);
     phase_->scatter(propagated_.col(c).tail(groups), j_.col(c).tail(n_), false);
   }

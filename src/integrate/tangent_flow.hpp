@@ -18,6 +18,17 @@
 // of restitution e maps the closing speed w to −e w; a lock merges the pair's velocities
 // (momentum kept); an unlock (h = −λ) jumps the accelerations. The formula needs a transversal
 // crossing (∇h·f⁻ ≠ 0): where it vanishes the orbit grazes and the map is not smooth.
+//
+// Under a harmonic forcing A sin ω̄t it can also carry y = ∂x(t)/∂ω̄ at fixed t and start (the
+// continuation's ∂P/∂ω̄ without a second run: periodic_orbits.cpp). Within a phase the state is
+// x = x_p + e^{As}(…) with the harmonic particular solution x_p(t) = Im(H e^{iω̄t}), H = A h,
+// (iω̄I − A) h = e, so y − ∂x_p/∂ω̄ follows the homogeneous flow:
+//
+//     y(t) = z(t) + Φ(t − t_s)(y(t_s) − z(t_s)),   z(t) = ∂x_p/∂ω̄ = Im((H' + i t H) e^{iω̄t}),
+//
+// H' = A dh/dω̄ (ExactPhase::harmonic_response_rate). The guards and the event maps do not depend
+// on ω̄, so at an event y takes the same saltation matrix as the columns of J: it is kept as J's
+// last column.
 
 #include <span>
 
@@ -32,11 +43,13 @@ class TangentFlow {
  public:
   explicit TangentFlow(Eigen::Index dofs);
 
-  /// J = I at time t: the sensitivities start here.
+  /// J = I (and y = 0) at time t: the sensitivities start here.
   void reset(double t);
-  /// A segment of `exact` (the closed form of `phase`) starts at t: J follows its propagator from
-  /// here. Both must outlive the segment.
-  void start_segment(const LinearPhase& phase, const ExactPhase& exact, double t);
+  /// From the next reset on, also carry y = ∂x/∂ω̄ (the forcing must be harmonic).
+  void track_frequency(bool track);
+  /// A segment of `trajectory` (the closed form of `phase` from t) starts: J follows its
+  /// propagator from here. Both must outlive the segment.
+  void start_segment(const LinearPhase& phase, const ExactTrajectory& trajectory, double t);
   /// The segment was abandoned (its phase is gone): J stays where it was last brought.
   void end_segment() { segment_ = false; }
   /// Brings J to time t on the current segment.
@@ -59,7 +72,10 @@ class TangentFlow {
   [[nodiscard]] bool in_events() const { return in_events_; }
 
   /// ∂x(t)/∂x(t₀) at the time J was last brought to (2N × 2N, x = [u; u̇]).
-  [[nodiscard]] const Eigen::MatrixXd& sensitivity() const { return j_; }
+  [[nodiscard]] Eigen::Ref<const Eigen::MatrixXd> sensitivity() const { return j_.leftCols(2 * n_); }
+  /// y = ∂x(t)/∂ω̄ at fixed t there (2N; track_frequency).
+  [[nodiscard]] Eigen::Ref<const Eigen::VectorXd> frequency_sensitivity() const { return j_.col(2 * n_); }
+  [[nodiscard]] bool tracks_frequency() const { return frequency_; }
   [[nodiscard]] double time() const { return time_; }
   /// Events whose saltation was applied since reset, and the smallest |∇h·f⁻| relative to
   /// |∇h| |f⁻| among them (near 0: a grazing crossing).
@@ -68,7 +84,7 @@ class TangentFlow {
 
  private:
   Eigen::Index n_;
-  Eigen::MatrixXd j_, j_start_, gathered_, propagated_;
+  Eigen::MatrixXd j_, gathered_, propagated_;  // j_ = [J y] (y only when frequency_)
   Eigen::MatrixXd velocity_map_;  ///< Γ of the current instant (N × N)
   Eigen::RowVectorXd gradient_;
   Eigen::VectorXd before_;
@@ -76,6 +92,13 @@ class TangentFlow {
   const ExactPhase* exact_ = nullptr;
   double start_ = 0.0, time_ = 0.0;
   bool segment_ = false, in_events_ = false;
+  bool frequency_ = false;
+  // The segment's H and H' (reduced) and ω̄, for z(t) (frequency_ only).
+  Eigen::VectorXcd harmonic_, harmonic_rate_;
+  double omega_ = 0.0;
+  Eigen::VectorXd particular_;  // z(t), reduced
+  void particular_rate(double t);  // particular_ = z(t)
+  [[nodiscard]] Eigen::Index columns() const { return 2 * n_ + (frequency_ ? 1 : 0); }
   long events_ = 0;
   double least_transversality_ = 1.0;
 };

@@ -32,6 +32,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -100,8 +101,12 @@ class StroboscopicMap {
   /// monodromy ∂x(kT)/∂x(0). A pair of floors past its stop in x is put back on it first (each
   /// moved half the excess; the monodromy includes that projection). Throws SimulationError or
   /// std::invalid_argument (a state that cannot start) as the simulator does.
+  ///
+  /// `frequency_derivative`, when given (with `jacobian`), receives ∂P^k/∂ω̄ at fixed x: the
+  /// state's sensitivity to ω̄ carried through the run (tangent_flow.hpp) less ẋ(kT)·kT/ω̄, as the
+  /// period shortens when ω̄ grows.
   Eigen::VectorXd evaluate(const Eigen::VectorXd& x, int k, Eigen::MatrixXd* jacobian = nullptr,
-                           Responses responses = Responses::skip);
+                           Responses responses = Responses::skip, Eigen::VectorXd* frequency_derivative = nullptr);
   /// The simulator of the last evaluation (its statistics are the run's counts, and its peaks
   /// when it recorded them; its energy() is no balance: it meters none).
   [[nodiscard]] const Simulator& simulator() const { return *sim_; }
@@ -153,6 +158,10 @@ class OrbitFamily {
   virtual StroboscopicMap& difference_at(double p) = 0;
   /// The length that scales states [m].
   [[nodiscard]] virtual double length_scale() const = 0;
+  /// dω̄/dp when p moves the forcing frequency alone: ∂P/∂p then comes from the run itself
+  /// (StroboscopicMap::evaluate's frequency_derivative). Empty when p changes the model: a
+  /// difference of the map (difference_at).
+  [[nodiscard]] virtual std::optional<double> frequency_rate() const { return std::nullopt; }
 };
 
 /// The frequency ratio ω̄/ω₁ of a fixed model.
@@ -162,6 +171,7 @@ class FrequencyFamily final : public OrbitFamily {
   StroboscopicMap& at(double ratio) override;
   StroboscopicMap& difference_at(double ratio) override;
   [[nodiscard]] double length_scale() const override { return length_; }
+  [[nodiscard]] std::optional<double> frequency_rate() const override { return omega1_; }
   [[nodiscard]] double reference_omega() const { return omega1_; }
 
  private:

@@ -111,6 +111,9 @@ class ExactPhase {
   /// returned again for the same ω (valid until the next call with another ω). Because of that
   /// cache, one ExactPhase must not be used by several threads at once.
   [[nodiscard]] const Eigen::VectorXcd& harmonic_response(double omega) const;
+  /// dh/dω = −i (iωI − A)⁻¹ h, for the sensitivity of a run to its forcing frequency
+  /// (tangent_flow.hpp): one more solve with harmonic_response's factorisation, kept likewise.
+  [[nodiscard]] const Eigen::VectorXcd& harmonic_response_rate(double omega) const;
   /// max |λ| [1/s]: the fastest rate of the phase (‖Â‖₂, an upper bound, when not modal()).
   [[nodiscard]] double spectral_radius() const { return spectral_radius_; }
   /// ‖Â‖₂ and the logarithmic norm μ₂(Â) of the balanced Â = D⁻¹ A D: bounds for the
@@ -140,6 +143,9 @@ class ExactPhase {
   double log_norm_ = std::numeric_limits<double>::quiet_NaN();
   mutable double harmonic_omega_ = std::numeric_limits<double>::quiet_NaN();
   mutable Eigen::VectorXcd harmonic_response_;
+  mutable Eigen::PartialPivLU<Eigen::MatrixXcd> harmonic_lu_;  ///< of D⁻¹(iωI − A)D at harmonic_omega_
+  mutable double harmonic_rate_omega_ = std::numeric_limits<double>::quiet_NaN();
+  mutable Eigen::VectorXcd harmonic_response_rate_;
   mutable Eigen::MatrixXcd inverse_modes_;  ///< V⁻¹, made by the first propagator()
 };
 

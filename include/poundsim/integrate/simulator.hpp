@@ -290,7 +290,14 @@ class Simulator : private detail::Loop {
   /// false stops tracking.
   void track_sensitivity(bool track = true);
   /// J at the current time (2N × 2N); track_sensitivity() first.
-  [[nodiscard]] const Eigen::MatrixXd& sensitivity();
+  [[nodiscard]] Eigen::Ref<const Eigen::MatrixXd> sensitivity();
+  /// From now on (and after every restart or reset_state) also tracks y = ∂x(t)/∂ω̄ at fixed t,
+  /// the sensitivity to the forcing frequency, beside J (src/integrate/tangent_flow.hpp): a
+  /// harmonic excitation and track_sensitivity() first, std::invalid_argument otherwise. false
+  /// stops it.
+  void track_frequency_sensitivity(bool track = true);
+  /// y at the current time (2N); track_frequency_sensitivity() first.
+  [[nodiscard]] Eigen::Ref<const Eigen::VectorXd> frequency_sensitivity();
   /// Events since J started whose crossing was least transversal: min |∇h·ẋ| / (|∇h| |ẋ|) over
   /// them (1 without events): near 0 the orbit grazes a guard and J is not the map's derivative.
   [[nodiscard]] double least_transversality() const;
