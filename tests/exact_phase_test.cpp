@@ -127,6 +127,34 @@ TEST(ExactPhase, TheStateAloneIsTheStateWithItsRateBitForBit) {
   }
 }
 
+// The tangent flow's propagation (one of each conjugate pair, doubled; real modes once) is e^{As} r
+// to round-off, on phases with complex modes only and with real (overdamped) ones.
+TEST(ExactPhase, ItsModalPropagationIsThePropagatorTimesTheColumns) {
+  DimensionlessParameters damped = testing::fig2('c');
+  damped.xi = 2.0;  // storeys damped past critical: real modes
+  int real_modes = 0, pairs = 0;
+  for (const auto& [parameters, mode] : {std::pair{testing::fig2('c'), GapMode::open}, std::pair{damped, GapMode::open}}) {
+    const Model model = make_model(parameters, {3, 3});
+    const DofLayout layout(model);
+    const LinearPhase phase(model, layout, ContactConfiguration(model.gap_count(), PaperGap::link_mode(mode)), 1e-3);
+    const ExactPhase exact(phase);
+    ASSERT_TRUE(exact.modal());
+    for (const auto& l : exact.eigenvalues()) (l.imag() == 0.0 ? real_modes : pairs) += 1;
+    const Eigen::Index n = exact.matrix().rows();
+    const Eigen::MatrixXd r = Eigen::MatrixXd::Random(n, n + 1);
+    Eigen::MatrixXcd projected;
+    exact.project_modes(r, projected);
+    Eigen::MatrixXd out;
+    for (const double s : {0.0, 0.05, 0.37, 1.9}) {
+      const Eigen::MatrixXd reference = (exact.matrix() * s).exp() * r;
+      exact.propagate_projected(s, projected, out);
+      EXPECT_LT((out - reference).norm(), 1e-12 * reference.norm()) << s;
+    }
+  }
+  EXPECT_GT(real_modes, 0);
+  EXPECT_GT(pairs, 0);
+}
+
 // The propagator is the state's sensitivity to its start: e^{As} on both paths, a semigroup, and
 // (the system being linear) the difference of two trajectories from nearby starts, under forcing.
 TEST(ExactPhase, ThePropagatorIsTheSensitivityOfTheStateToItsStart) {

@@ -228,6 +228,53 @@ Eigen::MatrixXd ExactPhase::propagator(double s) const {
   return (v_ * e.asDiagonal() * inverse_modes_).real();
 }
 
+void ExactPhase::keep_modes() const {
+  if (!kept_modes_.empty()) return;
+  if (inverse_modes_.size() == 0) {
+    inverse_modes_ = v_lu_.solve(scale_.cwiseInverse().cast<std::complex<double>>().asDiagonal().toDenseMatrix());
+  }
+  const Eigen::Index size = lambda_.size();
+  std::vector<double> weight;
+  for (Eigen::Index k = 0; k < size; ++k) {
+    if (conjugate_of_previous_[static_cast<std::size_t>(k)]) continue;  // its pair's term, doubled
+    const bool paired = k + 1 < size && conjugate_of_previous_[static_cast<std::size_t>(k + 1)];
+    kept_modes_.push_back(k);
+    weight.push_back(paired ? 2.0 : 1.0);
+  }
+  const auto kept = static_cast<Eigen::Index>(kept_modes_.size());
+  kept_weight_ = Eigen::Map<const Eigen::VectorXd>(weight.data(), kept);
+  kept_inverse_.resize(kept, size);
+  kept_real_.resize(size, kept);
+  kept_imag_.resize(size, kept);
+  for (Eigen::Index i = 0; i < kept; ++i) {
+    const Eigen::Index k = kept_modes_[static_cast<std::size_t>(i)];
+    kept_inverse_.row(i) = inverse_modes_.row(k);
+    kept_real_.col(i) = v_.col(k).real();
+    kept_imag_.col(i) = v_.col(k).imag();
+  }
+}
+
+void ExactPhase::project_modes(const Eigen::MatrixXd& r, Eigen::MatrixXcd& projected) const {
+  keep_modes();
+  projected.noalias() = kept_inverse_ * r.cast<std::complex<double>>();
+}
+
+void ExactPhase::propagate_projected(double s, const Eigen::MatrixXcd& projected, Eigen::MatrixXd& out) const {
+  const auto kept = static_cast<Eigen::Index>(kept_modes_.size());
+  projected_real_.resize(kept, projected.cols());
+  projected_imag_.resize(kept, projected.cols());
+  for (Eigen::Index i = 0; i < kept; ++i) {
+    const std::complex<double> factor = kept_weight_(i) * complex_exp(lambda_(kept_modes_[static_cast<std::size_t>(i)]) * s);
+    for (Eigen::Index c = 0; c < projected.cols(); ++c) {
+      const std::complex<double> z = factor * projected(i, c);
+      projected_real_(i, c) = z.real();
+      projected_imag_(i, c) = z.imag();
+    }
+  }
+  out.noalias() = kept_real_ * projected_real_;
+  out.noalias() -= kept_imag_ * projected_imag_;
+}
+
 void ExactTrajectory::evaluate(double s, Eigen::VectorXd& x, Eigen::VectorXd& x_rate) const { evaluate(s, x, &x_rate); }
 
 void ExactTrajectory::evaluate(double s, Eigen::VectorXd& x) const { evaluate(s, x, nullptr); }

@@ -94,7 +94,7 @@ void GuardExpansion::build(const ExactTrajectory& trajectory, const GuardRows& g
     if (!active_[static_cast<std::size_t>(j)]) continue;
     double size = std::abs(constant_(j)) + std::abs(harmonic_(j)) + std::abs(memory_(j));
     if (phase.modal()) {
-      size += modal_.row(j).cwiseAbs().sum();
+      size += modal_size_.row(j).sum();  // |γ_jk|, taken once above
     } else {
       size += row_norm_(j) * trajectory.homogeneous_start().norm();
     }

@@ -44,6 +44,7 @@ void TangentFlow::start_segment(const LinearPhase& phase, const ExactTrajectory&
     particular_rate(t);
     gathered_.col(2 * n_) -= particular_;  // y − z follows the homogeneous flow
   }
+  if (exact.modal()) exact.project_modes(gathered_, projected_);
 }
 
 void TangentFlow::particular_rate(double t) {
@@ -58,7 +59,11 @@ void TangentFlow::particular_rate(double t) {
 void TangentFlow::propagate_to(double t) {
   if (!segment_ || t == time_) return;
   const Eigen::Index groups = exact_->groups();
-  propagated_.noalias() = exact_->propagator(t - start_) * gathered_;
+  if (exact_->modal()) {
+    exact_->propagate_projected(t - start_, projected_, propagated_);
+  } else {
+    propagated_.noalias() = exact_->propagator(t - start_) * gathered_;
+  }
   if (frequency_) {
     particular_rate(t);
     propagated_.col(2 * n_) += particular_;
@@ -116,11 +121,16 @@ void TangentFlow::end_events(const Eigen::VectorXd& velocity, const Eigen::Vecto
   least_transversality_ = std::min(least_transversality_, scale > 0 ? std::abs(rate) / scale : 0.0);
   ++events_;
   // d = f⁺ − G f⁻, with G f⁻ = [u̇⁻; Γ ü⁻].
-  Eigen::VectorXd jump(2 * n_);
+  Eigen::VectorXd& jump = jump_;
+  jump.resize(2 * n_);
   jump.head(n_) = velocity - before_.head(n_);
-  jump.tail(n_) = acceleration - velocity_map_ * before_.tail(n_);
-  const Eigen::RowVectorXd sensitivity_of_time = gradient_ * j_ / rate;  // −∂t*/∂x₀
-  j_.bottomRows(n_) = velocity_map_ * j_.bottomRows(n_);
+  jump.tail(n_).noalias() = velocity_map_ * before_.tail(n_);
+  jump.tail(n_) = acceleration - jump.tail(n_);
+  Eigen::RowVectorXd& sensitivity_of_time = time_sensitivity_;  // −∂t*/∂x₀
+  sensitivity_of_time.noalias() = gradient_ * j_;
+  sensitivity_of_time /= rate;
+  velocity_rows_.noalias() = velocity_map_ * j_.bottomRows(n_);
+  j_.bottomRows(n_) = velocity_rows_;
   j_.noalias() += jump * sensitivity_of_time;
 }
 

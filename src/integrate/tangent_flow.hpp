@@ -85,6 +85,10 @@ class TangentFlow {
  private:
   Eigen::Index n_;
   Eigen::MatrixXd j_, gathered_, propagated_;  // j_ = [J y] (y only when frequency_)
+  Eigen::MatrixXcd projected_;  // V⁻¹ gathered_ (a modal phase: ExactPhase::project_modes)
+  Eigen::VectorXd jump_;                  // end_events' work: f⁺ − G f⁻,
+  Eigen::RowVectorXd time_sensitivity_;   // ∇h J / ∇h·f⁻,
+  Eigen::MatrixXd velocity_rows_;         // Γ J_v
   Eigen::MatrixXd velocity_map_;  ///< Γ of the current instant (N × N)
   Eigen::RowVectorXd gradient_;
   Eigen::VectorXd before_;

@@ -105,6 +105,13 @@ class ExactPhase {
   /// monodromy matrix of periodic orbits (issue 12: phase propagators composed with the events'
   /// saltation matrices).
   [[nodiscard]] Eigen::MatrixXd propagator(double s) const;
+  /// Φ(s) r for many s and one real r (the tangent flow's columns), modal path: `projected` =
+  /// V⁻¹ r once, then each Φ(s) r = Re(V e^{Λs} V⁻¹ r) from it. A conjugate pair's two terms are
+  /// conjugates when r is real: one of each pair is kept, doubled — half the work of forming
+  /// Φ(s) (a complex product of three n × n matrices) and then Φ(s) r. Equal to propagator(s) r to
+  /// round-off (exact_phase_test).
+  void project_modes(const Eigen::MatrixXd& r, Eigen::MatrixXcd& projected) const;
+  void propagate_projected(double s, const Eigen::MatrixXcd& projected, Eigen::MatrixXd& out) const;
   /// h with (iωI − A) h = e. Throws SimulationError at an undamped natural frequency.
   ///
   /// Every segment of a harmonic excitation starts with the same ω, so the last h is kept and
@@ -147,6 +154,14 @@ class ExactPhase {
   mutable double harmonic_rate_omega_ = std::numeric_limits<double>::quiet_NaN();
   mutable Eigen::VectorXcd harmonic_response_rate_;
   mutable Eigen::MatrixXcd inverse_modes_;  ///< V⁻¹, made by the first propagator()
+  // project_modes' kept modes (one of each conjugate pair, weight 2; real modes, weight 1), their
+  // rows of V⁻¹ and their columns of V in real and imaginary parts; made on first use.
+  mutable std::vector<Eigen::Index> kept_modes_;
+  mutable Eigen::VectorXd kept_weight_;
+  mutable Eigen::MatrixXcd kept_inverse_;
+  mutable Eigen::MatrixXd kept_real_, kept_imag_;
+  mutable Eigen::MatrixXd projected_real_, projected_imag_;  // propagate_projected's work
+  void keep_modes() const;
 };
 
 /// The exact trajectory of a phase from (t₀, x₀) while one forcing piece holds.
