@@ -48,6 +48,27 @@ TEST(NewtonBracket, AGuardOfAnImpactPhaseToSixteenUlps) {
   EXPECT_LE(b.evaluations, 8);
 }
 
+TEST(NewtonBracket, AStartNearTheRootSavesTheStepsFromTheEnd) {
+  // The impact-phase guard above, Newton started where the guard search's Hermite cubic puts the
+  // root (within its error, here 1e-7 of the step) instead of at the upper end: the bracket
+  // closes in three evaluations (two Newton steps and the probe past the converged point).
+  const double w = 8.9, zeta = 0.05, delta = 0.01, t0 = 37.0;
+  const auto g = [&](double s) {
+    const double e = std::exp(-zeta * w * s);
+    return std::pair{delta * std::sin(w * s) * e - 0.5 * delta,
+                     delta * w * e * (std::cos(w * s) - zeta * std::sin(w * s))};
+  };
+  const double resolution = 16 * eps * t0, hi = 2 * std::numbers::pi / w / 16 * 2;
+  const RootBracket from_end = newton_bracket(g, 0.0, hi, resolution);
+  const double root = 0.5 * (from_end.lo + from_end.hi);
+  const RootBracket b = newton_bracket(g, 0.0, hi, resolution, root + 1e-7 * hi);
+  EXPECT_LE(b.hi - b.lo, resolution);
+  EXPECT_LE(g(b.lo).first, 0.0);
+  EXPECT_GT(g(b.hi).first, 0.0);
+  EXPECT_LE(b.evaluations, 3);
+  EXPECT_GT(from_end.evaluations, b.evaluations + 1);
+}
+
 TEST(NewtonBracket, AFlatCrossingStillClosesByBisection) {
   // g = (s − 0.3)³: the rate vanishes at the root, Newton crawls (linear convergence) and the
   // safeguard bisects; the bracket still closes, within the 60-odd halvings of its width.

@@ -194,11 +194,17 @@ void GuardExpansion::update_growth(double a, double b) const {
 
 namespace {
 
-/// Shrinks [lo, hi] (g(lo) ≤ 0 < g(hi)) to width ≤ resolution (bracketed_roots.hpp).
-Crossing refine(const GuardExpansion& guards, int j, double lo, double hi, double resolution) {
+/// Shrinks [lo, hi] (g(lo) ≤ 0 < g(hi)) to width ≤ resolution (bracketed_roots.hpp), Newton
+/// starting from `start`.
+Crossing refine(const GuardExpansion& guards, int j, double lo, double hi, double resolution, double start) {
   const detail::RootBracket bracket =
-      detail::newton_bracket([&](double s) { return guards.value_and_rate(j, s); }, lo, hi, resolution);
+      detail::newton_bracket([&](double s) { return guards.value_and_rate(j, s); }, lo, hi, resolution, start);
   return Crossing{j, bracket.lo, bracket.hi};
+}
+
+/// The least rate of the cubic Hermite model p over [0, h].
+double least_model_rate(const detail::HermiteCubic& cubic, double da, double db, double h) {
+  return std::min({da, db, cubic.least_slope() / h});
 }
 
 /// The first crossing of guard j in (a, b], b ≤ limit, proven by subdivision.
@@ -245,10 +251,17 @@ std::optional<Crossing> search(const GuardExpansion& guards, int j, double a, do
     }
     if (top + d4 * h * h * h * h / 384.0 <= 0.0) continue;  // proven non-positive
     if (in.gb > 0) {
-      // A single crossing when the slope stays positive: g' ≥ min p' − error of the derivative.
-      const double d2 = guards.derivative_bound(j, 2, in.a, in.b);
-      const bool rising = std::min(in.da, in.db) - d2 * h > 0;
-      if (rising || h <= resolution) return refine(guards, j, in.a, in.b, resolution);
+      // A single crossing when the rate stays positive. Two proofs: g' ≥ min(g'(a), g'(b)) − h
+      // max|g''|; or g' ≥ min p' − max|g' − p'|, where g' − p' vanishes at a, b and (Rolle, as
+      // g − p does at both ends) once between, so |g' − p'| ≤ max|g⁗| max|s(s − c)(s − h)|/3! ≤
+      // (2/81) h³ max|g⁗| — with the bound of order 4 already taken, and far tighter than the
+      // first once h is below the fastest mode's period.
+      const bool rising_by_model = least_model_rate(cubic, in.da, in.db, h) - (2.0 / 81.0) * d4 * h * h * h > 0;
+      const bool rising = rising_by_model || std::min(in.da, in.db) - guards.derivative_bound(j, 2, in.a, in.b) * h > 0;
+      if (rising || h <= resolution) {
+        const double theta = cubic.first_upward_root();
+        return refine(guards, j, in.a, in.b, resolution, in.a + theta * h);
+      }
     } else if (h <= resolution) {
       continue;  // touches zero within the resolution without crossing
     }

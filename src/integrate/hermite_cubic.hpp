@@ -22,6 +22,17 @@ class HermiteCubic {
   [[nodiscard]] double operator()(double t) const { return ((c3_ * t + c2_) * t + c1_) * t + c0_; }
   [[nodiscard]] double slope(double t) const { return (3 * c3_ * t + 2 * c2_) * t + c1_; }
 
+  /// The least of slope(θ) over [0, 1]: at an end, or at the vertex of the quadratic when it is
+  /// convex (c3 > 0) and the vertex lies inside.
+  [[nodiscard]] double least_slope() const {
+    double least = std::min(slope(0.0), slope(1.0));
+    if (c3_ > 0) {
+      const double vertex = -c2_ / (3 * c3_);
+      if (vertex > 0 && vertex < 1) least = std::min(least, slope(vertex));
+    }
+    return least;
+  }
+
   /// Interior critical points in (0, 1), ascending; unused entries are NaN.
   [[nodiscard]] std::array<double, 2> critical_points() const {
     constexpr double nan = std::numeric_limits<double>::quiet_NaN();

@@ -9,8 +9,9 @@ version), the
 rows of every SQLite table (run-time columns and fields dropped). The source and output folders
 are replaced by placeholders so that the checksums do not depend on where the repository lives.
 
-Session 21 re-recorded the three cases that run the exact integrator (its event refinement and
-peak search changed the last bits; docs/numerics.md, "Events", lists the differences measured).
+Sessions 21 and 22 re-recorded the three cases that run the exact integrator (its event
+refinement and peak search, then its proof of a single crossing and Newton's first point, changed
+the last bits; docs/numerics.md, "Events", lists the differences measured).
 
     check_outputs.py POUNDSIM SOURCE_DIR WORK_DIR            compare
     check_outputs.py POUNDSIM SOURCE_DIR WORK_DIR --update   write outputs.json anew
