@@ -142,7 +142,7 @@ TEST(ExactPhase, ItsModalPropagationIsThePropagatorTimesTheColumns) {
     for (const auto& l : exact.eigenvalues()) (l.imag() == 0.0 ? real_modes : pairs) += 1;
     const Eigen::Index n = exact.matrix().rows();
     const Eigen::MatrixXd r = Eigen::MatrixXd::Random(n, n + 1);
-    Eigen::MatrixXcd projected;
+    ExactPhase::Projection projected;
     exact.project_modes(r, projected);
     Eigen::MatrixXd out;
     for (const double s : {0.0, 0.05, 0.37, 1.9}) {

@@ -243,30 +243,34 @@ void ExactPhase::keep_modes() const {
   }
   const auto kept = static_cast<Eigen::Index>(kept_modes_.size());
   kept_weight_ = Eigen::Map<const Eigen::VectorXd>(weight.data(), kept);
-  kept_inverse_.resize(kept, size);
+  kept_inverse_real_.resize(kept, size);
+  kept_inverse_imag_.resize(kept, size);
   kept_real_.resize(size, kept);
   kept_imag_.resize(size, kept);
   for (Eigen::Index i = 0; i < kept; ++i) {
     const Eigen::Index k = kept_modes_[static_cast<std::size_t>(i)];
-    kept_inverse_.row(i) = inverse_modes_.row(k);
+    kept_inverse_real_.row(i) = inverse_modes_.row(k).real();
+    kept_inverse_imag_.row(i) = inverse_modes_.row(k).imag();
     kept_real_.col(i) = v_.col(k).real();
     kept_imag_.col(i) = v_.col(k).imag();
   }
 }
 
-void ExactPhase::project_modes(const Eigen::MatrixXd& r, Eigen::MatrixXcd& projected) const {
+void ExactPhase::project_modes(const Eigen::MatrixXd& r, Projection& projected) const {
   keep_modes();
-  projected.noalias() = kept_inverse_ * r.cast<std::complex<double>>();
+  projected.real.noalias() = kept_inverse_real_ * r;
+  projected.imag.noalias() = kept_inverse_imag_ * r;
 }
 
-void ExactPhase::propagate_projected(double s, const Eigen::MatrixXcd& projected, Eigen::MatrixXd& out) const {
+void ExactPhase::propagate_projected(double s, const Projection& projected, Eigen::MatrixXd& out) const {
   const auto kept = static_cast<Eigen::Index>(kept_modes_.size());
-  projected_real_.resize(kept, projected.cols());
-  projected_imag_.resize(kept, projected.cols());
+  const Eigen::Index columns = projected.real.cols();
+  projected_real_.resize(kept, columns);
+  projected_imag_.resize(kept, columns);
   for (Eigen::Index i = 0; i < kept; ++i) {
     const std::complex<double> factor = kept_weight_(i) * complex_exp(lambda_(kept_modes_[static_cast<std::size_t>(i)]) * s);
-    for (Eigen::Index c = 0; c < projected.cols(); ++c) {
-      const std::complex<double> z = factor * projected(i, c);
+    for (Eigen::Index c = 0; c < columns; ++c) {
+      const std::complex<double> z = factor * std::complex<double>(projected.real(i, c), projected.imag(i, c));
       projected_real_(i, c) = z.real();
       projected_imag_(i, c) = z.imag();
     }

@@ -27,7 +27,17 @@ double power(double x, int order) {
 
 GuardRows::GuardRows(Eigen::MatrixXd rows, const ExactPhase& phase)
     : real(std::move(rows)), complex(real.cast<Complex>()) {
-  if (phase.modal()) modal = complex * phase.modes();
+  if (phase.modal()) {
+    modal = complex * phase.modes();
+    modal_size = modal.cwiseAbs();
+    // |λ_k|^p for the bounds' orders p = 0 … 4 (by power(), the products the bounds took).
+    const Eigen::Index modes = phase.eigenvalues().size();
+    rate_powers.resize(modes, kBoundOrders);
+    for (Eigen::Index k = 0; k < modes; ++k) {
+      const double size = std::abs(phase.eigenvalues()(k));
+      for (int p = 0; p < kBoundOrders; ++p) rate_powers(k, p) = power(size, p);
+    }
+  }
 }
 
 void GuardExpansion::build(const ExactTrajectory& trajectory, const GuardRows& guard_rows,
@@ -65,14 +75,10 @@ void GuardExpansion::build(const ExactTrajectory& trajectory, const GuardRows& g
     modal_ = guard_rows.modal * trajectory.modal_coefficients().asDiagonal();
     growth_a_ = growth_b_ = std::numeric_limits<double>::quiet_NaN();
     growth_.resize(phase.eigenvalues().size());
-    modal_size_ = modal_.cwiseAbs();
-    // |λ_k|^p for the bounds' orders p = 0 … 4 (by power(), the products the bounds took).
-    const Eigen::Index modes = phase.eigenvalues().size();
-    rate_powers_.resize(modes, kBoundOrders);
-    for (Eigen::Index k = 0; k < modes; ++k) {
-      const double size = std::abs(phase.eigenvalues()(k));
-      for (int p = 0; p < kBoundOrders; ++p) rate_powers_(k, p) = power(size, p);
-    }
+    // |γ_jk| = |R V|_jk |c_k|: the phase's sizes times the segment's, one hypot per mode.
+    coefficient_size_ = trajectory.modal_coefficients().cwiseAbs();
+    modal_size_.noalias() = guard_rows.modal_size * coefficient_size_.asDiagonal();
+    rate_powers_ = &guard_rows.rate_powers;
   } else {
     rows_ = rows;
     row_norm_ = rows.rowwise().norm();
@@ -167,7 +173,7 @@ double GuardExpansion::derivative_bound(int j, int order, double a, double b) co
   if (tr.phase().modal()) {
     update_growth(a, b);
     if (order >= kBoundOrders) throw std::invalid_argument("derivative_bound: an order above 4");
-    const auto rate_power = rate_powers_.col(order);
+    const auto rate_power = rate_powers_->col(order);
     for (Eigen::Index k = 0; k < growth_.size(); ++k) {
       bound += modal_size_(j, k) * rate_power(k) * growth_(k);
     }
@@ -259,7 +265,7 @@ std::optional<Crossing> search(const GuardExpansion& guards, int j, double a, do
       const bool rising_by_model = least_model_rate(cubic, in.da, in.db, h) - (2.0 / 81.0) * d4 * h * h * h > 0;
       const bool rising = rising_by_model || std::min(in.da, in.db) - guards.derivative_bound(j, 2, in.a, in.b) * h > 0;
       if (rising || h <= resolution) {
-        const double theta = cubic.first_upward_root();
+        const double theta = cubic.rising_root();
         return refine(guards, j, in.a, in.b, resolution, in.a + theta * h);
       }
     } else if (h <= resolution) {

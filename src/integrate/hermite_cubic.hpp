@@ -33,6 +33,27 @@ class HermiteCubic {
     return least;
   }
 
+  /// Where p crosses zero in (0, 1) when p(0) ≤ 0 < p(1) and the guard it models is proven
+  /// rising there: a secant start and a few Newton steps kept in the bracket — a first point for
+  /// Newton on the guard itself, which needs it no closer than the model's own error.
+  [[nodiscard]] double rising_root() const {
+    double lo = 0.0, hi = 1.0;
+    const double p0 = c0_, p1 = (*this)(1.0);
+    double x = p0 < p1 ? p0 / (p0 - p1) : 0.5;
+    for (int i = 0; i < 4; ++i) {
+      const double y = (*this)(x);
+      if (y > 0) {
+        hi = x;
+      } else {
+        lo = x;
+      }
+      const double d = slope(x);
+      const double next = d > 0 ? x - y / d : 0.5 * (lo + hi);
+      x = next > lo && next < hi ? next : 0.5 * (lo + hi);
+    }
+    return x;
+  }
+
   /// Interior critical points in (0, 1), ascending; unused entries are NaN.
   [[nodiscard]] std::array<double, 2> critical_points() const {
     constexpr double nan = std::numeric_limits<double>::quiet_NaN();

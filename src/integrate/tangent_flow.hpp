@@ -85,7 +85,7 @@ class TangentFlow {
  private:
   Eigen::Index n_;
   Eigen::MatrixXd j_, gathered_, propagated_;  // j_ = [J y] (y only when frequency_)
-  Eigen::MatrixXcd projected_;  // V⁻¹ gathered_ (a modal phase: ExactPhase::project_modes)
+  ExactPhase::Projection projected_;  // V⁻¹ gathered_ (a modal phase: ExactPhase::project_modes)
   Eigen::VectorXd jump_;                  // end_events' work: f⁺ − G f⁻,
   Eigen::RowVectorXd time_sensitivity_;   // ∇h J / ∇h·f⁻,
   Eigen::MatrixXd velocity_rows_;         // Γ J_v

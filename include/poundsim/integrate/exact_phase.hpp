@@ -110,8 +110,11 @@ class ExactPhase {
   /// conjugates when r is real: one of each pair is kept, doubled — half the work of forming
   /// Φ(s) (a complex product of three n × n matrices) and then Φ(s) r. Equal to propagator(s) r to
   /// round-off (exact_phase_test).
-  void project_modes(const Eigen::MatrixXd& r, Eigen::MatrixXcd& projected) const;
-  void propagate_projected(double s, const Eigen::MatrixXcd& projected, Eigen::MatrixXd& out) const;
+  struct Projection {
+    Eigen::MatrixXd real, imag;  ///< V⁻¹ r of the kept modes, in parts (r is real: two real products)
+  };
+  void project_modes(const Eigen::MatrixXd& r, Projection& projected) const;
+  void propagate_projected(double s, const Projection& projected, Eigen::MatrixXd& out) const;
   /// h with (iωI − A) h = e. Throws SimulationError at an undamped natural frequency.
   ///
   /// Every segment of a harmonic excitation starts with the same ω, so the last h is kept and
@@ -158,7 +161,7 @@ class ExactPhase {
   // rows of V⁻¹ and their columns of V in real and imaginary parts; made on first use.
   mutable std::vector<Eigen::Index> kept_modes_;
   mutable Eigen::VectorXd kept_weight_;
-  mutable Eigen::MatrixXcd kept_inverse_;
+  mutable Eigen::MatrixXd kept_inverse_real_, kept_inverse_imag_;
   mutable Eigen::MatrixXd kept_real_, kept_imag_;
   mutable Eigen::MatrixXd projected_real_, projected_imag_;  // propagate_projected's work
   void keep_modes() const;

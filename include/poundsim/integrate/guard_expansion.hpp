@@ -38,6 +38,9 @@ struct GuardRows {
   Eigen::MatrixXd real;      ///< R
   Eigen::MatrixXcd complex;  ///< R as complex numbers (a segment's harmonic part is R h)
   Eigen::MatrixXcd modal;    ///< R V on a modal phase (a segment's γ is R V diag(c)); empty otherwise
+  Eigen::MatrixXd modal_size;  ///< |R V| entry by entry (a segment's |γ_jk| is |R V|_jk |c_k|)
+  static constexpr int kBoundOrders = 5;  ///< derivative_bound's orders 0 … 4
+  Eigen::MatrixXd rate_powers;            ///< |λ_k|^p, column p (modal phase)
 };
 
 class GuardExpansion {
@@ -69,8 +72,9 @@ class GuardExpansion {
   // |γ_jk|, |λ_k|, |H_j| of the segment: the derivative bounds ask for them at every interval.
   Eigen::MatrixXd modal_size_;
   Eigen::VectorXd harmonic_size_;
-  static constexpr int kBoundOrders = 5;  // derivative_bound's orders 0 … 4
-  Eigen::MatrixXd rate_powers_;           // |λ_k|^p, column p
+  static constexpr int kBoundOrders = GuardRows::kBoundOrders;
+  const Eigen::MatrixXd* rate_powers_ = nullptr;  // the phase's |λ_k|^p (GuardRows)
+  Eigen::VectorXd coefficient_size_;              // |c_k|
   Eigen::MatrixXd rows_;              // R (matrix-exponential path)
   Eigen::VectorXd row_norm_;
   Eigen::VectorXd balanced_row_norm_;  // ‖r_j D‖, D the phase's balancing (derivative bounds)
