@@ -37,21 +37,8 @@ class HermiteCubic {
   /// rising there: a secant start and a few Newton steps kept in the bracket — a first point for
   /// Newton on the guard itself, which needs it no closer than the model's own error.
   [[nodiscard]] double rising_root() const {
-    double lo = 0.0, hi = 1.0;
     const double p0 = c0_, p1 = (*this)(1.0);
-    double x = p0 < p1 ? p0 / (p0 - p1) : 0.5;
-    for (int i = 0; i < 4; ++i) {
-      const double y = (*this)(x);
-      if (y > 0) {
-        hi = x;
-      } else {
-        lo = x;
-      }
-      const double d = slope(x);
-      const double next = d > 0 ? x - y / d : 0.5 * (lo + hi);
-      x = next > lo && next < hi ? next : 0.5 * (lo + hi);
-    }
-    return x;
+    return monotone_root(0.0, 1.0, p0 < p1 ? p0 / (p0 - p1) : 0.5, 4);
   }
 
   /// Interior critical points in (0, 1), ascending; unused entries are NaN.
@@ -90,7 +77,7 @@ class HermiteCubic {
     for (int k = 0; k <= 2; ++k) {
       const double b = k < 2 && !std::isnan(cp[static_cast<std::size_t>(k)]) ? cp[static_cast<std::size_t>(k)] : 1.0;
       if (b <= a) continue;
-      if ((*this)(a) <= 0 && (*this)(b) > 0) return monotone_root(a, b);
+      if ((*this)(a) <= 0 && (*this)(b) > 0) return monotone_root(a, b, 0.5 * (a + b), 100);
       a = b;
       if (b == 1.0) break;
     }
@@ -98,10 +85,10 @@ class HermiteCubic {
   }
 
  private:
-  /// Root of p on [a, b] where p(a) ≤ 0 < p(b) and p is monotone: Newton inside a bisection bracket.
-  [[nodiscard]] double monotone_root(double a, double b) const {
-    double x = 0.5 * (a + b);
-    for (int i = 0; i < 100 && b - a > 1e-16; ++i) {
+  /// Root of p on [a, b] where p(a) ≤ 0 < p(b) and p is monotone: Newton from x inside a
+  /// bisection bracket, at most `iterations` steps.
+  [[nodiscard]] double monotone_root(double a, double b, double x, int iterations) const {
+    for (int i = 0; i < iterations && b - a > 1e-16; ++i) {
       const double y = (*this)(x);
       if (y > 0) {
         b = x;
