@@ -15,8 +15,9 @@
 /// Continuation follows a branch of orbits through a parameter p — the forcing frequency ratio
 /// ω̄/ω₁ or any model parameter — by pseudo-arclength (Keller 1977): predictor along the
 /// branch's tangent, Newton corrector on F(x, p) = P^k(x; p) − x = 0 with the arclength
-/// constraint, so that folds are passed. ∂F/∂p is a forward difference of the map (one extra run);
-/// ∂F/∂x is exact. Along a branch the multipliers mark folds (+1), period doublings (−1: the
+/// constraint, so that folds are passed. ∂F/∂x is exact; so is ∂F/∂p in the forcing frequency
+/// (the state's sensitivity to ω̄ carried through the run beside the monodromy), while in a model
+/// parameter it is a forward difference of the map (one extra run per step, a chord). Along a branch the multipliers mark folds (+1), period doublings (−1: the
 /// period-2k branch is followed from there), Neimark–Sacker points (a complex pair leaves the unit
 /// circle) and grazing (the orbit's events change: an element starts or stops touching, where
 /// the map is not smooth; the branch is restarted across it).
