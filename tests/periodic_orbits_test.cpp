@@ -134,6 +134,47 @@ TEST(StroboscopicMap, TheMonodromyOfImpactsAndContactsIsTheMapsDerivative) {
   for (const int count : kinds) EXPECT_GT(count, 0);
 }
 
+TEST(StroboscopicMap, SensitivitiesStartedMidRunFollowTheSegmentUnderWay) {
+  // Two oscillators in free vibration with impacts; J started at t₁ inside a segment (not at an
+  // event or a restart) is ∂x(t₂)/∂x(t₁): against central differences of runs started at x(t₁)
+  // (autonomous, so their clock does not matter). Before the stepper handed its segment to a
+  // tangent flow started mid-run, J stayed I until the first event.
+  const Model model = testing::two_oscillators(1, 25, 1, 1, 400, 4, GapProperties{.gap = 0.02, .restitution = 0.5});
+  TimeHistoryOptions options = exact_options();
+  options.dt = 0.01;
+  InitialConditions ic;
+  ic.velocity = {{0.4}, {0.0}};
+  Simulator run(model, NoExcitation{}, options, ic);
+  const double t1 = 0.0537, t2 = 1.3;
+  run.advance_to(t1);
+  const Eigen::Index n = 2;
+  Eigen::VectorXd x1(2 * n);
+  x1 << run.state().u, run.state().v;
+  run.track_sensitivity();
+  const long events_before = run.statistics().events;
+  run.advance_to(t2);
+  ASSERT_GE(run.statistics().events, events_before + 2);
+  const Eigen::MatrixXd j = run.sensitivity();
+  Eigen::MatrixXd differences(2 * n, 2 * n);
+  for (Eigen::Index c = 0; c < 2 * n; ++c) {
+    const double h = 1e-7;
+    Eigen::VectorXd plus = x1, minus = x1;
+    plus(c) += h;
+    minus(c) -= h;
+    Eigen::VectorXd images[2];
+    for (int side = 0; side < 2; ++side) {
+      const Eigen::VectorXd& start = side == 0 ? plus : minus;
+      Simulator from(model, NoExcitation{}, options);
+      from.reset_state(start.head(n), start.tail(n));
+      from.advance_to(t2 - t1);
+      images[side].resize(2 * n);
+      images[side] << from.state().u, from.state().v;
+    }
+    differences.col(c) = (images[0] - images[1]) / (2 * h);
+  }
+  EXPECT_LT(relative_difference(j, differences), 1e-5) << "J\n" << j << "\ndifferences\n" << differences;
+}
+
 TEST(StroboscopicMap, ItsFrequencyDerivativeIsTheMapsDerivativeInTheFrequency) {
   // ∂P/∂ω̄ carried through the run (the sensitivity to ω̄ within each phase, the events'
   // saltation, the period's shortening) against central differences of the map in ω̄ at the same

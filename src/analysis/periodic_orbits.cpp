@@ -695,6 +695,8 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
     int restarts = 0;
     Eigen::VectorXd first(m + 1);
     first << w, p;
+    const Eigen::VectorXd first_tangent = tangent;
+    const double contraction = family.frequency_rate() ? 0.5 : 1.0;
     double farthest = 0;
     // Across a point the corrector cannot pass (a grazing, a lock): the branch goes on beyond it.
     const auto restarted = [&] {
@@ -757,7 +759,9 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
         // corrector that does not halve the residual after its first correction is cycling or
         // diverging (the map is not smooth between predictor and branch: a grazing, a lock), and
         // its remaining iterations were half of all the runs (Fig. 3a): halve the step instead.
-        if (iterations >= 2 && residual > 0.5 * last_residual) break;
+        // A model parameter's F_p is a chord and Newton only linear: there, only a residual that
+        // grows stops it.
+        if (iterations >= 2 && residual > contraction * last_residual) break;
         last_residual = residual;
         Eigen::MatrixXd a(m + 1, m + 1);
         a.topLeftCorner(m, m) = fw;
@@ -829,17 +833,19 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
       }
       branch.points.push_back(orbit);
       // An isola: the branch comes back to its first point (having gone further from it than a
-      // few steps) and would go round again. Measured to the chord of the last step, not to its
-      // end: the steps grow as Newton converges fast, and a step that passes the first point
-      // (round a fold, say) need not land within a step of it.
+      // few steps), going the way it started, and would go round again. Measured to the chord of
+      // the last step, not to its end: the steps grow as Newton converges fast, and a step that
+      // passes the first point need not land within a step of it. A branch that folds back and
+      // passes its first point the other way is not closing.
       Eigen::VectorXd last(m + 1);
       last << w, p;
       const Eigen::VectorXd chord = trial - last;
-      const double along = chord.squaredNorm() > 0 ? std::clamp((first - last).dot(chord) / chord.squaredNorm(), 0.0, 1.0) : 0.0;
-      const double from_start = (trial - first).norm(), this_step = (trial.head(m) - w).norm() + std::abs(trial(m) - p);
+      const double this_step = chord.norm();
+      const double along = this_step > 0 ? std::clamp((first - last).dot(chord) / chord.squaredNorm(), 0.0, 1.0) : 0.0;
+      const double from_start = (trial - first).norm();
       const double chord_from_start = (last + along * chord - first).norm();
       farthest = std::max(farthest, from_start);
-      if (farthest > 4 * this_step && chord_from_start <= this_step) {
+      if (farthest > 4 * this_step && chord_from_start <= this_step && next_tangent.dot(first_tangent) > 0) {
         branch.ended = "closed on itself (an isola or a loop)";
         break;
       }

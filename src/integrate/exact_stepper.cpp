@@ -149,6 +149,14 @@ void ExactStepper::start_segment(Loop& loop) {
   segment_valid_ = true;
 }
 
+void ExactStepper::tangent_restarted(Loop& loop) {
+  // The flow from here is the segment's propagator from the current time: Φ depends on the time
+  // elapsed alone, and the harmonic part on the absolute time (tangent_flow.hpp).
+  if (TangentFlow* tangent = loop.tangent(); tangent != nullptr && segment_valid_) {
+    tangent->start_segment(loop.phase(), trajectory_, loop.state().t);
+  }
+}
+
 void ExactStepper::state_at(const Loop& loop, double s, KinematicState& out) {
   trajectory_.evaluate(s, x_work_, x_rate_work_);
   const Eigen::Index n = trajectory_.phase().groups();

@@ -249,6 +249,7 @@ void Simulator::track_sensitivity(bool track) {
   if (!tangent_) tangent_ = std::make_unique<detail::TangentFlow>(system_.layout().size());
   tracking_ = true;
   tangent_->reset(state_.t);
+  stepper_->tangent_restarted(*this);
 }
 
 Eigen::Ref<const Eigen::MatrixXd> Simulator::sensitivity() {
@@ -267,6 +268,7 @@ void Simulator::track_frequency_sensitivity(bool track) {
   if (tangent_ && tangent_->tracks_frequency() != track) {
     tangent_->track_frequency(track);
     tangent_->reset(state_.t);
+    if (tracking_) stepper_->tangent_restarted(*this);
   }
 }
 

@@ -30,6 +30,9 @@ class Stepper {
   virtual void phase_changed() {}
   /// The simulator dropped its phases (a new step, or a full cache): forget what refers to them.
   virtual void phases_cleared() {}
+  /// The loop's tangent flow was (re)started at its current state: a segment under way carries it
+  /// from here, the state's bits untouched.
+  virtual void tangent_restarted(Loop& /*loop*/) {}
 };
 
 /// Newmark's average acceleration: a trial step to t_end; when a guard fired (or grazes inside
@@ -58,6 +61,7 @@ class ExactStepper final : public Stepper {
   ExactStepper(int dofs, int tracked_links);
   void integrate_to(Loop& loop, double t_end, bool nominal) override;
   void phase_changed() override { segment_valid_ = false; }
+  void tangent_restarted(Loop& loop) override;
   void phases_cleared() override {
     phases_.clear();
     segment_powers_ = nullptr;

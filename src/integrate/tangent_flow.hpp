@@ -21,12 +21,14 @@
 //
 // Under a harmonic forcing A sin ω̄t it can also carry y = ∂x(t)/∂ω̄ at fixed t and start (the
 // continuation's ∂P/∂ω̄ without a second run: periodic_orbits.cpp). Within a phase the state is
-// x = x_p + e^{As}(…) with the harmonic particular solution x_p(t) = Im(H e^{iω̄t}), H = A h,
-// (iω̄I − A) h = e, so y − ∂x_p/∂ω̄ follows the homogeneous flow:
+// x = x_p + e^{As}(…) with the harmonic particular solution x_p(t) = Im(H e^{iω̄t}), H = a h (a
+// the forcing amplitude), (iω̄I − A) h = e, so y − ∂x_p/∂ω̄ follows the homogeneous flow:
 //
 //     y(t) = z(t) + Φ(t − t_s)(y(t_s) − z(t_s)),   z(t) = ∂x_p/∂ω̄ = Im((H' + i t H) e^{iω̄t}),
 //
-// H' = A dh/dω̄ (ExactPhase::harmonic_response_rate). The guards and the event maps do not depend
+// H' = a dh/dω̄ (ExactPhase::harmonic_response_rate). Each term of y grows like t|H|, and
+// ∂P/∂ω̄ = y(kT) − ẋ(kT)·kT/ω̄ subtracts two such terms: about log₁₀(2πk) digits are lost, a
+// few for the periods a continuation follows. The guards and the event maps do not depend
 // on ω̄, so at an event y takes the same saltation matrix as the columns of J: it is kept as J's
 // last column.
 
