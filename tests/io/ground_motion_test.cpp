@@ -73,7 +73,11 @@ RecordOptions in_g() {
 
 class MalformedRecords : public ::testing::Test {
  protected:
-  static fs::path dir() { return fs::temp_directory_path() / "poundsim_records"; }
+  // A folder per test: ctest runs the tests of this suite in parallel processes.
+  static fs::path dir() {
+    return fs::temp_directory_path() /
+           ("poundsim_records_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+  }
   fs::path write(const std::string& name, const std::string& text) {
     fs::create_directories(dir());
     std::ofstream(dir() / name, std::ios::binary) << text;
@@ -337,6 +341,7 @@ TEST_F(MalformedRecords, ValuesOutOfRangeAndEmptyFilesNameTheFileAndLine) {
 }
 
 TEST_F(MalformedRecords, OnlyRegularFilesOfBoundedSize) {
+  fs::create_directories(dir());
   EXPECT_TRUE(Contains(error_of(dir()), dir().string() + ": a directory, not a record file"));
   EXPECT_TRUE(Contains(error_of("/dev/zero", in_g()), "/dev/zero: larger than 64 MiB: not a ground-motion record"));
 }
