@@ -73,6 +73,15 @@ void GuardExpansion::build(const ExactTrajectory& trajectory, const GuardRows& g
   harmonic_size_ = harmonic_.cwiseAbs();
   if (phase.modal()) {
     modal_ = guard_rows.modal * trajectory.modal_coefficients().asDiagonal();
+    const std::vector<Eigen::Index>& kept = phase.kept_modes();
+    // Sized as γ (the kept count varies between phases of one size: a phase with real modes
+    // keeps more), so that a new segment of a known size allocates nothing; the first columns used.
+    kept_modal_.resize(g, modal_.cols());
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+      const auto column = static_cast<Eigen::Index>(i);
+      kept_modal_.col(column) = modal_.col(kept[i]);
+      if (phase.paired(i)) kept_modal_.col(column) += modal_.col(kept[i] + 1).conjugate();
+    }
     growth_a_ = growth_b_ = std::numeric_limits<double>::quiet_NaN();
     growth_.resize(phase.eigenvalues().size());
     // |γ_jk| = |R V|_jk |c_k|: the phase's sizes times the segment's, one hypot per mode.
@@ -139,9 +148,11 @@ std::pair<double, double> GuardExpansion::compute(int j, double s) const {
   if (tr.phase().modal()) {
     const Eigen::VectorXcd& lambda = tr.phase().eigenvalues();
     const Eigen::VectorXcd& exponentials = tr.exponentials(s);
+    const std::vector<Eigen::Index>& kept = tr.phase().kept_modes();
     Complex sum = 0.0, sum_rate = 0.0;
-    for (Eigen::Index k = 0; k < lambda.size(); ++k) {
-      const Complex term = modal_(j, k) * exponentials(k);
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+      const Eigen::Index k = kept[i];
+      const Complex term = kept_modal_(j, static_cast<Eigen::Index>(i)) * exponentials(k);
       sum += term;
       sum_rate += lambda(k) * term;
     }

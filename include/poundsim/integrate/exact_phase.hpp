@@ -110,6 +110,14 @@ class ExactPhase {
   /// conjugates when r is real: one of each pair is kept, doubled — half the work of forming
   /// Φ(s) (a complex product of three n × n matrices) and then Φ(s) r. Equal to propagator(s) r to
   /// round-off (exact_phase_test).
+  /// One mode of each conjugate pair (the first) and every real mode, ascending; `paired(i)`: the
+  /// i-th kept mode's conjugate is the next mode. Real sums over all modes of terms that are
+  /// conjugate for a pair take the kept ones alone (guard_expansion.cpp, project_modes).
+  [[nodiscard]] const std::vector<Eigen::Index>& kept_modes() const {
+    keep_modes();
+    return kept_modes_;
+  }
+  [[nodiscard]] bool paired(std::size_t i) const { return kept_weight_(static_cast<Eigen::Index>(i)) == 2.0; }
   struct Projection {
     Eigen::MatrixXd real, imag;  ///< V⁻¹ r of the kept modes, in parts (r is real: two real products)
   };

@@ -69,6 +69,10 @@ class GuardExpansion {
   Eigen::VectorXd quadratic_, cubic_;
   Eigen::VectorXcd harmonic_;
   Eigen::MatrixXcd modal_;            // γ (modal path)
+  // γ_k + conj(γ_{k+1}) for a pair (k, k+1), γ_k for a real mode, over the phase's kept modes:
+  // Re(γ_k e^{λs}) + Re(γ_{k+1} e^{λ̄s}) = Re((γ_k + γ̄_{k+1}) e^{λs}) exactly, half the terms
+  // (columns beyond the kept count unused).
+  Eigen::MatrixXcd kept_modal_;
   // |γ_jk|, |λ_k|, |H_j| of the segment: the derivative bounds ask for them at every interval.
   Eigen::MatrixXd modal_size_;
   Eigen::VectorXd harmonic_size_;
