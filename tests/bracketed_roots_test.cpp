@@ -16,6 +16,15 @@ namespace {
 
 constexpr double eps = std::numeric_limits<double>::epsilon();
 
+/// A guard like an approach during contact: g = δ sin(ωs) e^{−ζωs} − δ/2 rising through zero.
+struct ImpactPhaseGuard {
+  double w = 8.9, zeta = 0.05, delta = 0.01;
+  std::pair<double, double> operator()(double s) const {
+    const double e = std::exp(-zeta * w * s);
+    return {delta * std::sin(w * s) * e - 0.5 * delta, delta * w * e * (std::cos(w * s) - zeta * std::sin(w * s))};
+  }
+};
+
 TEST(NewtonBracket, ConvexGuardConvergesFromOneSideInAFewSteps) {
   // g = s² − 2 on [1, 2]: Newton from s = 2 approaches √2 from above only, so the lower end of
   // the bracket stays at 1 until the last step — judged by the bracket's width (the search before
@@ -31,17 +40,12 @@ TEST(NewtonBracket, ConvexGuardConvergesFromOneSideInAFewSteps) {
 }
 
 TEST(NewtonBracket, AGuardOfAnImpactPhaseToSixteenUlps) {
-  // A guard like an approach during contact: g = δ sin(ωs) e^{−ζωs} − δ/2 rising through zero,
-  // bracketed over a sampling step of a 16-per-period run at t ≈ 37 s (the resolution is 16 ulps
-  // of the time, as the exact integrator asks).
-  const double w = 8.9, zeta = 0.05, delta = 0.01, t0 = 37.0;
-  const auto g = [&](double s) {
-    const double e = std::exp(-zeta * w * s);
-    return std::pair{delta * std::sin(w * s) * e - 0.5 * delta,
-                     delta * w * e * (std::cos(w * s) - zeta * std::sin(w * s))};
-  };
+  // The impact-phase guard bracketed over a sampling step of a 16-per-period run at t ≈ 37 s
+  // (the resolution is 16 ulps of the time, as the exact integrator asks).
+  const ImpactPhaseGuard g;
+  const double t0 = 37.0;
   const double resolution = 16 * eps * t0;
-  const RootBracket b = newton_bracket(g, 0.0, 2 * std::numbers::pi / w / 16 * 2, resolution);
+  const RootBracket b = newton_bracket(g, 0.0, 2 * std::numbers::pi / g.w / 16 * 2, resolution);
   EXPECT_LE(b.hi - b.lo, resolution);
   EXPECT_LE(g(b.lo).first, 0.0);
   EXPECT_GT(g(b.hi).first, 0.0);
@@ -49,16 +53,12 @@ TEST(NewtonBracket, AGuardOfAnImpactPhaseToSixteenUlps) {
 }
 
 TEST(NewtonBracket, AStartNearTheRootSavesTheStepsFromTheEnd) {
-  // The impact-phase guard above, Newton started where the guard search's Hermite cubic puts the
+  // The impact-phase guard, Newton started where the guard search's Hermite cubic puts the
   // root (within its error, here 1e-7 of the step) instead of at the upper end: the bracket
   // closes in three evaluations (two Newton steps and the probe past the converged point).
-  const double w = 8.9, zeta = 0.05, delta = 0.01, t0 = 37.0;
-  const auto g = [&](double s) {
-    const double e = std::exp(-zeta * w * s);
-    return std::pair{delta * std::sin(w * s) * e - 0.5 * delta,
-                     delta * w * e * (std::cos(w * s) - zeta * std::sin(w * s))};
-  };
-  const double resolution = 16 * eps * t0, hi = 2 * std::numbers::pi / w / 16 * 2;
+  const ImpactPhaseGuard g;
+  const double t0 = 37.0;
+  const double resolution = 16 * eps * t0, hi = 2 * std::numbers::pi / g.w / 16 * 2;
   const RootBracket from_end = newton_bracket(g, 0.0, hi, resolution);
   const double root = 0.5 * (from_end.lo + from_end.hi);
   const RootBracket b = newton_bracket(g, 0.0, hi, resolution, root + 1e-7 * hi);

@@ -219,20 +219,22 @@ const Eigen::VectorXcd& ExactTrajectory::exponentials(double s) const {
 
 Eigen::MatrixXd ExactPhase::propagator(double s) const {
   if (!modal_) return (a_ * s).exp();
-  // V = D V̂ with V̂ factorised: e^{As} = V e^{Λs} V̂⁻¹ D⁻¹.
+  Eigen::VectorXcd e;
+  exponentials(s, e);
+  return (v_ * e.asDiagonal() * inverse_modes()).real();
+}
+
+const Eigen::MatrixXcd& ExactPhase::inverse_modes() const {
+  // V = D V̂ with V̂ factorised: V⁻¹ = V̂⁻¹ D⁻¹.
   if (inverse_modes_.size() == 0) {
     inverse_modes_ = v_lu_.solve(scale_.cwiseInverse().cast<std::complex<double>>().asDiagonal().toDenseMatrix());
   }
-  Eigen::VectorXcd e;
-  exponentials(s, e);
-  return (v_ * e.asDiagonal() * inverse_modes_).real();
+  return inverse_modes_;
 }
 
 void ExactPhase::keep_modes() const {
   if (!kept_modes_.empty()) return;
-  if (inverse_modes_.size() == 0) {
-    inverse_modes_ = v_lu_.solve(scale_.cwiseInverse().cast<std::complex<double>>().asDiagonal().toDenseMatrix());
-  }
+  const Eigen::MatrixXcd& inverse = inverse_modes();
   const Eigen::Index size = lambda_.size();
   std::vector<double> weight;
   for (Eigen::Index k = 0; k < size; ++k) {
@@ -249,8 +251,8 @@ void ExactPhase::keep_modes() const {
   kept_imag_.resize(size, kept);
   for (Eigen::Index i = 0; i < kept; ++i) {
     const Eigen::Index k = kept_modes_[static_cast<std::size_t>(i)];
-    kept_inverse_real_.row(i) = inverse_modes_.row(k).real();
-    kept_inverse_imag_.row(i) = inverse_modes_.row(k).imag();
+    kept_inverse_real_.row(i) = inverse.row(k).real();
+    kept_inverse_imag_.row(i) = inverse.row(k).imag();
     kept_real_.col(i) = v_.col(k).real();
     kept_imag_.col(i) = v_.col(k).imag();
   }

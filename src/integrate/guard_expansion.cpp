@@ -72,15 +72,17 @@ void GuardExpansion::build(const ExactTrajectory& trajectory, const GuardRows& g
   harmonic_.noalias() = guard_rows.complex * trajectory.harmonic_part();
   harmonic_size_ = harmonic_.cwiseAbs();
   if (phase.modal()) {
-    modal_ = guard_rows.modal * trajectory.modal_coefficients().asDiagonal();
+    // γ = R V diag(c), taken for the kept modes alone.
+    const Eigen::VectorXcd& c = trajectory.modal_coefficients();
     const std::vector<Eigen::Index>& kept = phase.kept_modes();
     // Sized as γ (the kept count varies between phases of one size: a phase with real modes
     // keeps more), so that a new segment of a known size allocates nothing; the first columns used.
-    kept_modal_.resize(g, modal_.cols());
+    kept_modal_.resize(g, c.size());
     for (std::size_t i = 0; i < kept.size(); ++i) {
       const auto column = static_cast<Eigen::Index>(i);
-      kept_modal_.col(column) = modal_.col(kept[i]);
-      if (phase.paired(i)) kept_modal_.col(column) += modal_.col(kept[i] + 1).conjugate();
+      const Eigen::Index k = kept[i];
+      kept_modal_.col(column) = guard_rows.modal.col(k) * c(k);
+      if (phase.paired(i)) kept_modal_.col(column) += (guard_rows.modal.col(k + 1) * c(k + 1)).conjugate();
     }
     growth_a_ = growth_b_ = std::numeric_limits<double>::quiet_NaN();
     growth_.resize(phase.eigenvalues().size());

@@ -105,11 +105,6 @@ class ExactPhase {
   /// monodromy matrix of periodic orbits (issue 12: phase propagators composed with the events'
   /// saltation matrices).
   [[nodiscard]] Eigen::MatrixXd propagator(double s) const;
-  /// Φ(s) r for many s and one real r (the tangent flow's columns), modal path: `projected` =
-  /// V⁻¹ r once, then each Φ(s) r = Re(V e^{Λs} V⁻¹ r) from it. A conjugate pair's two terms are
-  /// conjugates when r is real: one of each pair is kept, doubled — half the work of forming
-  /// Φ(s) (a complex product of three n × n matrices) and then Φ(s) r. Equal to propagator(s) r to
-  /// round-off (exact_phase_test).
   /// One mode of each conjugate pair (the first) and every real mode, ascending; `paired(i)`: the
   /// i-th kept mode's conjugate is the next mode. Real sums over all modes of terms that are
   /// conjugate for a pair take the kept ones alone (guard_expansion.cpp, project_modes).
@@ -118,6 +113,11 @@ class ExactPhase {
     return kept_modes_;
   }
   [[nodiscard]] bool paired(std::size_t i) const { return kept_weight_(static_cast<Eigen::Index>(i)) == 2.0; }
+  /// Φ(s) r for many s and one real r (the tangent flow's columns), modal path: `projected` =
+  /// V⁻¹ r once, then each Φ(s) r = Re(V e^{Λs} V⁻¹ r) from it. A conjugate pair's two terms are
+  /// conjugates when r is real: one of each pair is kept, doubled — half the work of forming
+  /// Φ(s) (a complex product of three n × n matrices) and then Φ(s) r. Equal to propagator(s) r to
+  /// round-off (exact_phase_test).
   struct Projection {
     Eigen::MatrixXd real, imag;  ///< V⁻¹ r of the kept modes, in parts (r is real: two real products)
   };
@@ -164,7 +164,8 @@ class ExactPhase {
   mutable Eigen::PartialPivLU<Eigen::MatrixXcd> harmonic_lu_;  ///< of D⁻¹(iωI − A)D at harmonic_omega_
   mutable double harmonic_rate_omega_ = std::numeric_limits<double>::quiet_NaN();
   mutable Eigen::VectorXcd harmonic_response_rate_;
-  mutable Eigen::MatrixXcd inverse_modes_;  ///< V⁻¹, made by the first propagator()
+  mutable Eigen::MatrixXcd inverse_modes_;  ///< V⁻¹, made on first use (inverse_modes())
+  [[nodiscard]] const Eigen::MatrixXcd& inverse_modes() const;
   // project_modes' kept modes (one of each conjugate pair, weight 2; real modes, weight 1), their
   // rows of V⁻¹ and their columns of V in real and imaginary parts; made on first use.
   mutable std::vector<Eigen::Index> kept_modes_;

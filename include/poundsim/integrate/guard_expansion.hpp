@@ -68,8 +68,7 @@ class GuardExpansion {
   /// R p₂ and R p₃ of a singular phase's polynomial (empty otherwise).
   Eigen::VectorXd quadratic_, cubic_;
   Eigen::VectorXcd harmonic_;
-  Eigen::MatrixXcd modal_;            // γ (modal path)
-  // γ_k + conj(γ_{k+1}) for a pair (k, k+1), γ_k for a real mode, over the phase's kept modes:
+  // γ = R V diag(c) (modal path) summed by pairs: γ_k + conj(γ_{k+1}) for a pair (k, k+1), γ_k for a real mode, over the phase's kept modes:
   // Re(γ_k e^{λs}) + Re(γ_{k+1} e^{λ̄s}) = Re((γ_k + γ̄_{k+1}) e^{λs}) exactly, half the terms
   // (columns beyond the kept count unused).
   Eigen::MatrixXcd kept_modal_;
