@@ -111,25 +111,11 @@ TEST(NewmarkConvergence, LinearResponseIsSecondOrderInTheStep) {
   EXPECT_NEAR(std::log2(e1 / e2), 2.0, 0.1);
 }
 
-TEST(NewmarkLeanStep, IsEigensExpressionsAndSolveBitForBit) {
-  // The step of a phase without locked links runs in plain loops over the sparse arrays
-  // (NewmarkIntegrator::step_unreduced); it must perform Eigen's operations in Eigen's order.
-  // The reference here is the general step's expressions, written with Eigen: two 5-storey frames
-  // with every gap element in contact, so K and C couple the frames and L has entries below its
-  // diagonal; damped, loaded by the ground, from a state with nonzero u, u̇ and ü everywhere.
-  const Model model = make_model({make_uniform_frame(5, 2e5, 3e8, 4e5, "a"), make_uniform_frame(5, 1.5e5, 1.2e8, 1e5, "b")},
-                                 GapProperties{.stiffness = 7e7, .damping = 3e5, .gap = 0.0, .shortening = 0.05,
-                                               .restitution = 0.75});
-  const DofLayout layout(model);
-  const ContactConfiguration contact(static_cast<std::size_t>(model.gap_count()),
-                                     static_cast<LinkMode>(GapMode::contact));
-  const double dt = 2e-3, ground = -1.7;
-  const LinearPhase phase(model, layout, contact, dt);
-  ASSERT_TRUE(phase.is_unreduced());
-  ASSERT_GT(phase.step_solver().unit_lower_factor().nonZeros(), 0);
-  // The conditions of the lean path (else the general one would be compared with itself).
-  ASSERT_EQ(phase.step_solver().info(), Eigen::Success);
-  ASSERT_EQ(phase.step_solver().permutationP().size(), 0);
+/// Checks NewmarkIntegrator::step on `phase` against the general step's expressions written with
+/// Eigen (sparse products, SimplicialLDLT's solve), DOF by DOF with ==, at the phase's step (the
+/// banded path when the phase has bands) and at a sub-step (the sparse loops), from a state with
+/// nonzero u, u̇ and ü everywhere.
+void expect_step_is_eigens(const LinearPhase& phase, double dt, double ground) {
   const Eigen::Index n = phase.reduced_size();
   KinematicState from;
   from.resize(static_cast<int>(n));
@@ -167,6 +153,51 @@ TEST(NewmarkLeanStep, IsEigensExpressionsAndSolveBitForBit) {
     residual.noalias() -= phase.damping() * to.v;
     residual.noalias() -= phase.stiffness() * to.u;
     EXPECT_LT(residual.cwiseQuotient(phase.mass()).cwiseAbs().maxCoeff(), 1e-12 * from.a.cwiseAbs().maxCoeff() + 1e-9);
+  }
+}
+
+/// F 5-storey frames, every gap element in `mode`.
+struct LeanStepCase {
+  std::vector<Frame> frames;
+  GapMode mode;
+  int width;  ///< the phase's band half-width, −1 for none (the sparse loops)
+};
+
+TEST(NewmarkLeanStep, IsEigensExpressionsAndSolveBitForBit) {
+  // The step of a phase without locked links runs in plain loops (NewmarkIntegrator::step_unreduced
+  // over the sparse arrays; step_banded row by row over dense bands at the phase's own step): it
+  // must perform Eigen's operations in Eigen's order. The DOFs interleave floor by floor, so F
+  // frames have a half-bandwidth F (a storey joins DOFs F apart). Frames in contact couple K and C
+  // across frames and give L entries below its diagonal; frames apart leave stored zeros inside
+  // the band (two one-storey frames apart: width 0, the diagonal alone); five frames interleave
+  // wider than the bands go.
+  const Frame a = make_uniform_frame(5, 2e5, 3e8, 4e5, "a"), b = make_uniform_frame(5, 1.5e5, 1.2e8, 1e5, "b"),
+              c = make_uniform_frame(5, 1.8e5, 2e8, 2e5, "c"), a1 = make_uniform_frame(1, 2e5, 3e8, 4e5, "a1"),
+              b1 = make_uniform_frame(1, 1.5e5, 1.2e8, 1e5, "b1");
+  const GapProperties gap{.stiffness = 7e7, .damping = 3e5, .gap = 0.0, .shortening = 0.05, .restitution = 0.75};
+  const std::vector<LeanStepCase> cases{
+      {{a1, b1}, GapMode::open, 0},     {{a1, b1}, GapMode::contact, 1},     {{a}, GapMode::open, 1},
+      {{a, b}, GapMode::contact, 2},    {{a, b}, GapMode::open, 2},          {{a, b, c}, GapMode::contact, 3},
+      {{a, b, c, a}, GapMode::contact, 4}, {{a, b, c, a, b}, GapMode::contact, -1},
+  };
+  const double dt = 2e-3, ground = -1.7;
+  for (const LeanStepCase& test : cases) {
+    SCOPED_TRACE(::testing::Message() << test.frames.size() << " frames, width " << test.width);
+    const Model model = make_model(test.frames, gap);
+    const DofLayout layout(model);
+    const ContactConfiguration contact(static_cast<std::size_t>(model.gap_count()), static_cast<LinkMode>(test.mode));
+    const LinearPhase phase(model, layout, contact, dt);
+    ASSERT_TRUE(phase.is_unreduced());
+    const LinearPhase::Bands* bands = phase.bands_for(phase.step_solver());
+    ASSERT_EQ(bands == nullptr ? -1 : bands->width, test.width);
+    if (test.mode == GapMode::contact) {
+      ASSERT_GT(phase.step_solver().unit_lower_factor().nonZeros(), 0);
+    }
+    // The conditions of the sparse loops (else the general step would be compared with itself).
+    ASSERT_EQ(phase.step_solver().info(), Eigen::Success);
+    ASSERT_EQ(phase.step_solver().permutationP().size(), 0);
+    EXPECT_EQ(phase.bands_for(phase.substep_solver(0.5 * dt)), nullptr);
+    expect_step_is_eigens(phase, dt, ground);
   }
 }
 

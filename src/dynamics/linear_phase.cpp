@@ -208,6 +208,32 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
   q_work_.resize(nr);
   qd_work_.resize(nr);
   rhs_work_.resize(nr);
+  if (unreduced_ && smooth_links_.empty()) make_bands();
+}
+
+void LinearPhase::make_bands() {
+  const auto n = static_cast<int>(effective_.outerSize());
+  int width = 0;
+  for (int j = 0; j < n; ++j) {
+    for (SparseMatrix::InnerIterator it(effective_, j); it; ++it) width = std::max(width, j - static_cast<int>(it.row()));
+  }
+  if (width > Bands::kMaxWidth) return;
+  const auto row_entries = static_cast<std::size_t>(2 * width + 1);
+  bands_.width = width;
+  bands_.damping.assign(row_entries * static_cast<std::size_t>(n), 0.0);
+  bands_.stiffness.assign(row_entries * static_cast<std::size_t>(n), 0.0);
+  bands_.lower.assign(static_cast<std::size_t>((n + width) * width), 0.0);
+  bands_.inverse_diagonal.assign(static_cast<std::size_t>(n), 0.0);
+  // Every stored entry, as the sparse products use it: (row, column) of the column-major matrix
+  // (C and K are symmetric in exact arithmetic, but frame damping need not be to the last bit).
+  for (const auto& [matrix, band] : {std::pair{&damping_, &bands_.damping}, std::pair{&stiffness_, &bands_.stiffness}}) {
+    for (int j = 0; j < n; ++j) {
+      for (SparseMatrix::InnerIterator it(*matrix, j); it; ++it) {
+        const auto r = static_cast<std::size_t>(it.row());
+        (*band)[r * row_entries + static_cast<std::size_t>(j - static_cast<int>(it.row()) + width)] = it.value();
+      }
+    }
+  }
 }
 
 void LinearPhase::equilibrate(double ground, KinematicState& state, std::span<const ForceTangent> smooth) const {
@@ -228,12 +254,23 @@ void LinearPhase::equilibrate(double ground, KinematicState& state, std::span<co
   }
 }
 
-const LinearPhase::Solver& LinearPhase::step_solver() const {
-  if (!step_factorised_) {
-    factorize(step_solver_, step_);
-    step_factorised_ = true;
+void LinearPhase::factorize_step() const {
+  factorize(step_solver_, step_);
+  step_factorised_ = true;
+  if (bands_.width < 0) return;
+  // The natural order keeps L's fill inside the effective matrix's band.
+  const int b = bands_.width;
+  const SparseMatrix& l = step_solver_.unit_lower_factor();
+  for (int i = 0; i < static_cast<int>(l.outerSize()); ++i) {
+    for (SparseMatrix::InnerIterator it(l, i); it; ++it) {
+      const int r = static_cast<int>(it.row());
+      if (r <= i) continue;  // the solve reads the strictly lower entries only
+      if (r - i > b) throw std::logic_error("the Newmark factor's fill left the band");
+      bands_.lower[static_cast<std::size_t>((i + b) * b + (r - i - 1))] = it.value();
+    }
   }
-  return step_solver_;
+  const Eigen::VectorXd& d = step_solver_.diagonal_factor();
+  for (Eigen::Index i = 0; i < d.size(); ++i) bands_.inverse_diagonal[static_cast<std::size_t>(i)] = 1.0 / d(i);
 }
 
 void LinearPhase::set_law_states(const LinkStates& states) {

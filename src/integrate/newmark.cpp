@@ -7,7 +7,11 @@ namespace poundsim {
 
 NewmarkIntegrator::NewmarkIntegrator(Eigen::Index dofs)
     : q_(dofs), qd_(dofs), qdd_(dofs), w1_(dofs), w2_(dofs), rhs_(dofs), qdd_new_(dofs), residual_(dofs),
-      correction_(dofs) {}
+      correction_(dofs),
+      band_w1_(static_cast<std::size_t>(dofs + 2 * LinearPhase::Bands::kMaxWidth), 0.0),
+      band_w2_(band_w1_.size(), 0.0),
+      band_y_(band_w1_.size(), 0.0),
+      band_x_(band_w1_.size(), 0.0) {}
 
 void NewmarkIntegrator::prepare(const LinearPhase& phase, const KinematicState& from, double tau, double ground_end) {
   const Eigen::Index nr = phase.reduced_size();
@@ -102,6 +106,17 @@ namespace {
 void NewmarkIntegrator::step(const LinearPhase& phase, const LinearPhase::Solver& solver,
                              const KinematicState& from, double tau, double ground_end,
                              KinematicState& to) {
+  // Bands exist for unreduced phases only, and for their step solver (factorised, natural order).
+  if (const LinearPhase::Bands* bands = phase.bands_for(solver)) {
+    switch (bands->width) {
+      case 0: step_banded<0>(phase, *bands, from, tau, ground_end, to); return;
+      case 1: step_banded<1>(phase, *bands, from, tau, ground_end, to); return;
+      case 2: step_banded<2>(phase, *bands, from, tau, ground_end, to); return;
+      case 3: step_banded<3>(phase, *bands, from, tau, ground_end, to); return;
+      case 4: step_banded<4>(phase, *bands, from, tau, ground_end, to); return;
+      default: break;
+    }
+  }
   if (phase.is_unreduced() && solver.info() == Eigen::Success && solver.permutationP().size() == 0) {
     step_unreduced(phase, solver, from, tau, ground_end, to);
     return;
@@ -136,6 +151,73 @@ void NewmarkIntegrator::step_unreduced(const LinearPhase& phase, const LinearPha
     u_new[i] = w2[i] + quarter_sq * x[i];
     v_new[i] = v[i] + half * (a[i] + x[i]);
     a_new[i] = x[i];
+  }
+}
+
+template <int B>
+void NewmarkIntegrator::step_banded(const LinearPhase& phase, const LinearPhase::Bands& bands,
+                                    const KinematicState& from, double tau, double ground_end, KinematicState& to) {
+  static_assert(B >= 0 && B <= LinearPhase::Bands::kMaxWidth);
+  constexpr int kRow = 2 * B + 1;
+  constexpr int kPad = LinearPhase::Bands::kMaxWidth;
+  const auto n = static_cast<int>(phase.reduced_size());
+  const double half = 0.5 * tau, quarter_sq = 0.25 * tau * tau;
+  const double* __restrict u = from.u.data();
+  const double* __restrict v = from.v.data();
+  const double* __restrict a = from.a.data();
+  const double* __restrict mass = phase.mass().data();
+  const double* __restrict load = phase.constant_load().data();
+  // −w1 and −w2 (the column loop's x_j = −1·w_j, negated once instead of at each of its uses; −(−w2)
+  // is w2 exactly), and the solve's vector before and after the diagonal, padded: indices −B …
+  // n − 1 + B, the pads zero and never written.
+  double* __restrict w1 = band_w1_.data() + kPad;
+  double* __restrict w2 = band_w2_.data() + kPad;
+  double* __restrict y = band_y_.data() + kPad;
+  double* __restrict x = band_x_.data() + kPad;
+  for (int i = 0; i < n; ++i) {
+    w1[i] = -1.0 * (v[i] + half * a[i]);
+    w2[i] = -1.0 * (u[i] + tau * v[i] + quarter_sq * a[i]);
+  }
+  // Row r: load − a_g m, then C(r, j)(−w1_j) for j = r − B … r + B, then K(r, j)(−w2_j): the terms
+  // a column loop adds to it, in its order. Then forward with the unit lower L (columns r − B …
+  // r − 1 in order) and D⁻¹, kept apart: the rows below read the value before D⁻¹.
+  const double* __restrict c = bands.damping.data();
+  const double* __restrict k = bands.stiffness.data();
+  const double* __restrict lower = bands.lower.data() + static_cast<std::ptrdiff_t>(B) * B;  // column 0
+  const double* __restrict inverse_d = bands.inverse_diagonal.data();
+  for (int r = 0; r < n; ++r) {
+    double sum = load[r] - ground_end * mass[r];
+    const double* c_row = c + static_cast<std::ptrdiff_t>(r) * kRow;
+    const double* k_row = k + static_cast<std::ptrdiff_t>(r) * kRow;
+    // Unrolled (the band is known at compile time; -O2 unrolls no loop): 3 instructions a term.
+#pragma GCC unroll 9
+    for (int e = 0; e < kRow; ++e) sum += c_row[e] * w1[r - B + e];
+#pragma GCC unroll 9
+    for (int e = 0; e < kRow; ++e) sum += k_row[e] * w2[r - B + e];
+#pragma GCC unroll 4
+    for (int e = 0; e < B; ++e) {
+      const int i = r - B + e;
+      sum -= y[i] * lower[static_cast<std::ptrdiff_t>(i) * B + (B - 1 - e)];
+    }
+    y[r] = sum;
+    x[r] = inverse_d[r] * sum;
+  }
+  // Backward with Lᵀ (column i takes rows i + 1 … i + B in order); each DOF's end state as soon
+  // as its acceleration is final.
+  to.t = from.t + tau;
+  to.ground = ground_end;
+  double* __restrict u_new = to.u.data();
+  double* __restrict v_new = to.v.data();
+  double* __restrict a_new = to.a.data();
+  for (int i = n - 1; i >= 0; --i) {
+    double sum = x[i];
+    const double* column = lower + static_cast<std::ptrdiff_t>(i) * B;
+#pragma GCC unroll 4
+    for (int e = 0; e < B; ++e) sum -= column[e] * x[i + 1 + e];
+    x[i] = sum;
+    u_new[i] = -w2[i] + quarter_sq * sum;
+    v_new[i] = v[i] + half * (a[i] + sum);
+    a_new[i] = sum;
   }
 }
 

@@ -139,7 +139,32 @@ class LinearPhase {
 
   /// Factorisation of M_r + (h/2) C_r + (h²/4) K_r for the step given at construction, made on
   /// first use.
-  [[nodiscard]] const Solver& step_solver() const;
+  [[nodiscard]] const Solver& step_solver() const {
+    if (!step_factorised_) factorize_step();
+    return step_solver_;
+  }
+
+  /// C, K and the step solver's factors as dense bands, for the Newmark step of an unreduced
+  /// phase whose effective matrix is banded: interleaved frames have a half-bandwidth of one less
+  /// than their count (two frames: 2; frames apart: 0). Read by rows with a bandwidth known at
+  /// compile time, a step needs no index arrays and no loop per column (NewmarkIntegrator).
+  /// Entries inside the band that the sparse matrices do not store are zeros.
+  struct Bands {
+    static constexpr int kMaxWidth = 4;
+    /// b, the largest |i − j| of a stored entry; −1 when the phase has no bands (locked links,
+    /// smooth links, or b > kMaxWidth: frame damping that couples distant floors, column strikes).
+    int width = -1;
+    /// Row r holds the entries (r, r − b) … (r, r + b): (2b + 1) n values each, zero outside.
+    std::vector<double> damping, stiffness;
+    /// Column i of the step solver's unit lower L holds (i + 1, i) … (i + b, i), for i = −b … n − 1
+    /// (b leading columns of zeros, zeros below row n − 1): (n + b) b values.
+    std::vector<double> lower;
+    std::vector<double> inverse_diagonal;  ///< 1/D of the step solver, n values
+  };
+  /// The bands when `solver` is this phase's step_solver() and the phase has them, else null.
+  [[nodiscard]] const Bands* bands_for(const Solver& solver) const {
+    return bands_.width >= 0 && step_factorised_ && &solver == &step_solver_ ? &bands_ : nullptr;
+  }
   /// Factorisation for a sub-step τ ≠ h (event location, last partial step). The returned solver
   /// is valid until the next call. Throws SimulationError on failure.
   const Solver& substep_solver(double tau) const;
@@ -148,6 +173,8 @@ class LinearPhase {
   /// Factorises M_r + (τ/2) C_r + (τ²/4) K_r, plus the smooth links' tangents when `smooth`
   /// (by element) is given.
   void factorize(Solver& solver, double tau, std::span<const ForceTangent> smooth = {}) const;
+  /// step_solver()'s first use: the factorisation for the step, and the bands' factors.
+  void factorize_step() const;
 
   ContactConfiguration configuration_;
   bool unreduced_ = true;
@@ -193,7 +220,11 @@ class LinearPhase {
   std::vector<TangentSlot> tangent_slots_;
   mutable Solver tangent_solver_;
 
+  /// Fills bands_ (sizes and C, K) for an unreduced phase whose bandwidth allows it.
+  void make_bands();
+
   double step_ = 0.0;
+  mutable Bands bands_;  ///< L and 1/D filled with the step solver
   mutable bool step_factorised_ = false;
   mutable Solver step_solver_;
   mutable Solver substep_solver_;

@@ -86,11 +86,21 @@ class NewmarkIntegrator {
   /// two one-storey frames took ≈ 980 instructions that way (docs/numerics.md).
   void step_unreduced(const LinearPhase& phase, const LinearPhase::Solver& solver, const KinematicState& from,
                       double tau, double ground_end, KinematicState& to);
+  /// step_unreduced() for a phase with bands of half-width B (LinearPhase::Bands), row by row:
+  /// each entry of the right-hand side and of the solve receives the same terms in the same order
+  /// as the column loops give it, plus zeros from the band's unstored entries (the same bits:
+  /// adding ±0 changes no sum, and none of these sums is −0; docs/numerics.md).
+  template <int B>
+  void step_banded(const LinearPhase& phase, const LinearPhase::Bands& bands, const KinematicState& from, double tau,
+                   double ground_end, KinematicState& to);
   /// `to` from q̈⁺ (the reduced accelerations in qdd_new_) and w1, w2.
   [[gnu::always_inline]] inline void finish(const LinearPhase& phase, const KinematicState& from, double tau,
                                             double ground_end, KinematicState& to);
 
   Eigen::VectorXd q_, qd_, qdd_, w1_, w2_, rhs_, qdd_new_, residual_, correction_;
+  /// step_banded's −w1, −w2, the solve's vector before and after D⁻¹, with Bands::kMaxWidth
+  /// zeros before and after the DOFs, so that every row reads its whole band.
+  std::vector<double> band_w1_, band_w2_, band_y_, band_x_;
   std::vector<double> previous_force_;
 };
 
