@@ -22,7 +22,7 @@ class NewmarkStepper::TrialEvaluator final : public GuardEvaluator {
     loop_.evaluate_guards(stepper_.trial_, out.value, out.rate);
     ++loop_.monitor().counts().guard_evaluations;
   }
-  void keep_trial_as_upper() override { std::swap(stepper_.trial_, stepper_.upper_); }
+  void keep_trial_as_upper() override { swap(stepper_.trial_, stepper_.upper_); }
 
  private:
   NewmarkStepper& stepper_;
@@ -122,7 +122,7 @@ bool NewmarkStepper::find_grazing(Loop& loop, double tau) {
     loop.compute_stop_reactions(upper_);  // the step is accepted at upper_, not at this trial
     return false;
   }
-  std::swap(trial_, upper_);
+  swap(trial_, upper_);
   g.hi = g.work;
   g.rate_hi = g.rate_work;
   return true;

@@ -439,7 +439,7 @@ void Loop::after_accept(KinematicState& next) {
   }
   // The laws that follow the motion (a Bouc–Wen storey's z) take the accepted state as theirs.
   if (system_.has_committing_laws()) system_.commit_states(next, contact_);
-  std::swap(state_, next);
+  swap(state_, next);
   ++monitor_.counts().substeps;
   record_statistics();
 }
@@ -465,6 +465,8 @@ void Loop::check_finite() const {
       check(monitor_.storey_shear(state_, f), " N", [f] { return fmt::format("the base shear of frame {}", f + 1); });
     }
     for_each_contact_link(system_.contact_table(), [&](const auto& link) {
+      // A link that transmits nothing in its mode (an open gap element) has no force to check.
+      if (contact_.transmits[static_cast<std::size_t>(link.element)] == 0) return;
       check(PoundingSystem::gap_force(state_, contact_, link), " N", [&] {
         return "the force of " + describe(system_.contact_links()[static_cast<std::size_t>(link.element)], layout_);
       });

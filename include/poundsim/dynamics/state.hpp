@@ -2,6 +2,8 @@
 /// @file
 /// The kinematic state of the floors that integrators advance and everything else reads.
 
+#include <utility>
+
 #include <Eigen/Core>
 
 namespace poundsim {
@@ -17,6 +19,15 @@ struct KinematicState {
     u.setZero(n);
     v.setZero(n);
     a.setZero(n);
+  }
+  /// Exchanges the buffers (std::swap would move through a temporary and free its empty vectors:
+  /// three calls to free at every accepted step).
+  friend void swap(KinematicState& x, KinematicState& y) noexcept {
+    std::swap(x.t, y.t);
+    std::swap(x.ground, y.ground);
+    x.u.swap(y.u);
+    x.v.swap(y.v);
+    x.a.swap(y.a);
   }
 };
 
