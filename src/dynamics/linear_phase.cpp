@@ -1,6 +1,7 @@
 #include "poundsim/dynamics/linear_phase.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <optional>
 #include <stdexcept>
 #include <utility>
@@ -213,9 +214,13 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
 
 void LinearPhase::make_bands() {
   const auto n = static_cast<int>(effective_.outerSize());
+  // Over both triangles of C and K: frame damping is stored entry by entry where nonzero, and a
+  // modal damping matrix need not be symmetric to the last bit (nor zero where its mirror is).
   int width = 0;
-  for (int j = 0; j < n; ++j) {
-    for (SparseMatrix::InnerIterator it(effective_, j); it; ++it) width = std::max(width, j - static_cast<int>(it.row()));
+  for (const SparseMatrix* m : {&effective_, &damping_, &stiffness_}) {
+    for (int j = 0; j < n; ++j) {
+      for (SparseMatrix::InnerIterator it(*m, j); it; ++it) width = std::max(width, std::abs(j - static_cast<int>(it.row())));
+    }
   }
   if (width > Bands::kMaxWidth) return;
   const auto row_entries = static_cast<std::size_t>(2 * width + 1);
@@ -256,21 +261,26 @@ void LinearPhase::equilibrate(double ground, KinematicState& state, std::span<co
 
 void LinearPhase::factorize_step() const {
   factorize(step_solver_, step_);
-  step_factorised_ = true;
-  if (bands_.width < 0) return;
-  // The natural order keeps L's fill inside the effective matrix's band.
-  const int b = bands_.width;
-  const SparseMatrix& l = step_solver_.unit_lower_factor();
-  for (int i = 0; i < static_cast<int>(l.outerSize()); ++i) {
-    for (SparseMatrix::InnerIterator it(l, i); it; ++it) {
-      const int r = static_cast<int>(it.row());
-      if (r <= i) continue;  // the solve reads the strictly lower entries only
-      if (r - i > b) throw std::logic_error("the Newmark factor's fill left the band");
-      bands_.lower[static_cast<std::size_t>((i + b) * b + (r - i - 1))] = it.value();
+  if (bands_.width >= 0) {
+    // The natural order keeps L's fill inside the effective matrix's band; were it not, the phase
+    // would step by the sparse loops rather than with part of L.
+    const int b = bands_.width;
+    const SparseMatrix& l = step_solver_.unit_lower_factor();
+    for (int i = 0; i < static_cast<int>(l.outerSize()) && bands_.width >= 0; ++i) {
+      for (SparseMatrix::InnerIterator it(l, i); it; ++it) {
+        const int r = static_cast<int>(it.row());
+        if (r <= i) continue;  // the solve reads the strictly lower entries only
+        if (r - i > b) {
+          bands_.width = -1;
+          break;
+        }
+        bands_.lower[static_cast<std::size_t>((i + b) * b + (r - i - 1))] = it.value();
+      }
     }
+    const Eigen::VectorXd& d = step_solver_.diagonal_factor();
+    for (Eigen::Index i = 0; i < d.size(); ++i) bands_.inverse_diagonal[static_cast<std::size_t>(i)] = 1.0 / d(i);
   }
-  const Eigen::VectorXd& d = step_solver_.diagonal_factor();
-  for (Eigen::Index i = 0; i < d.size(); ++i) bands_.inverse_diagonal[static_cast<std::size_t>(i)] = 1.0 / d(i);
+  step_factorised_ = true;
 }
 
 void LinearPhase::set_law_states(const LinkStates& states) {

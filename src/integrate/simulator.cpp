@@ -543,11 +543,16 @@ void Loop::emit(int gap, EventKind kind, double left_before, double right_before
 void Loop::apply_pending_events() {
   // An event can trigger others at the same instant (e.g. an impact that makes the dashpot pull):
   // apply them all before moving on. The system re-evaluates g_lo_, hence the copy.
+  bool applied = false;
   while (any_fired(guards_.lo)) {
     guards_.work = guards_.lo;
     phase_ = &system_.apply_events(guards_.work, state_, contact_, *phase_, guards_.lo, guards_.rate_lo, *events_);
     energy_.refresh(state_, contact_.config, contact_.states);
+    applied = true;
   }
+  // The events changed the state (velocities, merged floors, accelerations) after accept()
+  // checked it: a step starts only from a finite state.
+  if (applied) check_finite();
 }
 
 }  // namespace detail

@@ -145,10 +145,10 @@ class LinearPhase {
   }
 
   /// C, K and the step solver's factors as dense bands, for the Newmark step of an unreduced
-  /// phase whose effective matrix is banded: interleaved frames have a half-bandwidth of one less
-  /// than their count (two frames: 2; frames apart: 0). Read by rows with a bandwidth known at
-  /// compile time, a step needs no index arrays and no loop per column (NewmarkIntegrator).
-  /// Entries inside the band that the sparse matrices do not store are zeros.
+  /// phase whose effective matrix is banded: F frames interleaved floor by floor have a
+  /// half-bandwidth F (a storey joins DOFs F apart; two one-storey frames apart: 0). Read by rows
+  /// with a bandwidth known at compile time, a step needs no index arrays and no loop per column
+  /// (NewmarkIntegrator). Entries inside the band that the sparse matrices do not store are zeros.
   struct Bands {
     static constexpr int kMaxWidth = 4;
     /// b, the largest |i − j| of a stored entry; −1 when the phase has no bands (locked links,
