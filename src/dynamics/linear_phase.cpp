@@ -214,10 +214,11 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
 
 void LinearPhase::make_bands() {
   const auto n = static_cast<int>(effective_.outerSize());
-  // Over both triangles of C and K: frame damping is stored entry by entry where nonzero, and a
-  // modal damping matrix need not be symmetric to the last bit (nor zero where its mirror is).
+  // Over both triangles of C and K (the effective pattern is their union and the diagonal): frame
+  // damping is stored entry by entry where nonzero, and a modal damping matrix need not be
+  // symmetric to the last bit (nor zero where its mirror is).
   int width = 0;
-  for (const SparseMatrix* m : {&effective_, &damping_, &stiffness_}) {
+  for (const SparseMatrix* m : {&damping_, &stiffness_}) {
     for (int j = 0; j < n; ++j) {
       for (SparseMatrix::InnerIterator it(*m, j); it; ++it) width = std::max(width, std::abs(j - static_cast<int>(it.row())));
     }

@@ -57,7 +57,6 @@ ResponseMonitor::ResponseMonitor(const Model& model, const DofLayout& layout, st
     facing_at_floors_ = facing_at_floors_ && points.joins_floors();
   }
   for (int f = 0; f < model.frame_count(); ++f) first_storey_dofs_.push_back(layout_.dof(f, 0));
-  for (int i = 0; i < layout_.size(); ++i) below_.push_back(layout_.below(i));
   stats_.base_shear.resize(static_cast<std::size_t>(model.frame_count()));
   stats_.storey_shear.resize(static_cast<std::size_t>(model.frame_count()));
   stats_.gaps.resize(static_cast<std::size_t>(model.gap_count()));
@@ -78,10 +77,9 @@ void ResponseMonitor::reset() {
 }
 
 void ResponseMonitor::observe(const KinematicState& x) {
-  // At every accepted state: plain arrays, the floor below of each DOF kept (below_).
+  // At every accepted state: plain arrays.
   const double t = x.t, ground = x.ground;
   const double *u = x.u.data(), *v = x.v.data(), *acc = x.a.data();
-  const int* below = below_.data();
   FloorResponse* floors = stats_.floors.data();
   for (int i = 0, n = layout_.size(); i < n; ++i) {
     FloorResponse& fr = floors[i];
@@ -89,7 +87,7 @@ void ResponseMonitor::observe(const KinematicState& x) {
     fr.velocity.update(v[i], t);
     fr.acceleration.update(acc[i], t);
     fr.absolute_acceleration.update(acc[i] + ground, t);
-    const int b = below[i];
+    const int b = layout_.below(i);
     if (b >= 0) fr.drift.update(u[i] - u[b], t);  // a first storey's: statistics()
   }
   for (int f = 0; f < static_cast<int>(first_storey_.size()); ++f) {
@@ -156,12 +154,11 @@ void ResponseMonitor::observe_step(const KinematicState& a, const KinematicState
     }
   };
   const double *ua = a.u.data(), *va = a.v.data(), *ub = b.u.data(), *vb = b.v.data();
-  const int* below_of = below_.data();
   FloorResponse* floors = stats_.floors.data();
   for (int i = 0, n = layout_.size(); i < n; ++i) {
     FloorResponse& fr = floors[i];
     refine(fr.displacement, ua[i], va[i], ub[i], vb[i]);
-    const int below = below_of[i];
+    const int below = layout_.below(i);
     if (below >= 0) refine(fr.drift, ua[i] - ua[below], va[i] - va[below], ub[i] - ub[below], vb[i] - vb[below]);
   }
   with_facing(facing_at_floors_, [&](auto at_floors) {
@@ -235,7 +232,7 @@ void ResponseMonitor::observe_step(const KinematicState& from, const KinematicSt
         stats_.storey_shear[f].update(storey_shear(node_, static_cast<int>(f)), node_.t);
       }
     }
-    const int below = below_[static_cast<std::size_t>(i)];
+    const int below = layout_.below(i);
     if (below < 0) continue;
     const double da = va - from.v(below), db = vb - to.v(below);
     if (da * db < 0) {

@@ -161,6 +161,7 @@ DofLayout::DofLayout(const Model& model) {
         dof_[f][level] = static_cast<int>(frame_of_.size());
         frame_of_.push_back(f);
         floor_of_.push_back(level);
+        below_.push_back(level == 0 ? -1 : dof_[f][level - 1]);
       }
     }
   }

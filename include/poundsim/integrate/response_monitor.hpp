@@ -203,7 +203,6 @@ class ResponseMonitor {
   std::vector<FacingPoints> facing_;
   bool facing_at_floors_ = true;  ///< Every facing pair joins floors (no column point).
   std::vector<int> first_storey_dofs_;                 ///< The floor above each frame's first storey.
-  std::vector<int> below_;  ///< DofLayout::below of each DOF (−1: a first floor), read at every step
   std::vector<double> contact_start_;    ///< When each element's current contact began (NaN: none)
   std::vector<double> contact_closing_;  ///< ṡ at that contact's onset [m/s]
   mutable ResponseStatistics stats_;  ///< Mutable: statistics() copies the first storeys' drifts.

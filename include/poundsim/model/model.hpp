@@ -154,10 +154,8 @@ class DofLayout {
   [[nodiscard]] int dof(int frame, int floor) const { return dof_[frame][floor]; }
   [[nodiscard]] int frame_of(int dof) const { return frame_of_[dof]; }
   [[nodiscard]] int floor_of(int dof) const { return floor_of_[dof]; }
-  /// DOF of the floor below, or −1 for a first floor.
-  [[nodiscard]] int below(int dof) const {
-    return floor_of_[dof] == 0 ? -1 : dof_[frame_of_[dof]][floor_of_[dof] - 1];
-  }
+  /// DOF of the floor below, or −1 for a first floor (kept: the peaks read it at every step).
+  [[nodiscard]] int below(int dof) const { return below_[dof]; }
   /// DOF of the left floor of gap element `gap` (Model::gaps order).
   [[nodiscard]] int gap_left(std::size_t gap) const { return gap_left_[gap]; }
   /// DOF of the right floor of gap element `gap`.
@@ -167,6 +165,7 @@ class DofLayout {
   std::vector<std::vector<int>> dof_;
   std::vector<int> frame_of_;
   std::vector<int> floor_of_;
+  std::vector<int> below_;
   std::vector<int> gap_left_, gap_right_;
 };
 
