@@ -12,6 +12,8 @@
 
 #include <fmt/format.h>
 
+#include "poundsim/analysis/response_metrics.hpp"
+
 #include <gtest/gtest.h>
 
 namespace poundsim::io {
@@ -168,6 +170,80 @@ TEST(TimeHistoryResult, InelasticStoreysReportTheirDuctilityResidualDriftAndHyst
   EXPECT_DOUBLE_EQ(column("Fs_1_1"), column("V_1"));
   EXPECT_DOUBLE_EQ(column("E_storey_hysteretic"), summary["energy"]["storey_hysteretic_J"].get<double>());
   fs::remove_all(out);
+}
+
+// A run whose gap elements never close moves as the free frames do, so the free response is then
+// taken from it instead of a second run (analysis/time_history.cpp): every peak must be the one a
+// free run gives, to the bit, whatever the integrator, storey law, contact law or facing. The
+// shortcut must not be taken when the run had a contact, nor when outputs between grid points cut
+// its steps (the free run takes whole steps).
+TEST(TimeHistoryResult, FreeFramesOfARunWithoutContactAreTheFreeRunsToTheBit) {
+  struct Case {
+    std::string example;
+    std::vector<std::string> settings;
+    bool from_this_run;
+    double output_dt = 0;  // set after reading (an input file's must be a multiple of dt)
+  };
+  const std::vector<Case> cases = {
+      {"fig2c_ratio0.8.toml", {"model.dimensionless.delta=500"}, true},
+      {"fig2c_ratio0.8.toml", {"model.dimensionless.delta=500", "analysis.integrator=\"exact\""}, true},
+      {"fig4a_ratio0.7.toml", {"model.dimensionless.delta=500"}, true},
+      // Outputs every 1.5 steps: the run's steps are cut, the free run's are not.
+      {"fig2c_ratio0.8.toml", {"model.dimensionless.delta=500"}, false, 0.0015},
+      {"fig2c_ratio0.8.toml", {}, false},  // it pounds
+      // Yielding storeys (their events in both runs), Hertzdamp elements (smooth: Newton's steps).
+      {"el_centro_5_and_8_storeys_bilinear.toml", {"gap_elements.gap=1.0", "analysis.duration=6"}, true},
+      {"el_centro_5_and_8_storeys_bilinear.toml",
+       {"gap_elements.gap=1.0", "analysis.duration=6", "frames[1].storey_law=\"bouc_wen\"",
+        "frames[2].storey_law=\"bouc_wen\""},
+       true},
+      {"slab_to_column.toml", {"gap_elements.gap=1.0", "analysis.duration=6"}, true},
+      {"contact_laws/kelvin_voigt.toml", {"gap_elements.gap=1.0", "analysis.duration=4"}, true},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(fmt::format("{} {}", c.example, fmt::join(c.settings, " ")));
+    RunInput input = read_input(fs::path(POUNDSIM_SOURCE_DIR) / "examples" / c.example, c.settings);
+    if (c.output_dt > 0) input.analysis.output_dt = c.output_dt;
+    const TimeHistoryResult r = analyse_run(input);
+    ASSERT_TRUE(r.free.has_value());
+    EXPECT_EQ(r.free_from_this_run, c.from_this_run);
+    EXPECT_EQ(r.free_from_this_run, r.statistics.gaps[0].contacts == 0 && c.from_this_run);
+
+    Simulator alone(free_frames(r.model), input.excitation, input.analysis.options, input.initial);
+    alone.meter_energy(false);
+    alone.advance_to(r.end_time);
+    const ResponseStatistics &free = *r.free, &expected = alone.statistics();
+    ASSERT_EQ(free.floors.size(), expected.floors.size());
+    int compared = 0;
+    const auto same = [&](const Peak& p, const Peak& q, std::string_view what, std::size_t i) {
+      EXPECT_EQ(p.value, q.value) << what << " " << i;
+      EXPECT_EQ(p.time, q.time) << what << " " << i;
+      compared += 2;
+    };
+    for (std::size_t i = 0; i < free.floors.size(); ++i) {
+      const FloorResponse &p = free.floors[i], &q = expected.floors[i];
+      same(p.displacement, q.displacement, "displacement", i);
+      same(p.velocity, q.velocity, "velocity", i);
+      same(p.acceleration, q.acceleration, "acceleration", i);
+      same(p.absolute_acceleration, q.absolute_acceleration, "absolute acceleration", i);
+      same(p.drift, q.drift, "drift", i);
+      EXPECT_EQ(p.yield_excursions, q.yield_excursions) << i;
+    }
+    ASSERT_EQ(free.base_shear.size(), expected.base_shear.size());
+    for (std::size_t f = 0; f < free.base_shear.size(); ++f) {
+      same(free.base_shear[f], expected.base_shear[f], "base shear", f);
+      same(free.storey_shear[f], expected.storey_shear[f], "storey shear", f);
+    }
+    ASSERT_EQ(free.neighbours.size(), expected.neighbours.size());
+    for (std::size_t k = 0; k < free.neighbours.size(); ++k) {
+      EXPECT_EQ(free.neighbours[k].max_approach, expected.neighbours[k].max_approach) << k;
+      EXPECT_EQ(free.neighbours[k].max_approach_time, expected.neighbours[k].max_approach_time) << k;
+    }
+    EXPECT_EQ(free.steps, expected.steps);
+    EXPECT_EQ(free.substeps, expected.substeps);
+    EXPECT_TRUE(free.gaps.empty());
+    EXPECT_GT(compared, 20);
+  }
 }
 
 }  // namespace

@@ -50,6 +50,10 @@ struct TimeHistoryAnalysis {
   ResponseStatistics statistics;   ///< Peaks and counts of the interacting frames.
   /// The same frames without gap elements over the same time; none without gap elements.
   std::optional<ResponseStatistics> free;
+  /// `free` is this run's own response, not a second run: no gap element ever closed and every
+  /// step ended on the grid k·dt, so the frames moved, to the bit, as they do without gap elements
+  /// (docs/numerics.md, "The free frames of a run without contact").
+  bool free_from_this_run = false;
   EnergyBalance energy;             ///< At the end [J].
   /// What each gap element's law dissipated [J] (EnergyMeter::element_dissipation); empty with
   /// the exact integrator, whose integrals are not per element.

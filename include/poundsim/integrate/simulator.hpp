@@ -325,6 +325,9 @@ class Simulator : private detail::Loop {
   void step();
 
   [[nodiscard]] double time() const { return state_.t; }
+  /// The origin of the step grid, t = origin + k·dt [s]: 0 until advance_to() stops off the grid
+  /// (a partial step), whose end becomes the new origin.
+  [[nodiscard]] double grid_origin() const { return grid_origin_; }
   using Loop::state;
   [[nodiscard]] const ContactConfiguration& configuration() const { return contact_.config; }
   /// What each link's law keeps now (a storey's plastic drift, …), by law and slot.
