@@ -99,19 +99,27 @@ void EnergyMeter::step(const KinematicState& x0, const KinematicState& x1,
   const double h = x1.t - x0.t;
   // Trapezoidal work of the ground motion: −Δuᵀ M 1 (a_g0 + a_g1)/2.
   balance_.input -= 0.5 * (x0.ground + x1.ground) * (x1.u - x0.u).dot(mass_);
-  double storey = 0.0, gap = 0.0;
+  // One pass over the links for the powers and the energies stored at x1, each summed law by
+  // law in link order as update_stored sums them (the states are not changed before the step
+  // ends: the same operations, hence the same bits, for one kinematics and one loop less).
+  double storey = 0.0, gap = 0.0, storey_stored = 0.0, gap_stored = 0.0;
   links_.for_each_law([&](auto links) {
     if (links.empty()) return;
-    double sum = 0.0;
+    double sum = 0.0, stored = 0.0;
     for (const auto& link : links) {
-      const double power = link.law.trapezoidal_power(detail::kinematics<detail::Derivatives::velocities>(x0, link), detail::kinematics<detail::Derivatives::velocities>(x1, link),
-                                                       mode_in(link, config), states.at(link));
+      const LinkKinematics k1 = detail::kinematics<detail::Derivatives::velocities>(x1, link);
+      const LinkMode mode = mode_in(link, config);
+      const auto& state = states.at(link);
+      const double power =
+          link.law.trapezoidal_power(detail::kinematics<detail::Derivatives::velocities>(x0, link), k1, mode, state);
       sum += power;
+      stored += link.law.stored_energy(k1, mode, state);
       if constexpr (ContactLaw<std::decay_t<decltype(link.law)>>) {
         element_dissipation_[static_cast<std::size_t>(link.element)] += h * power;
       }
     }
     term(links.front().law.traits.energy, storey, gap) += sum;
+    term(links.front().law.traits.energy, storey_stored, gap_stored) += stored;
   });
   // Dashpots that are not links: the trapezoidal rule on their power, as the links' dashpots
   // (c ū̇² with the mean velocity).
@@ -120,7 +128,10 @@ void EnergyMeter::step(const KinematicState& x0, const KinematicState& x1,
   balance_.gap_damping += h * gap;
   add_relaxation(x0, x1, config, states);
   add_plastic_work(x0, x1, config, states);
-  finish_step(x1, config, states);
+  balance_.kinetic = kinetic_energy(x1.v);
+  balance_.storey_strain = storey_stored;
+  balance_.gap_strain = gap_stored;
+  track_residual();
 }
 
 EnergyMeter::Powers EnergyMeter::powers(const KinematicState& x, const ContactConfiguration& config,
@@ -229,6 +240,10 @@ void EnergyMeter::add_relaxation(const KinematicState& x0, const KinematicState&
 void EnergyMeter::finish_step(const KinematicState& x1, const ContactConfiguration& config,
                               const LinkStates& states) {
   update_stored(x1, config, states);
+  track_residual();
+}
+
+void EnergyMeter::track_residual() {
   // Not std::max: it drops a NaN in its second argument, and a NaN balance must not pass.
   for (const double x : {std::abs(balance_.supplied()), balance_.accounted()}) {
     if (!(x <= scale_)) scale_ = x;

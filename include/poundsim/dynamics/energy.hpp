@@ -128,6 +128,8 @@ class EnergyMeter {
                         const ContactConfiguration& config, const LinkStates& states);
   void finish_step(const KinematicState& x1, const ContactConfiguration& config,
                    const LinkStates& states);
+  /// The scale and the largest residual so far, once the terms are at the step's end.
+  void track_residual();
 
   /// The links by law: every sum below asks each link's law (in link order within each law).
   LinkTable links_;
