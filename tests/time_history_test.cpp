@@ -5,6 +5,8 @@
 #include "poundsim/analysis/time_history.hpp"
 
 #include <array>
+#include <bit>
+#include <cstdint>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -95,6 +97,83 @@ TEST(TimeHistoryAnalysis, FirstStoreyDriftPeakIsTheDisplacementPeak) {
       EXPECT_EQ(first.drift.time, first.displacement.time) << to_string(integrator) << " frame " << f + 1;
     }
   }
+}
+
+/// Every peak of two free responses, and where they peaked, compared to the bit.
+void expect_same_free_peaks(const ResponseStatistics& a, const ResponseStatistics& b) {
+  ASSERT_EQ(a.floors.size(), b.floors.size());
+  for (std::size_t i = 0; i < a.floors.size(); ++i) {
+    const FloorResponse &p = a.floors[i], &q = b.floors[i];
+    for (const auto& [x, y] : {std::pair{p.displacement, q.displacement}, std::pair{p.velocity, q.velocity},
+                               std::pair{p.acceleration, q.acceleration},
+                               std::pair{p.absolute_acceleration, q.absolute_acceleration}, std::pair{p.drift, q.drift}}) {
+      EXPECT_EQ(std::bit_cast<std::uint64_t>(x.value), std::bit_cast<std::uint64_t>(y.value)) << "DOF " << i;
+      EXPECT_EQ(x.time, y.time) << "DOF " << i;
+    }
+  }
+  ASSERT_EQ(a.base_shear.size(), b.base_shear.size());
+  for (std::size_t f = 0; f < a.base_shear.size(); ++f) {
+    EXPECT_EQ(a.base_shear[f].value, b.base_shear[f].value);
+    EXPECT_EQ(a.storey_shear[f].value, b.storey_shear[f].value);
+  }
+  ASSERT_EQ(a.neighbours.size(), b.neighbours.size());
+  for (std::size_t k = 0; k < a.neighbours.size(); ++k) {
+    EXPECT_EQ(a.neighbours[k].max_approach, b.neighbours[k].max_approach);
+    EXPECT_EQ(a.neighbours[k].max_approach_time, b.neighbours[k].max_approach_time);
+  }
+}
+
+// Points of a study that differ in their gap elements share their free run (FreeRunMemo): the
+// second point takes the first's, and it is the bits its own free run gives. Anything else that
+// differs — a frame's mass, the end, an initial displacement of −0 instead of +0 — is a new run;
+// the oldest run goes when the memo is full.
+TEST(FreeRunMemo, PointsDifferingInTheirGapElementsShareTheFreeRunToTheBit) {
+  FreeRunMemo memo;
+  const TimeHistoryProblem first = fig2c_problem({1, 2}, 4.0, 4.0, 0.001);
+  const TimeHistoryAnalysis a = analyse_time_history(first, {}, &memo);
+  EXPECT_EQ(memo.hits(), 0);
+  EXPECT_EQ(memo.misses(), 1);
+  EXPECT_EQ(memo.size(), 1u);
+  ASSERT_GT(a.statistics.events, 0);  // it pounds: the free run is a run of its own
+
+  TimeHistoryProblem stiffer = first;
+  for (GapElement& g : stiffer.model.gaps) parameters_of<PaperGap>(g).stiffness *= 3.0;
+  const TimeHistoryAnalysis b = analyse_time_history(stiffer, {}, &memo);
+  EXPECT_EQ(memo.hits(), 1);
+  EXPECT_NE(b.statistics.base_shear[0].value, a.statistics.base_shear[0].value);  // another point
+  const TimeHistoryAnalysis alone = analyse_time_history(stiffer);  // no memo: its own free run
+  ASSERT_TRUE(b.free && alone.free);
+  expect_same_free_peaks(*b.free, *alone.free);
+  EXPECT_FALSE(b.free_from_this_run);
+
+  const auto expect_new_run = [&](const TimeHistoryProblem& problem, const char* what) {
+    const std::int64_t misses = memo.misses(), hits = memo.hits();
+    const TimeHistoryAnalysis r = analyse_time_history(problem, {}, &memo);
+    EXPECT_EQ(memo.misses(), misses + 1) << what;
+    EXPECT_EQ(memo.hits(), hits) << what;
+    expect_same_free_peaks(*r.free, *analyse_time_history(problem).free);
+  };
+  TimeHistoryProblem heavier = first;
+  heavier.model.frames[1].mass[1] *= 1.5;
+  expect_new_run(heavier, "a frame's mass");
+  TimeHistoryProblem longer = first;
+  longer.duration = longer.output_dt = 4.5;
+  expect_new_run(longer, "the duration");
+  TimeHistoryProblem at_rest = first;
+  at_rest.initial.displacement = {{0.0}, {0.0, 0.0}};
+  at_rest.initial.velocity = {{0.0}, {0.0, 0.0}};
+  expect_new_run(at_rest, "initial conditions given");
+  TimeHistoryProblem negative_zero = at_rest;
+  negative_zero.initial.displacement[0][0] = -0.0;
+  ASSERT_TRUE(free_run_key(negative_zero, 4.0) == free_run_key(at_rest, 4.0));  // == alone would take it
+  expect_new_run(negative_zero, "−0 for +0");
+
+  FreeRunMemo one(1);
+  one.add(free_run_key(first, 4.0), *a.free);
+  one.add(free_run_key(heavier, 4.0), *a.free);
+  EXPECT_EQ(one.size(), 1u);
+  EXPECT_FALSE(one.find(free_run_key(first, 4.0)).has_value());
+  EXPECT_TRUE(one.find(free_run_key(heavier, 4.0)).has_value());
 }
 
 }  // namespace

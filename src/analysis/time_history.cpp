@@ -1,8 +1,10 @@
 #include "poundsim/analysis/time_history.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <stdexcept>
+#include <type_traits>
 
 #include <fmt/format.h>
 
@@ -34,11 +36,118 @@ ResponseStatistics frames_alone(const ResponseStatistics& run) {
   free.gaps.clear();
   return free;
 }
+
+/// FNV-1a over the bits of the key's numbers: equal keys agree, and so do only numbers equal bit
+/// for bit (== takes −0 for +0).
+class Fingerprint {
+ public:
+  template <class T>
+    requires std::is_arithmetic_v<T> || std::is_enum_v<T>
+  void add(T x) {
+    std::uint64_t bits = 0;
+    if constexpr (std::is_same_v<T, double>) {
+      bits = std::bit_cast<std::uint64_t>(x);
+    } else {
+      bits = static_cast<std::uint64_t>(x);
+    }
+    for (int byte = 0; byte < 8; ++byte) {
+      value_ = (value_ ^ ((bits >> (8 * byte)) & 0xffu)) * 0x100000001b3u;
+    }
+  }
+  void add(const std::vector<double>& values) {
+    add(values.size());
+    for (const double x : values) add(x);
+  }
+  [[nodiscard]] std::uint64_t value() const { return value_; }
+
+ private:
+  std::uint64_t value_ = 0xcbf29ce484222325u;
+};
+
+std::uint64_t fingerprint(const FreeRunKey& key) {
+  Fingerprint f;
+  f.add(key.end_time);
+  for (const Frame& frame : key.frames) {
+    for (const auto* values : {&frame.mass, &frame.stiffness, &frame.damping, &frame.storey_height,
+                               &frame.ground_damping, &frame.modal_damping_ratios}) {
+      f.add(*values);
+    }
+  }
+  f.add(key.excitation.index());
+  std::visit(
+      [&](const auto& e) {
+        using E = std::decay_t<decltype(e)>;
+        if constexpr (std::is_same_v<E, HarmonicExcitation>) {
+          f.add(e.amplitude);
+          f.add(e.omega);
+        } else if constexpr (std::is_same_v<E, RecordExcitation>) {
+          f.add(e.time);
+          f.add(e.acceleration);
+        }
+      },
+      key.excitation);
+  const TimeHistoryOptions& o = key.options;
+  for (const double x : {o.dt, o.event_tolerance, o.lock_time, o.rest_velocity_ratio, o.newton_tolerance}) f.add(x);
+  f.add(o.integrator);
+  f.add(o.separation);
+  for (const auto* rows : {&key.initial.displacement, &key.initial.velocity}) {
+    f.add(rows->size());
+    for (const std::vector<double>& row : *rows) f.add(row);
+  }
+  return f.value();
+}
 }  // namespace
+
+FreeRunKey free_run_key(const TimeHistoryProblem& problem, double end_time) {
+  return FreeRunKey{.frames = problem.model.frames,
+                    .facing = problem.model.facing,
+                    .excitation = problem.excitation,
+                    .options = problem.options,
+                    .initial = problem.initial,
+                    .end_time = end_time};
+}
+
+std::optional<ResponseStatistics> FreeRunMemo::find(const FreeRunKey& key) {
+  const std::uint64_t print = fingerprint(key);
+  const std::lock_guard lock(mutex_);
+  for (const Entry& e : entries_) {
+    if (e.fingerprint == print && e.key == key) {
+      ++hits_;
+      return e.free;
+    }
+  }
+  ++misses_;
+  return std::nullopt;
+}
+
+void FreeRunMemo::add(const FreeRunKey& key, const ResponseStatistics& free) {
+  const std::uint64_t print = fingerprint(key);
+  const std::lock_guard lock(mutex_);
+  if (capacity_ == 0) return;
+  for (const Entry& e : entries_) {
+    if (e.fingerprint == print && e.key == key) return;  // another thread made it meanwhile
+  }
+  if (entries_.size() == capacity_) entries_.pop_front();
+  entries_.push_back(Entry{.fingerprint = print, .key = key, .free = free});
+}
+
+std::int64_t FreeRunMemo::hits() const {
+  const std::lock_guard lock(mutex_);
+  return hits_;
+}
+std::int64_t FreeRunMemo::misses() const {
+  const std::lock_guard lock(mutex_);
+  return misses_;
+}
+std::size_t FreeRunMemo::size() const {
+  const std::lock_guard lock(mutex_);
+  return entries_.size();
+}
 
 double output_instants(double duration, double output_dt) { return std::floor(duration / output_dt + 1e-9); }
 
-TimeHistoryAnalysis analyse_time_history(const TimeHistoryProblem& problem, const TimeHistoryObserver& observer) {
+TimeHistoryAnalysis analyse_time_history(const TimeHistoryProblem& problem, const TimeHistoryObserver& observer,
+                                         FreeRunMemo* memo) {
   Simulator sim(problem.model, problem.excitation, problem.options, problem.initial);
   if (observer.on_event) sim.set_event_handler(observer.on_event);
   const double duration = problem.duration, output_dt = problem.output_dt;
@@ -78,15 +187,21 @@ TimeHistoryAnalysis analyse_time_history(const TimeHistoryProblem& problem, cons
   for (int dof = 0; dof < sim.layout().size(); ++dof) result.final_drift.push_back(sim.storey_drift(dof));
   // The same frames without gap elements, for amplifications and separation distances.
   if (problem.model.gap_count() > 0) {
+    const std::optional<FreeRunKey> key =
+        memo != nullptr ? std::optional(free_run_key(problem, sim.time())) : std::nullopt;
     if (stepped_on_grid && no_gap_element_closed(result.statistics)) {
       result.free = frames_alone(result.statistics);
       result.free_from_this_run = true;
-    } else {
+    } else if (key) {
+      result.free = memo->find(*key);
+    }
+    if (!result.free) {
       Simulator alone(free_frames(problem.model), problem.excitation, problem.options, problem.initial);
       alone.meter_energy(false);  // its peaks alone are reported
       alone.advance_to(sim.time());
       result.free = alone.statistics();
     }
+    if (key) memo->add(*key, *result.free);
   }
   return result;
 }

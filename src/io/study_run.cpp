@@ -270,7 +270,8 @@ TimeHistoryFigures time_history_figures_of(const RunInput& point) {
                                                         .options = point.analysis.options,
                                                         .initial = point.initial,
                                                         .duration = point.analysis.duration,
-                                                        .output_dt = point.analysis.duration});
+                                                        .output_dt = point.analysis.duration},
+                                                       {}, &point_free_runs());
   return time_history_figures(point.model, run, point.excitation_info.record_pga_g);
 }
 
@@ -314,6 +315,11 @@ std::pair<double, double> band_of(const RunInput& point) {
 }
 
 }  // namespace
+
+FreeRunMemo& point_free_runs() {
+  static FreeRunMemo memo(64);
+  return memo;
+}
 
 std::vector<double> record_factors(const RunInput& point) {
   // The factors depend on the point's model (T₁ of a frame), so each point scales its records.

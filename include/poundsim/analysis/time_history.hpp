@@ -7,8 +7,11 @@
 /// (amplifications and separation distances are taken from it).
 
 #include <cstdint>
+#include <deque>
 #include <functional>
+#include <mutex>
 #include <optional>
+#include <vector>
 
 #include "poundsim/dynamics/energy.hpp"
 #include "poundsim/dynamics/event.hpp"
@@ -48,7 +51,8 @@ struct TimeHistoryAnalysis {
   DofLayout layout;                ///< Its degrees of freedom (frame, floor).
   TimeHistoryOptions options;      ///< As the simulator applied them.
   ResponseStatistics statistics;   ///< Peaks and counts of the interacting frames.
-  /// The same frames without gap elements over the same time; none without gap elements.
+  /// The same frames without gap elements over the same time (their peaks; the counts are those
+  /// of the run that gave them, this one when free_from_this_run); none without gap elements.
   std::optional<ResponseStatistics> free;
   /// `free` is this run's own response, not a second run: no gap element ever closed and every
   /// step ended on the grid k·dt, so the frames moved, to the bit, as they do without gap elements
@@ -68,9 +72,55 @@ struct TimeHistoryAnalysis {
   double end_time = 0;              ///< [s]
 };
 
+/// What a free run depends on: the frames and the floors that face each other (not the gap
+/// elements), the excitation, the options, the initial conditions and the end [s].
+struct FreeRunKey {
+  std::vector<Frame> frames;
+  std::vector<FloorPair> facing;
+  Excitation excitation;
+  TimeHistoryOptions options;
+  InitialConditions initial;
+  double end_time = 0.0;
+  [[nodiscard]] bool operator==(const FreeRunKey&) const = default;
+};
+
+/// Free runs already made, shared by the time histories of a study, an ensemble or an
+/// optimisation whose points differ in their gap elements only (their frames, records and
+/// options the same): a point whose free run is here takes its statistics instead of running
+/// the frames again. A run is deterministic, so they are the bits it would compute; every number
+/// of the key is also compared bit for bit (−0 is not +0). Thread-safe; at most `capacity` runs
+/// are kept, the oldest dropped first.
+class FreeRunMemo {
+ public:
+  explicit FreeRunMemo(std::size_t capacity = 64) : capacity_(capacity) {}
+  /// The free frames' statistics for `key`, if a run made them.
+  [[nodiscard]] std::optional<ResponseStatistics> find(const FreeRunKey& key);
+  /// Keeps what the free run for `key` gave (nothing if it is kept already).
+  void add(const FreeRunKey& key, const ResponseStatistics& free);
+  [[nodiscard]] std::int64_t hits() const;
+  [[nodiscard]] std::int64_t misses() const;
+  [[nodiscard]] std::size_t size() const;
+
+ private:
+  struct Entry {
+    std::uint64_t fingerprint = 0;
+    FreeRunKey key;
+    ResponseStatistics free;
+  };
+  std::size_t capacity_;
+  mutable std::mutex mutex_;
+  std::deque<Entry> entries_;
+  std::int64_t hits_ = 0, misses_ = 0;
+};
+
+/// The key of a problem's free run ending at `end_time`.
+[[nodiscard]] FreeRunKey free_run_key(const TimeHistoryProblem& problem, double end_time);
+
 /// Integrates `problem` to its duration. Throws std::invalid_argument for a model or options the
 /// simulator refuses (or more output instants than an int64 holds), SimulationError when the
-/// integration fails.
-TimeHistoryAnalysis analyse_time_history(const TimeHistoryProblem& problem, const TimeHistoryObserver& observer = {});
+/// integration fails. With `memo`, the free run is taken from it when it holds one for the same key, and a run made
+/// is added to it.
+TimeHistoryAnalysis analyse_time_history(const TimeHistoryProblem& problem, const TimeHistoryObserver& observer = {},
+                                         FreeRunMemo* memo = nullptr);
 
 }  // namespace poundsim

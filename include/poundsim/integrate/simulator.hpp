@@ -112,6 +112,8 @@ struct TimeHistoryOptions {
   }
 
   /// Newton's options of a step with smooth laws.
+  [[nodiscard]] bool operator==(const TimeHistoryOptions&) const = default;
+
   [[nodiscard]] NewtonOptions newton() const {
     return {.max_iterations = newton_max_iterations, .tolerance = newton_tolerance};
   }
@@ -135,6 +137,7 @@ struct TimeHistoryOptions {
 struct InitialConditions {
   std::vector<std::vector<double>> displacement;
   std::vector<std::vector<double>> velocity;
+  [[nodiscard]] bool operator==(const InitialConditions&) const = default;
 };
 
 /// How a run to a time ended: the simulation loop's answer to "why did you stop?".

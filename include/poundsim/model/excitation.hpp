@@ -17,12 +17,15 @@
 namespace poundsim {
 
 /// No ground motion (free vibration from initial conditions).
-struct NoExcitation {};
+struct NoExcitation {
+  [[nodiscard]] bool operator==(const NoExcitation&) const = default;
+};
 
 /// a_g(t) = A sin(ω̄ t).
 struct HarmonicExcitation {
   double amplitude = 0.0;  ///< A [m/s²].
   double omega = 0.0;      ///< ω̄ [rad/s], > 0.
+  [[nodiscard]] bool operator==(const HarmonicExcitation&) const = default;
 };
 
 /// A sampled accelerogram, linear between samples and zero before the first and after the last.
@@ -31,6 +34,7 @@ struct RecordExcitation {
   std::vector<double> time;          ///< [s]
   std::vector<double> acceleration;  ///< [m/s²], already scaled.
   std::string source;                ///< Where the record came from (file name), for reports.
+  [[nodiscard]] bool operator==(const RecordExcitation&) const = default;
 };
 
 using Excitation = std::variant<NoExcitation, HarmonicExcitation, RecordExcitation>;

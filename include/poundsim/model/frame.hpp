@@ -42,6 +42,7 @@ struct Frame {
   StoreyLawParameters storey_law;
 
   [[nodiscard]] int storeys() const { return static_cast<int>(mass.size()); }
+  [[nodiscard]] bool operator==(const Frame&) const = default;
 
   /// The per-storey values a model file gives ([[frames]], docs/input.md); damping may instead
   /// come from a damping ratio, a rule of the reader's.
