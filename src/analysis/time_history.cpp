@@ -18,19 +18,23 @@ std::vector<double> element_dissipation_of(const EnergyMeter& meter) {
   return per_element ? std::vector<double>(per_element->begin(), per_element->end()) : std::vector<double>{};
 }
 
-/// No gap element ever closed: it transmitted nothing (an open element's force is 0 by its law),
-/// so the frames moved as they would without it.
-bool no_gap_element_closed(const ResponseStatistics& run) {
-  return std::all_of(run.gaps.begin(), run.gaps.end(), [](const GapResponse& g) {
+/// The run moved as the frames do alone: no gap element closed (an open one transmits nothing,
+/// and adds nothing to the phase's matrices), and no guard fired or cut a step. A guard that fires
+/// without an event still changes the run — a rigid stop reached with no closing speed cuts the
+/// step and settles the accelerations again, the exact integrator accepts a state at a touch
+/// within round-off — so a run with any located crossing (a yielding storey's too) or a step that
+/// is not a whole grid step makes its free run.
+bool ran_as_the_frames_alone(const ResponseStatistics& run) {
+  const bool none_closed = std::all_of(run.gaps.begin(), run.gaps.end(), [](const GapResponse& g) {
     return g.contacts == 0 && g.separations == 0 && g.impacts == 0 && g.locks == 0 && g.contact_time == 0.0;
   });
+  return none_closed && run.events == 0 && run.guard_evaluations == run.grazing_checks && run.substeps == run.steps;
 }
 
-/// The free frames' statistics taken from a run whose gap elements never closed. Its steps are
-/// the ones the free run takes (the same grid, the same storey events), and stepping with the
-/// open elements' stored zeros in C, K and the factor gives the same bits (docs/numerics.md,
-/// "The free frames of a run without contact"), so every peak is the free run's to the bit. Its
-/// counts are the run's: the guards of the gap elements were evaluated too.
+/// The free frames' statistics taken from a run that ran as the frames alone: its steps are the
+/// free run's (the same grid), its phase the same matrices, so every peak is the free run's to
+/// the bit (docs/numerics.md, "Session 24"). Its counts are the run's: the guards of the gap
+/// elements were evaluated too.
 ResponseStatistics frames_alone(const ResponseStatistics& run) {
   ResponseStatistics free = run;
   free.gaps.clear();
@@ -110,14 +114,21 @@ FreeRunKey free_run_key(const TimeHistoryProblem& problem, double end_time) {
 std::optional<ResponseStatistics> FreeRunMemo::find(const FreeRunKey& key) {
   const std::uint64_t print = fingerprint(key);
   const std::lock_guard lock(mutex_);
-  for (const Entry& e : entries_) {
-    if (e.fingerprint == print && e.key == key) {
+  for (auto e = entries_.begin(); e != entries_.end(); ++e) {
+    if (e->fingerprint == print && e->key == key) {
       ++hits_;
-      return e.free;
+      // The most recently used last: the least recently used goes first when the memo is full.
+      std::rotate(e, e + 1, entries_.end());
+      return entries_.back().free;
     }
   }
   ++misses_;
   return std::nullopt;
+}
+
+void FreeRunMemo::clear() {
+  const std::lock_guard lock(mutex_);
+  entries_.clear();
 }
 
 void FreeRunMemo::add(const FreeRunKey& key, const ResponseStatistics& free) {
@@ -189,7 +200,7 @@ TimeHistoryAnalysis analyse_time_history(const TimeHistoryProblem& problem, cons
   if (problem.model.gap_count() > 0) {
     const std::optional<FreeRunKey> key =
         memo != nullptr ? std::optional(free_run_key(problem, sim.time())) : std::nullopt;
-    if (stepped_on_grid && no_gap_element_closed(result.statistics)) {
+    if (stepped_on_grid && ran_as_the_frames_alone(result.statistics)) {
       result.free = frames_alone(result.statistics);
       result.free_from_this_run = true;
     } else if (key) {
@@ -200,8 +211,8 @@ TimeHistoryAnalysis analyse_time_history(const TimeHistoryProblem& problem, cons
       alone.meter_energy(false);  // its peaks alone are reported
       alone.advance_to(sim.time());
       result.free = alone.statistics();
+      if (key) memo->add(*key, *result.free);  // free runs only: what a point takes is one
     }
-    if (key) memo->add(*key, *result.free);
   }
   return result;
 }

@@ -191,14 +191,29 @@ TEST(TimeHistoryResult, FreeFramesOfARunWithoutContactAreTheFreeRunsToTheBit) {
       // Outputs every 1.5 steps: the run's steps are cut, the free run's are not.
       {"fig2c_ratio0.8.toml", {"model.dimensionless.delta=500"}, false, 0.0015},
       {"fig2c_ratio0.8.toml", {}, false},  // it pounds
-      // Yielding storeys (their events in both runs), Hertzdamp elements (smooth: Newton's steps).
-      {"el_centro_5_and_8_storeys_bilinear.toml", {"gap_elements.gap=1.0", "analysis.duration=6"}, true},
+      // Bare pounding: impacts alone, no contact phase.
+      {"fig2c_ratio0.8.toml", {"model.dimensionless.eta=0", "model.dimensionless.mu=0", "model.dimensionless.epsilon=0"},
+       false},
+      // A rigid stop reached with no closing speed, at a coarse event tolerance: no event, but the
+      // step is cut there and the accelerations settled again — not the frames alone (a review
+      // found the free peaks 4e-10 off when this run was taken for the free one).
+      {"fig2c_ratio0.8.toml",
+       {"model.dimensionless.eta=0", "model.dimensionless.mu=0", "model.dimensionless.epsilon=0",
+        "analysis.duration=10.0", "analysis.event_tolerance=1e-4", "analysis.lock_time=1e-3",
+        "model.dimensionless.delta=1.6394047771212414"},
+       false},
+      // Yielding storeys: their events are located (a run with located crossings makes its free
+      // run). Bouc–Wen storeys (smooth, no events) and Hertzdamp elements: Newton's steps.
+      {"el_centro_5_and_8_storeys_bilinear.toml", {"gap_elements.gap=1.0", "analysis.duration=6"}, false},
       {"el_centro_5_and_8_storeys_bilinear.toml",
        {"gap_elements.gap=1.0", "analysis.duration=6", "frames[1].storey_law=\"bouc_wen\"",
         "frames[2].storey_law=\"bouc_wen\""},
        true},
       {"slab_to_column.toml", {"gap_elements.gap=1.0", "analysis.duration=6"}, true},
-      {"contact_laws/kelvin_voigt.toml", {"gap_elements.gap=1.0", "analysis.duration=4"}, true},
+      {"contact_laws/kelvin_voigt.toml", {"gap_elements.gap=1.0", "analysis.duration=4.0007"}, true},  // a partial last step
+      {"three_buildings_el_centro.toml", {"gap_elements.gap=1.0", "gap_elements.override[1].joint_width=2",
+        "gap_elements.override[1].gap=1.0", "analysis.duration=5"},
+       true},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(fmt::format("{} {}", c.example, fmt::join(c.settings, " ")));
@@ -207,7 +222,11 @@ TEST(TimeHistoryResult, FreeFramesOfARunWithoutContactAreTheFreeRunsToTheBit) {
     const TimeHistoryResult r = analyse_run(input);
     ASSERT_TRUE(r.free.has_value());
     EXPECT_EQ(r.free_from_this_run, c.from_this_run);
-    EXPECT_EQ(r.free_from_this_run, r.statistics.gaps[0].contacts == 0 && c.from_this_run);
+    for (const GapResponse& g : r.statistics.gaps) {
+      if (g.contacts + g.impacts + g.locks > 0) {
+        EXPECT_FALSE(r.free_from_this_run);
+      }
+    }
 
     Simulator alone(free_frames(r.model), input.excitation, input.analysis.options, input.initial);
     alone.meter_energy(false);

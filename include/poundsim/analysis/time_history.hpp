@@ -51,12 +51,14 @@ struct TimeHistoryAnalysis {
   DofLayout layout;                ///< Its degrees of freedom (frame, floor).
   TimeHistoryOptions options;      ///< As the simulator applied them.
   ResponseStatistics statistics;   ///< Peaks and counts of the interacting frames.
-  /// The same frames without gap elements over the same time (their peaks; the counts are those
-  /// of the run that gave them, this one when free_from_this_run); none without gap elements.
+  /// The same frames without gap elements over the same time; none without gap elements. Its
+  /// peaks are the free run's to the bit; its counts (steps, guard evaluations) are this run's
+  /// when free_from_this_run, otherwise those of the free run, possibly an earlier point's
+  /// (FreeRunMemo).
   std::optional<ResponseStatistics> free;
-  /// `free` is this run's own response, not a second run: no gap element ever closed and every
-  /// step ended on the grid k·dt, so the frames moved, to the bit, as they do without gap elements
-  /// (docs/numerics.md, "The free frames of a run without contact").
+  /// `free` is this run's own response, not a second run: no gap element closed, no guard fired
+  /// and every step was a whole grid step, so the frames moved, to the bit, as they do without
+  /// gap elements (docs/numerics.md, "Session 24").
   bool free_from_this_run = false;
   EnergyBalance energy;             ///< At the end [J].
   /// What each gap element's law dissipated [J] (EnergyMeter::element_dissipation); empty with
@@ -87,9 +89,11 @@ struct FreeRunKey {
 /// Free runs already made, shared by the time histories of a study, an ensemble or an
 /// optimisation whose points differ in their gap elements only (their frames, records and
 /// options the same): a point whose free run is here takes its statistics instead of running
-/// the frames again. A run is deterministic, so they are the bits it would compute; every number
-/// of the key is also compared bit for bit (−0 is not +0). Thread-safe; at most `capacity` runs
-/// are kept, the oldest dropped first.
+/// the frames again. A run is deterministic, so they are the bits it would compute. Keys are
+/// compared with ==, and the numbers of the frames (masses, stiffnesses, dashpots, heights,
+/// damping ratios), the excitation, the options and the initial conditions also bit for bit
+/// (== takes −0 for +0). Only real free runs are kept, with their own counts. Thread-safe; at
+/// most `capacity` runs are kept, the least recently used dropped first.
 class FreeRunMemo {
  public:
   explicit FreeRunMemo(std::size_t capacity = 64) : capacity_(capacity) {}
@@ -97,6 +101,8 @@ class FreeRunMemo {
   [[nodiscard]] std::optional<ResponseStatistics> find(const FreeRunKey& key);
   /// Keeps what the free run for `key` gave (nothing if it is kept already).
   void add(const FreeRunKey& key, const ResponseStatistics& free);
+  /// Forgets every run (a long-lived process between unrelated studies).
+  void clear();
   [[nodiscard]] std::int64_t hits() const;
   [[nodiscard]] std::int64_t misses() const;
   [[nodiscard]] std::size_t size() const;

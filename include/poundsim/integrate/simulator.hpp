@@ -111,9 +111,9 @@ struct TimeHistoryOptions {
     };
   }
 
-  /// Newton's options of a step with smooth laws.
   [[nodiscard]] bool operator==(const TimeHistoryOptions&) const = default;
 
+  /// Newton's options of a step with smooth laws.
   [[nodiscard]] NewtonOptions newton() const {
     return {.max_iterations = newton_max_iterations, .tolerance = newton_tolerance};
   }
