@@ -21,6 +21,7 @@
 #include "poundsim/analysis/frequency_response.hpp"
 #include "poundsim/io/frequency_response_run.hpp"
 #include "poundsim/io/output_files.hpp"
+#include "poundsim/io/time_history_run.hpp"
 #include "poundsim/io/record_scaling.hpp"
 #include "poundsim/io/study_database.hpp"
 #include "poundsim/analysis/parallel.hpp"
@@ -271,7 +272,7 @@ TimeHistoryFigures time_history_figures_of(const RunInput& point) {
                                                         .initial = point.initial,
                                                         .duration = point.analysis.duration,
                                                         .output_dt = point.analysis.duration},
-                                                       {}, &point_free_runs());
+                                                       {}, &process_free_runs());
   return time_history_figures(point.model, run, point.excitation_info.record_pga_g);
 }
 
@@ -315,11 +316,6 @@ std::pair<double, double> band_of(const RunInput& point) {
 }
 
 }  // namespace
-
-FreeRunMemo& point_free_runs() {
-  static FreeRunMemo memo(64);
-  return memo;
-}
 
 std::vector<double> record_factors(const RunInput& point) {
   // The factors depend on the point's model (T₁ of a frame), so each point scales its records.

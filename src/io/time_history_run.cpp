@@ -383,6 +383,11 @@ json to_json(const TimeHistoryResult& result) {
               {"run_time_s", result.run_time}};
 }
 
+FreeRunMemo& process_free_runs() {
+  static FreeRunMemo memo(64);
+  return memo;
+}
+
 TimeHistoryResult analyse_run(const RunInput& input, const TimeHistoryObserver& observer) {
   const auto start = std::chrono::steady_clock::now();
   const TimeHistoryProblem problem{.model = input.model,
@@ -400,7 +405,7 @@ TimeHistoryResult analyse_run(const RunInput& input, const TimeHistoryObserver& 
   }
   std::optional<TimeHistoryAnalysis> analysis;
   try {
-    analysis.emplace(analyse_time_history(problem, observer));
+    analysis.emplace(analyse_time_history(problem, observer, &process_free_runs()));
   } catch (const std::invalid_argument& e) {
     throw InputError(fmt::format("{}: {}", input.source.string(), e.what()));
   }

@@ -265,5 +265,31 @@ TEST(TimeHistoryResult, FreeFramesOfARunWithoutContactAreTheFreeRunsToTheBit) {
   }
 }
 
+// Runs of one process that differ in their gap elements alone — a Python session trying one
+// element after another, the points of a study — make the free run once (process_free_runs).
+TEST(TimeHistoryResult, RunsOfOneProcessShareTheirFreeRun) {
+  const fs::path example = fs::path(POUNDSIM_SOURCE_DIR) / "examples" / "fig2c_ratio0.8.toml";
+  // A duration no other test uses: the memo is the process's.
+  const RunInput first = read_input(example, std::vector<std::string>{"analysis.duration=3.217"});
+  const RunInput second =
+      read_input(example, std::vector<std::string>{"analysis.duration=3.217", "model.dimensionless.eta=0.5"});
+  FreeRunMemo& memo = process_free_runs();
+  const std::int64_t hits = memo.hits(), misses = memo.misses();
+  const TimeHistoryResult a = analyse_run(first);
+  EXPECT_EQ(memo.misses(), misses + 1);
+  const TimeHistoryResult b = analyse_run(second);
+  EXPECT_EQ(memo.hits(), hits + 1);
+  EXPECT_NE(a.statistics.base_shear[0].value, b.statistics.base_shear[0].value);  // other elements
+  Simulator alone(free_frames(b.model), second.excitation, second.analysis.options, second.initial);
+  alone.meter_energy(false);
+  alone.advance_to(b.end_time);
+  ASSERT_TRUE(b.free.has_value());
+  for (std::size_t i = 0; i < b.free->floors.size(); ++i) {
+    EXPECT_EQ(b.free->floors[i].displacement.value, alone.statistics().floors[i].displacement.value) << i;
+    EXPECT_EQ(b.free->floors[i].absolute_acceleration.value, alone.statistics().floors[i].absolute_acceleration.value);
+  }
+  EXPECT_EQ(b.free->neighbours[0].max_approach, alone.statistics().neighbours[0].max_approach);
+}
+
 }  // namespace
 }  // namespace poundsim::io

@@ -56,11 +56,6 @@ std::vector<double> peak_V_W_of(const nlohmann::json& columns, int frames);
 /// The bare-pounding version of a point (bare_pounding_model), its figures.
 PointFigures baseline_figures(const RunInput& point, int threads);
 
-/// The free runs of every time history this process makes for a point (studies, ensembles,
-/// optimisations, their MPI tasks): points that differ in their gap elements alone share them
-/// (FreeRunMemo, analysis/time_history.hpp). Up to 64 kept.
-[[nodiscard]] FreeRunMemo& point_free_runs();
-
 /// The records' scale factors of an ensemble point ([ensemble.scaling]: they depend on the
 /// point's model); empty without scaling.
 [[nodiscard]] std::vector<double> record_factors(const RunInput& point);

@@ -27,6 +27,12 @@ struct TimeHistoryResult : TimeHistoryAnalysis {
   [[nodiscard]] double max_impact_impulse() const; ///< [N·s] over every gap element.
 };
 
+/// The free runs of every time history this process makes — a run, a study's or an
+/// optimisation's points, an ensemble's records, their MPI tasks, a Python session's runs: those
+/// that differ in their gap elements alone share them (FreeRunMemo, analysis/time_history.hpp).
+/// Up to 64 kept.
+[[nodiscard]] FreeRunMemo& process_free_runs();
+
 /// Runs `input` (analyse_time_history) with `observer`, writing nothing: what the command line
 /// and the Python module both run. Throws as run_time_history does.
 TimeHistoryResult analyse_run(const RunInput& input, const TimeHistoryObserver& observer = {});
