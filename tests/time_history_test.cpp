@@ -174,6 +174,33 @@ TEST(FreeRunMemo, PointsDifferingInTheirGapElementsShareTheFreeRunToTheBit) {
   EXPECT_EQ(one.size(), 1u);
   EXPECT_FALSE(one.find(free_run_key(first, 4.0)).has_value());
   EXPECT_TRUE(one.find(free_run_key(heavier, 4.0)).has_value());
+
+  // A byte budget: a record is its samples (10⁵ of them, 1.6 MB with their times).
+  const auto with_record = [&](double scale) {
+    TimeHistoryProblem p = first;
+    RecordExcitation record{.time = {}, .acceleration = {}, .source = "long"};
+    for (int i = 0; i < 100000; ++i) {
+      record.time.push_back(0.01 * i);
+      record.acceleration.push_back(scale * std::sin(0.01 * i));
+    }
+    p.excitation = record;
+    return free_run_key(p, 4.0);
+  };
+  FreeRunMemo budget(64, 3'000'000);
+  budget.add(with_record(1.0), *a.free);
+  EXPECT_EQ(budget.size(), 1u);
+  EXPECT_GT(budget.bytes(), 1'600'000u);
+  budget.add(with_record(2.0), *a.free);  // both would exceed 3 MB: the first goes
+  EXPECT_EQ(budget.size(), 1u);
+  EXPECT_FALSE(budget.find(with_record(1.0)).has_value());
+  EXPECT_TRUE(budget.find(with_record(2.0)).has_value());
+  FreeRunMemo small(64, 1'000'000);
+  small.add(with_record(1.0), *a.free);  // larger than the whole budget: not kept
+  EXPECT_EQ(small.size(), 0u);
+  EXPECT_EQ(small.bytes(), 0u);
+  budget.clear();
+  EXPECT_EQ(budget.size(), 0u);
+  EXPECT_EQ(budget.bytes(), 0u);
 }
 
 }  // namespace

@@ -100,6 +100,21 @@ std::uint64_t fingerprint(const FreeRunKey& key) {
   }
   return f.value();
 }
+
+/// The arrays a memo entry holds [bytes], roughly: the record, the frames, the initial conditions
+/// and the statistics.
+std::size_t footprint(const FreeRunKey& key, const ResponseStatistics& free) {
+  std::size_t doubles = 0;
+  if (const auto* record = std::get_if<RecordExcitation>(&key.excitation)) {
+    doubles += record->time.size() + record->acceleration.size();
+  }
+  for (const Frame& f : key.frames) doubles += 8 * f.mass.size() + f.modal_damping_ratios.size();
+  for (const auto* rows : {&key.initial.displacement, &key.initial.velocity}) {
+    for (const std::vector<double>& row : *rows) doubles += row.size();
+  }
+  return sizeof(FreeRunKey) + sizeof(ResponseStatistics) + sizeof(double) * doubles + sizeof(FloorResponse) * free.floors.size() +
+         sizeof(NeighbourResponse) * free.neighbours.size() + 2 * sizeof(Peak) * free.base_shear.size();
+}
 }  // namespace
 
 FreeRunKey free_run_key(const TimeHistoryProblem& problem, double end_time) {
@@ -129,17 +144,28 @@ std::optional<ResponseStatistics> FreeRunMemo::find(const FreeRunKey& key) {
 void FreeRunMemo::clear() {
   const std::lock_guard lock(mutex_);
   entries_.clear();
+  bytes_ = 0;
+}
+
+std::size_t FreeRunMemo::bytes() const {
+  const std::lock_guard lock(mutex_);
+  return bytes_;
 }
 
 void FreeRunMemo::add(const FreeRunKey& key, const ResponseStatistics& free) {
   const std::uint64_t print = fingerprint(key);
   const std::lock_guard lock(mutex_);
-  if (capacity_ == 0) return;
+  const std::size_t bytes = footprint(key, free);
+  if (capacity_ == 0 || bytes > byte_budget_) return;
   for (const Entry& e : entries_) {
     if (e.fingerprint == print && e.key == key) return;  // another thread made it meanwhile
   }
-  if (entries_.size() == capacity_) entries_.pop_front();
-  entries_.push_back(Entry{.fingerprint = print, .key = key, .free = free});
+  while (!entries_.empty() && (entries_.size() == capacity_ || bytes_ + bytes > byte_budget_)) {
+    bytes_ -= entries_.front().bytes;
+    entries_.pop_front();
+  }
+  entries_.push_back(Entry{.fingerprint = print, .bytes = bytes, .key = key, .free = free});
+  bytes_ += bytes;
 }
 
 std::int64_t FreeRunMemo::hits() const {

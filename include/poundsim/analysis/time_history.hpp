@@ -93,10 +93,13 @@ struct FreeRunKey {
 /// compared with ==, and the numbers of the frames (masses, stiffnesses, dashpots, heights,
 /// damping ratios), the excitation, the options and the initial conditions also bit for bit
 /// (== takes −0 for +0). Only real free runs are kept, with their own counts. Thread-safe; at
-/// most `capacity` runs are kept, the least recently used dropped first.
+/// most `capacity` runs and `byte_budget` bytes of keys and statistics are kept (a record is its
+/// samples: a study over long records must not fill the memory), the least recently used dropped
+/// first; a run larger than the budget alone is not kept.
 class FreeRunMemo {
  public:
-  explicit FreeRunMemo(std::size_t capacity = 64) : capacity_(capacity) {}
+  explicit FreeRunMemo(std::size_t capacity = 64, std::size_t byte_budget = std::size_t{256} << 20)
+      : capacity_(capacity), byte_budget_(byte_budget) {}
   /// The free frames' statistics for `key`, if a run made them.
   [[nodiscard]] std::optional<ResponseStatistics> find(const FreeRunKey& key);
   /// Keeps what the free run for `key` gave (nothing if it is kept already).
@@ -106,14 +109,18 @@ class FreeRunMemo {
   [[nodiscard]] std::int64_t hits() const;
   [[nodiscard]] std::int64_t misses() const;
   [[nodiscard]] std::size_t size() const;
+  /// What the kept runs take, roughly: their keys' and statistics' arrays [bytes].
+  [[nodiscard]] std::size_t bytes() const;
 
  private:
   struct Entry {
     std::uint64_t fingerprint = 0;
+    std::size_t bytes = 0;
     FreeRunKey key;
     ResponseStatistics free;
   };
-  std::size_t capacity_;
+  std::size_t capacity_, byte_budget_;
+  std::size_t bytes_ = 0;
   mutable std::mutex mutex_;
   std::deque<Entry> entries_;
   std::int64_t hits_ = 0, misses_ = 0;

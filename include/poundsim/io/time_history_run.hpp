@@ -30,7 +30,7 @@ struct TimeHistoryResult : TimeHistoryAnalysis {
 /// The free runs of every time history this process makes — a run, a study's or an
 /// optimisation's points, an ensemble's records, their MPI tasks, a Python session's runs: those
 /// that differ in their gap elements alone share them (FreeRunMemo, analysis/time_history.hpp).
-/// Up to 64 kept.
+/// Up to 64 runs and 256 MiB kept.
 [[nodiscard]] FreeRunMemo& process_free_runs();
 
 /// Runs `input` (analyse_time_history) with `observer`, writing nothing: what the command line
