@@ -5,7 +5,6 @@
 #include "poundsim/analysis/time_history.hpp"
 
 #include <array>
-#include <bit>
 #include <cstdint>
 #include <cmath>
 #include <numbers>
@@ -99,30 +98,6 @@ TEST(TimeHistoryAnalysis, FirstStoreyDriftPeakIsTheDisplacementPeak) {
   }
 }
 
-/// Every peak of two free responses, and where they peaked, compared to the bit.
-void expect_same_free_peaks(const ResponseStatistics& a, const ResponseStatistics& b) {
-  ASSERT_EQ(a.floors.size(), b.floors.size());
-  for (std::size_t i = 0; i < a.floors.size(); ++i) {
-    const FloorResponse &p = a.floors[i], &q = b.floors[i];
-    for (const auto& [x, y] : {std::pair{p.displacement, q.displacement}, std::pair{p.velocity, q.velocity},
-                               std::pair{p.acceleration, q.acceleration},
-                               std::pair{p.absolute_acceleration, q.absolute_acceleration}, std::pair{p.drift, q.drift}}) {
-      EXPECT_EQ(std::bit_cast<std::uint64_t>(x.value), std::bit_cast<std::uint64_t>(y.value)) << "DOF " << i;
-      EXPECT_EQ(x.time, y.time) << "DOF " << i;
-    }
-  }
-  ASSERT_EQ(a.base_shear.size(), b.base_shear.size());
-  for (std::size_t f = 0; f < a.base_shear.size(); ++f) {
-    EXPECT_EQ(a.base_shear[f].value, b.base_shear[f].value);
-    EXPECT_EQ(a.storey_shear[f].value, b.storey_shear[f].value);
-  }
-  ASSERT_EQ(a.neighbours.size(), b.neighbours.size());
-  for (std::size_t k = 0; k < a.neighbours.size(); ++k) {
-    EXPECT_EQ(a.neighbours[k].max_approach, b.neighbours[k].max_approach);
-    EXPECT_EQ(a.neighbours[k].max_approach_time, b.neighbours[k].max_approach_time);
-  }
-}
-
 // Points of a study that differ in their gap elements share their free run (FreeRunMemo): the
 // second point takes the first's, and it is the bits its own free run gives. Anything else that
 // differs — a frame's mass, the end, an initial displacement of −0 instead of +0 — is a new run;
@@ -143,7 +118,7 @@ TEST(FreeRunMemo, PointsDifferingInTheirGapElementsShareTheFreeRunToTheBit) {
   EXPECT_NE(b.statistics.base_shear[0].value, a.statistics.base_shear[0].value);  // another point
   const TimeHistoryAnalysis alone = analyse_time_history(stiffer);  // no memo: its own free run
   ASSERT_TRUE(b.free && alone.free);
-  expect_same_free_peaks(*b.free, *alone.free);
+  testing::expect_same_frame_peaks(*b.free, *alone.free);
   EXPECT_FALSE(b.free_from_this_run);
 
   const auto expect_new_run = [&](const TimeHistoryProblem& problem, const char* what) {
@@ -151,7 +126,7 @@ TEST(FreeRunMemo, PointsDifferingInTheirGapElementsShareTheFreeRunToTheBit) {
     const TimeHistoryAnalysis r = analyse_time_history(problem, {}, &memo);
     EXPECT_EQ(memo.misses(), misses + 1) << what;
     EXPECT_EQ(memo.hits(), hits) << what;
-    expect_same_free_peaks(*r.free, *analyse_time_history(problem).free);
+    testing::expect_same_frame_peaks(*r.free, *analyse_time_history(problem).free);
   };
   TimeHistoryProblem heavier = first;
   heavier.model.frames[1].mass[1] *= 1.5;

@@ -126,19 +126,23 @@ FreeRunKey free_run_key(const TimeHistoryProblem& problem, double end_time) {
                     .end_time = end_time};
 }
 
+std::deque<FreeRunMemo::Entry>::iterator FreeRunMemo::locate(std::uint64_t print, const FreeRunKey& key) {
+  return std::find_if(entries_.begin(), entries_.end(),
+                      [&](const Entry& e) { return e.fingerprint == print && e.key == key; });
+}
+
 std::optional<ResponseStatistics> FreeRunMemo::find(const FreeRunKey& key) {
   const std::uint64_t print = fingerprint(key);
   const std::lock_guard lock(mutex_);
-  for (auto e = entries_.begin(); e != entries_.end(); ++e) {
-    if (e->fingerprint == print && e->key == key) {
-      ++hits_;
-      // The most recently used last: the least recently used goes first when the memo is full.
-      std::rotate(e, e + 1, entries_.end());
-      return entries_.back().free;
-    }
+  const auto e = locate(print, key);
+  if (e == entries_.end()) {
+    ++misses_;
+    return std::nullopt;
   }
-  ++misses_;
-  return std::nullopt;
+  ++hits_;
+  // The most recently used last: the least recently used goes first when the memo is full.
+  std::rotate(e, e + 1, entries_.end());
+  return entries_.back().free;
 }
 
 void FreeRunMemo::clear() {
@@ -154,12 +158,10 @@ std::size_t FreeRunMemo::bytes() const {
 
 void FreeRunMemo::add(const FreeRunKey& key, const ResponseStatistics& free) {
   const std::uint64_t print = fingerprint(key);
-  const std::lock_guard lock(mutex_);
   const std::size_t bytes = footprint(key, free);
   if (capacity_ == 0 || bytes > byte_budget_) return;
-  for (const Entry& e : entries_) {
-    if (e.fingerprint == print && e.key == key) return;  // another thread made it meanwhile
-  }
+  const std::lock_guard lock(mutex_);
+  if (locate(print, key) != entries_.end()) return;  // another thread made it meanwhile
   while (!entries_.empty() && (entries_.size() == capacity_ || bytes_ + bytes > byte_budget_)) {
     bytes_ -= entries_.front().bytes;
     entries_.pop_front();
@@ -224,20 +226,22 @@ TimeHistoryAnalysis analyse_time_history(const TimeHistoryProblem& problem, cons
   for (int dof = 0; dof < sim.layout().size(); ++dof) result.final_drift.push_back(sim.storey_drift(dof));
   // The same frames without gap elements, for amplifications and separation distances.
   if (problem.model.gap_count() > 0) {
-    const std::optional<FreeRunKey> key =
-        memo != nullptr ? std::optional(free_run_key(problem, sim.time())) : std::nullopt;
     if (stepped_on_grid && ran_as_the_frames_alone(result.statistics)) {
       result.free = frames_alone(result.statistics);
       result.free_from_this_run = true;
-    } else if (key) {
-      result.free = memo->find(*key);
-    }
-    if (!result.free) {
-      Simulator alone(free_frames(problem.model), problem.excitation, problem.options, problem.initial);
-      alone.meter_energy(false);  // its peaks alone are reported
-      alone.advance_to(sim.time());
-      result.free = alone.statistics();
-      if (key) memo->add(*key, *result.free);  // free runs only: what a point takes is one
+    } else {
+      std::optional<FreeRunKey> key;
+      if (memo != nullptr) {
+        key = free_run_key(problem, sim.time());
+        result.free = memo->find(*key);
+      }
+      if (!result.free) {
+        Simulator alone(free_frames(problem.model), problem.excitation, problem.options, problem.initial);
+        alone.meter_energy(false);  // its peaks alone are reported
+        alone.advance_to(sim.time());
+        result.free = alone.statistics();
+        if (key) memo->add(*key, *result.free);  // free runs only: what a point takes is one
+      }
     }
   }
   return result;

@@ -119,6 +119,8 @@ class FreeRunMemo {
     FreeRunKey key;
     ResponseStatistics free;
   };
+  /// The entry of `key` (with fingerprint `print`), or end(); the mutex held.
+  std::deque<Entry>::iterator locate(std::uint64_t print, const FreeRunKey& key);
   std::size_t capacity_, byte_budget_;
   std::size_t bytes_ = 0;
   mutable std::mutex mutex_;
