@@ -167,6 +167,30 @@ void NewmarkIntegrator::step_banded(const LinearPhase& phase, const LinearPhase:
   const double* __restrict a = from.a.data();
   const double* __restrict mass = phase.mass().data();
   const double* __restrict load = phase.constant_load().data();
+  if constexpr (B == 0) {
+    // No DOF couples to another (single-storey frames apart, the common case of the paper's
+    // systems): each row's whole step in one pass, the same operations as the passes below.
+    const double* __restrict c = bands.damping.data();
+    const double* __restrict k = bands.stiffness.data();
+    const double* __restrict inverse_d = bands.inverse_diagonal.data();
+    to.t = from.t + tau;
+    to.ground = ground_end;
+    double* __restrict u_new = to.u.data();
+    double* __restrict v_new = to.v.data();
+    double* __restrict a_new = to.a.data();
+    for (int r = 0; r < n; ++r) {
+      const double w1 = -1.0 * (v[r] + half * a[r]);
+      const double w2 = -1.0 * (u[r] + tau * v[r] + quarter_sq * a[r]);
+      double sum = load[r] - ground_end * mass[r];
+      sum += c[r] * w1;
+      sum += k[r] * w2;
+      const double x = inverse_d[r] * sum;
+      u_new[r] = -w2 + quarter_sq * x;
+      v_new[r] = v[r] + half * (a[r] + x);
+      a_new[r] = x;
+    }
+    return;
+  }
   // −w1 and −w2 (the column loop's x_j = −1·w_j, negated once instead of at each of its uses; −(−w2)
   // is w2 exactly), and the solve's vector before and after the diagonal, padded: indices −B …
   // n − 1 + B, the pads zero and never written.

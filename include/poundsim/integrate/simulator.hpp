@@ -225,6 +225,8 @@ class Loop {
   /// Throws SimulationError naming the time and the quantity when the state, a force or an energy
   /// is no longer finite.
   void check_finite() const;
+  /// Whether the quantities check_finite() names are all finite: its fast pass.
+  [[nodiscard]] bool all_finite() const;
 
   PoundingSystem system_;
   TimeHistoryOptions options_;
