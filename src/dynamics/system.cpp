@@ -158,11 +158,22 @@ double PoundingSystem::gap_force(const KinematicState& x, const ContactState& c,
   });
 }
 
-void PoundingSystem::evaluate_guards(const KinematicState& x, const LinearPhase& phase, ContactState& c,
-                                     std::span<double> g, std::span<double> dg) const {
+namespace {
+/// λ of the locked links, called out of line: evaluate_guards inlines everything else it calls.
+[[gnu::noinline]] void stop_reactions(const PoundingSystem& system, const KinematicState& x, const LinearPhase& phase,
+                                      ContactState& c) {
+  system.compute_stop_reactions(x, phase, c);
+}
+}  // namespace
+
+// Flattened: this runs at every step and at every trial of event location, and each law's
+// guards() then computes its values in registers instead of a GuardValue array in memory.
+[[gnu::flatten]] void PoundingSystem::evaluate_guards(const KinematicState& x, const LinearPhase& phase,
+                                                      ContactState& c, std::span<double> g,
+                                                      std::span<double> dg) const {
   // Each guard is its value minus its round-off level (the law's): a guard within a few ulps of
   // zero is zero, and zero does not fire.
-  compute_stop_reactions(x, phase, c);
+  if (!phase.is_unreduced()) stop_reactions(*this, x, phase, c);  // only locked links have a λ
   std::array<GuardValue, 2> values;
   for_each_event_link(tracked_table_, [&](const auto& link) {
     const auto p = static_cast<std::size_t>(link.element);

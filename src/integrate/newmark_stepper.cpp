@@ -49,6 +49,26 @@ class SystemSmoothForces final : public SmoothForces {
 };
 }  // namespace
 
+namespace {
+/// What a step's guards say at a glance, in one pass: whether one fired at the end (any_fired),
+/// and whether one may rise and fall inside the step without crossing at the ends (the guards
+/// find_grazing examines). Most steps have neither.
+struct GuardScan {
+  bool fired = false;
+  bool may_graze = false;
+};
+GuardScan scan_guards(const Loop::Guards& g) {
+  bool fired = false, may_graze = false;
+  const std::size_t count = g.hi.size();
+  const double *lo = g.lo.data(), *hi = g.hi.data(), *rate_lo = g.rate_lo.data(), *rate_hi = g.rate_hi.data();
+  for (std::size_t j = 0; j < count; ++j) {
+    fired |= hi[j] > 0.0;
+    may_graze |= (lo[j] <= 0) & (hi[j] <= 0) & (rate_lo[j] > 0) & (rate_hi[j] < 0);
+  }
+  return {fired, may_graze};
+}
+}  // namespace
+
 void NewmarkStepper::trial_step(Loop& loop, double tau, bool nominal, KinematicState& out) {
   const LinearPhase& phase = loop.phase();
   const double ground_end = loop.system().ground_acceleration(loop.state().t + tau);
@@ -85,7 +105,8 @@ void NewmarkStepper::integrate_to(Loop& loop, double t_end, bool nominal) {
     trial_step(loop, tau, use_step_solver, upper_);
     upper_.t = t_end;  // exact grid time, whatever the rounding of t + τ
     loop.evaluate_guards(upper_, g.hi, g.rate_hi);
-    if (!any_fired(g.hi) && !find_grazing(loop, tau)) {
+    const GuardScan scan = scan_guards(g);
+    if (!scan.fired && !(scan.may_graze && find_grazing(loop, tau))) {
       loop.accept(upper_);
       return;
     }
