@@ -47,9 +47,7 @@ class SystemSmoothForces final : public SmoothForces {
  private:
   const Loop& loop_;
 };
-}  // namespace
 
-namespace {
 /// What a step's guards say at a glance, in one pass: whether one fired at the end (any_fired),
 /// and whether one may rise and fall inside the step without crossing at the ends (the guards
 /// find_grazing examines). Most steps have neither.

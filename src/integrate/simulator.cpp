@@ -477,7 +477,8 @@ void Loop::check_finite() const {
   const auto where = [&](int dof) {
     return fmt::format("frame {} floor {}", layout_.frame_of(dof) + 1, layout_.floor_of(dof) + 1);
   };
-  // Every quantity checked, listed once: check(value, unit, what), what() naming it.
+  // Every quantity checked, listed once: check(value, unit, what), what() naming it. all_finite()
+  // is the fast pass over the same quantities: a quantity added here goes there too.
   const auto each_quantity = [&](auto&& check) {
     check(state_.ground, "", [] { return std::string("the ground acceleration"); });
     const double *u = state_.u.data(), *v = state_.v.data(), *a = state_.a.data();

@@ -149,19 +149,15 @@ class ResponseMonitor {
   }
   /// k u₁ + c u̇₁ + f₀ of frame f at x [N].
   [[nodiscard]] double storey_shear(const KinematicState& x, int f) const {
-    const int d = layout_.dof(f, 0);
+    const auto d = static_cast<Eigen::Index>(first_storey_dofs_[static_cast<std::size_t>(f)]);
     const LinearForm& storey = first_storey_[static_cast<std::size_t>(f)];
-    return storey.stiffness * x.u(d) + storey.damping * x.v(d) + storey.force_at_zero;
+    return storey.stiffness * x.u.data()[d] + storey.damping * x.v.data()[d] + storey.force_at_zero;
   }
   /// Σ shear·0 over the frames' first-storey shears at x: ±0 when they are all finite, NaN
   /// otherwise (Loop::all_finite).
   [[nodiscard]] double storey_shear_poison(const KinematicState& x) const {
     double poison = 0.0;
-    for (std::size_t f = 0; f < first_storey_dofs_.size(); ++f) {
-      const LinearForm& storey = first_storey_[f];
-      const auto d = static_cast<Eigen::Index>(first_storey_dofs_[f]);
-      poison += (storey.stiffness * x.u.data()[d] + storey.damping * x.v.data()[d] + storey.force_at_zero) * 0.0;
-    }
+    for (std::size_t f = 0; f < first_storey_dofs_.size(); ++f) poison += storey_shear(x, static_cast<int>(f)) * 0.0;
     return poison;
   }
   /// The first storey of frame f now has the linear form `form` (a yielding storey changed its
