@@ -3,6 +3,7 @@
 // points, interacting and free, from rest) must take under 2 s on 2 cores.
 
 #include <benchmark/benchmark.h>
+#include <fmt/format.h>
 
 #include "poundsim/model/dimensionless.hpp"
 #include "poundsim/analysis/frequency_response.hpp"
@@ -44,19 +45,22 @@ void BM_FrfPoint(benchmark::State& state) {
 }
 BENCHMARK(BM_FrfPoint)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
+/// Args: integrator (0 Newmark, 1 exact), threads (0: all cores), lanes (Newmark from rest: 1
+/// is one point at a time, the path before lockstep; 8 the default batches).
 void BM_WholeFrf141(benchmark::State& state) {
   const Model model = fig2c();
   std::vector<double> ratios;
   for (int i = 0; i <= 140; ++i) ratios.push_back(0.2 + 0.01 * i);
-  const FrequencyResponseOptions o =
-      options(state.range(0) == 1, ratios, static_cast<int>(state.range(1)));
+  FrequencyResponseOptions o = options(state.range(0) == 1, ratios, static_cast<int>(state.range(1)));
+  o.lanes = static_cast<int>(state.range(2));
   for (auto _ : state) benchmark::DoNotOptimize(frequency_response(model, o));
   state.SetLabel(std::string(state.range(0) == 1 ? "exact" : "newmark") +
-                 (state.range(1) == 1 ? ", 1 thread" : ", all cores"));
+                 (state.range(1) == 1 ? ", 1 thread" : ", all cores") +
+                 (state.range(0) == 0 ? fmt::format(", {} lanes", o.lanes) : std::string()));
   state.SetItemsProcessed(state.iterations() * 141);
 }
 BENCHMARK(BM_WholeFrf141)
-    ->Args({0, 1})->Args({0, 0})->Args({1, 1})->Args({1, 0})
+    ->Args({0, 1, 1})->Args({0, 1, 8})->Args({0, 0, 1})->Args({0, 0, 8})->Args({1, 1, 8})->Args({1, 0, 8})
     ->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

@@ -1,11 +1,12 @@
 // Frequency responses: steady-state detection against known answers, coexisting branches,
-// determinism whatever the thread count.
+// determinism whatever the thread count and the lanes stepped together.
 
 #include "poundsim/analysis/frequency_response.hpp"
 
 #include <cmath>
-#include <cstring>
 #include <numbers>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -136,35 +137,54 @@ TEST(FrequencyResponse, APointsWindowIsThatOfARunRecordingEverything) {
   }
 }
 
-TEST(FrequencyResponse, SameBitsWhateverTheThreadCount) {
-  const Model model = make_model(testing::fig2('b'), {1, 1});
+/// The frequency response of `model` under 0.2 g at `ratios` with these threads, lanes and sweep.
+std::vector<FrfPoint> response(const Model& model, const std::vector<double>& ratios, int threads, int lanes,
+                               SweepMode sweep) {
   FrequencyResponseOptions o;
   o.amplitude = 0.2 * kG;
-  for (int i = 0; i < 9; ++i) o.ratios.push_back(0.4 + 0.1 * i);
-  const auto run = [&](int threads, SweepMode sweep) {
-    FrequencyResponseOptions copy = o;
-    copy.threads = threads;
-    copy.sweep = sweep;
-    return frequency_response(model, copy);
-  };
+  o.ratios = ratios;
+  o.threads = threads;
+  o.lanes = lanes;
+  o.sweep = sweep;
+  return frequency_response(model, o);
+}
+
+TEST(FrequencyResponse, SameBitsWhateverTheThreadCount) {
+  const Model model = make_model(testing::fig2('b'), {1, 1});
+  std::vector<double> ratios;
+  for (int i = 0; i < 9; ++i) ratios.push_back(0.4 + 0.1 * i);
   for (const SweepMode sweep : {SweepMode::from_rest, SweepMode::both}) {
-    const auto one = run(1, sweep), two = run(2, sweep), three = run(3, sweep);
-    ASSERT_EQ(one.size(), two.size());
-    ASSERT_EQ(one.size(), three.size());
-    for (std::size_t i = 0; i < one.size(); ++i) {
-      for (const auto* other : {&two, &three}) {
-        const FrfPoint& a = one[i];
-        const FrfPoint& b = (*other)[i];
-        EXPECT_EQ(a.ratio, b.ratio);
-        EXPECT_EQ(a.branch, b.branch);
-        EXPECT_EQ(a.periodicity, b.periodicity);
-        EXPECT_EQ(a.transient_periods, b.transient_periods);
-        EXPECT_EQ(a.events, b.events);
-        EXPECT_EQ(std::memcmp(a.interacting.base_shear.data(), b.interacting.base_shear.data(),
-                              sizeof(double) * a.interacting.base_shear.size()),
-                  0);
-      }
+    const auto one = response(model, ratios, 1, 8, sweep);
+    for (const int threads : {2, 3}) {
+      const auto other = response(model, ratios, threads, 8, sweep);
+      ASSERT_EQ(one.size(), other.size());
+      for (std::size_t i = 0; i < one.size(); ++i) testing::expect_same_frf_point(one[i], other[i]);
     }
+  }
+}
+
+TEST(FrequencyResponse, SameBitsWhateverTheLanes) {
+  // Fig. 2c over its range: points from rest one at a time (lanes = 1), or stepped together in
+  // batches of 2, 3 and 8 (integrate/lockstep.hpp) on one and two threads.
+  const Model model = make_model(testing::fig2('c'), {1, 1});
+  std::vector<double> ratios;
+  for (int i = 0; i < 15; ++i) ratios.push_back(0.2 + 0.1 * i);
+  const std::vector<FrfPoint> one = response(model, ratios, 1, 1, SweepMode::from_rest);
+  long impacts = 0;
+  for (const FrfPoint& p : one) impacts += p.impacts;
+  EXPECT_GT(impacts, 0);  // the range pounds
+  for (const auto& [lanes, threads] : {std::pair{3, 1}, std::pair{8, 1}, std::pair{8, 2}, std::pair{2, 2}}) {
+    SCOPED_TRACE(::testing::Message() << lanes << " lanes, " << threads << " threads");
+    const std::vector<FrfPoint> other = response(model, ratios, threads, lanes, SweepMode::from_rest);
+    ASSERT_EQ(one.size(), other.size());
+    for (std::size_t i = 0; i < one.size(); ++i) testing::expect_same_frf_point(one[i], other[i]);
+  }
+  FrequencyResponseOptions bad;
+  bad.amplitude = 0.2 * kG;
+  bad.ratios = ratios;
+  for (const int lanes : {0, 9}) {
+    bad.lanes = lanes;
+    EXPECT_THROW(frequency_response(model, bad), std::invalid_argument);
   }
 }
 

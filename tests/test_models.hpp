@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "poundsim/analysis/frequency_response.hpp"
 #include "poundsim/model/dimensionless.hpp"
 #include "poundsim/io/input.hpp"
 #include "poundsim/model/model.hpp"
@@ -135,6 +136,25 @@ inline void expect_same_peaks(const ResponseStatistics& with, const ResponseStat
   }
   EXPECT_GT(with.events, 0);
   EXPECT_EQ(with.events, without.events);
+}
+
+/// Two points of a frequency response to the bit (−0 told from +0): what frf.csv reports of them.
+inline void expect_same_frf_point(const FrfPoint& a, const FrfPoint& b) {
+  const auto bits = [](double x) { return std::bit_cast<std::uint64_t>(x); };
+  EXPECT_EQ(bits(a.ratio), bits(b.ratio));
+  EXPECT_EQ(bits(a.omega), bits(b.omega));
+  EXPECT_EQ(a.branch, b.branch);
+  EXPECT_EQ(a.periodicity, b.periodicity);
+  EXPECT_EQ(a.transient_periods, b.transient_periods);
+  EXPECT_EQ(a.events, b.events);
+  EXPECT_EQ(a.impacts, b.impacts);
+  for (const auto& [x, y] : {std::pair{&a.interacting, &b.interacting}, std::pair{&a.free, &b.free}}) {
+    for (const auto& [p, q] : {std::pair{&x->base_shear, &y->base_shear}, std::pair{&x->storey_shear, &y->storey_shear},
+                               std::pair{&x->top_displacement, &y->top_displacement}}) {
+      ASSERT_EQ(p->size(), q->size());
+      for (std::size_t f = 0; f < p->size(); ++f) EXPECT_EQ(bits((*p)[f]), bits((*q)[f])) << "frame " << f + 1;
+    }
+  }
 }
 
 }  // namespace poundsim::testing

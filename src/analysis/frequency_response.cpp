@@ -9,6 +9,7 @@
 #include <limits>
 #include <mutex>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <thread>
 
@@ -17,6 +18,7 @@
 
 #include "poundsim/analysis/parallel.hpp"
 #include "poundsim/analysis/periodic_orbits.hpp"
+#include "poundsim/integrate/lockstep.hpp"
 
 namespace poundsim {
 
@@ -119,50 +121,177 @@ class PoincareSection {
   std::deque<Sample> samples_;
 };
 
+/// A point of a frequency response from its start to its window: the steady state reached from
+/// its simulator's state. steady_state_point_at() runs one alone; frequency_response() runs
+/// points from rest with Newmark in lockstep batches (integrate/lockstep.hpp), period by period
+/// through the same calls.
+class PointRun {
+ public:
+  /// Sets `sim` to the point's forcing and step: created when null (from rest), else restarted
+  /// from its state (a sweep's next point). The transient then records neither the energy balance
+  /// (never reported here) nor peaks (reset before the window): the state, the configuration and
+  /// the events are all it needs.
+  PointRun(const Model& model, double omega1, double amplitude, double ratio, const SteadyStateOptions& steady,
+           const TimeHistoryOptions& options, std::unique_ptr<Simulator>& sim)
+      : steady_(steady), section_(steady.max_periodicity, steady.tolerance) {
+    const double omega = ratio * omega1;
+    period_ = 2 * std::numbers::pi / omega;
+    const double dt = period_ / steady.steps_per_period;
+    const HarmonicExcitation forcing{amplitude, omega};
+    if (sim) {
+      sim->restart(forcing, dt);
+    } else {
+      TimeHistoryOptions o = options;
+      o.dt = dt;
+      sim = std::make_unique<Simulator>(model, forcing, o);
+    }
+    point_.ratio = ratio;
+    point_.omega = omega;
+    point_.free = free_response(model, amplitude, omega);
+    sim->meter_energy(false);
+    sim->record_responses(false);
+    section_.add(*sim, omega);
+  }
+
+  /// The time at the end of the transient's next period [s].
+  [[nodiscard]] double next_section() const { return (periods_ + 1) * period_; }
+
+  /// After `sim` has run the transient's next period (to next_section()): its Poincaré section.
+  /// True when the transient is over — a repetition found or max_periods run.
+  bool end_period(const Simulator& sim) {
+    ++periods_;
+    section_.add(sim, point_.omega);
+    point_.periodicity = section_.periodicity();
+    point_.transient_periods = periods_;
+    return point_.periodicity > 0 || periods_ >= steady_.max_periods;
+  }
+
+  /// The window after the transient (k periods of a period-k orbit, else window_periods) with
+  /// peaks, and the point.
+  FrfPoint finish(Simulator& sim) {
+    const int window = point_.periodicity > 0 ? point_.periodicity : steady_.window_periods;
+    sim.record_responses(true);
+    sim.reset_statistics();
+    sim.advance_to((point_.transient_periods + window) * period_);
+    const ResponseStatistics& st = sim.statistics();
+    point_.interacting = run_amplitudes(sim);
+    point_.events = st.events;
+    for (const GapResponse& g : st.gaps) point_.impacts += g.impacts;
+    return point_;
+  }
+
+ private:
+  const SteadyStateOptions& steady_;
+  PoincareSection section_;
+  FrfPoint point_;
+  double period_ = 0.0;
+  int periods_ = 0;
+};
+
 /// steady_state_point() with ω₁ = reference_frequency(model) given, so that a sweep finds it once.
 FrfPoint steady_state_point_at(const Model& model, double omega1, double amplitude, double ratio,
                                const SteadyStateOptions& steady, const TimeHistoryOptions& options,
                                std::unique_ptr<Simulator>& sim) {
-  const double omega = ratio * omega1;
-  const double period = 2 * std::numbers::pi / omega;
-  const double dt = period / steady.steps_per_period;
-  const HarmonicExcitation forcing{amplitude, omega};
-  if (sim) {
-    sim->restart(forcing, dt);
-  } else {
-    TimeHistoryOptions o = options;
-    o.dt = dt;
-    sim = std::make_unique<Simulator>(model, forcing, o);
-  }
-  FrfPoint point;
-  point.ratio = ratio;
-  point.omega = omega;
-  point.free = free_response(model, amplitude, omega);
+  PointRun run(model, omega1, amplitude, ratio, steady, options, sim);
+  do {
+    sim->advance_to(run.next_section());
+  } while (!run.end_period(*sim));
+  return run.finish(*sim);
+}
 
-  // Neither the energy balance (never reported here) nor the transient's peaks (reset before
-  // the window): the state, the configuration and the events are all the transient needs.
-  sim->meter_energy(false);
-  sim->record_responses(false);
-  PoincareSection section(steady.max_periodicity, steady.tolerance);
-  section.add(*sim, omega);
-  int m = 0;
-  for (m = 1; m <= steady.max_periods; ++m) {
-    sim->advance_to(m * period);
-    section.add(*sim, omega);
-    point.periodicity = section.periodicity();
-    if (point.periodicity > 0) break;
+/// The points of `ratios` from rest, each thread stepping up to `lanes` of them in lockstep
+/// (integrate/lockstep.hpp) a period at a time, a lane taking the next point as soon as its own
+/// is done. Each point's simulator takes the steps steady_state_point_at's would, to the bit:
+/// the results depend neither on the lanes nor on the threads. The failure of the lowest point
+/// that fails is rethrown, as parallel_for does.
+std::vector<FrfPoint> points_from_rest_in_lockstep(const Model& model, double omega1,
+                                                   const FrequencyResponseOptions& options) {
+  const int count = static_cast<int>(options.ratios.size());
+  std::vector<FrfPoint> results(static_cast<std::size_t>(count));
+  std::vector<std::exception_ptr> failures(static_cast<std::size_t>(count));
+  std::atomic<int> next{0}, done{0};
+  std::atomic<bool> stop{false};  // the progress callback threw (an interrupt): every worker stops
+  const auto lanes = static_cast<std::size_t>(options.lanes);
+  const int workers = std::min(count, options.threads == 0 ? hardware_threads() : options.threads);
+  parallel_for(workers, options.threads, [&](int /*worker*/) {
+    struct Lane {
+      int index = -1;
+      std::unique_ptr<Simulator> sim;
+      std::optional<PointRun> run;
+    };
+    std::vector<Lane> lane(lanes);
+    std::vector<Simulator*> sims(lanes, nullptr);
+    std::vector<std::exception_ptr> errors(lanes);
+    Lockstep batch;
+    // A point ends with its result or its failure; the progress callback may throw (an
+    // interrupt), which ends the whole response as it would from parallel_for's task.
+    const auto end_point = [&](Lane& l, std::optional<FrfPoint> point, std::exception_ptr error) {
+      const auto i = static_cast<std::size_t>(l.index);
+      if (point) results[i] = std::move(*point);
+      failures[i] = std::move(error);
+      l.run.reset();
+      l.sim.reset();
+      l.index = -1;
+      const int finished = ++done;
+      if (!options.progress) return;
+      try {
+        options.progress(finished, count);
+      } catch (...) {
+        stop = true;
+        throw;
+      }
+    };
+    const auto start_next = [&](Lane& l) {
+      while (l.index < 0) {
+        const int i = next++;
+        if (i >= count) return;
+        l.index = i;
+        std::exception_ptr error;
+        try {
+          l.run.emplace(model, omega1, options.amplitude, options.ratios[static_cast<std::size_t>(i)], options.steady,
+                        options.time_history, l.sim);
+        } catch (...) {
+          error = std::current_exception();
+        }
+        if (error) end_point(l, std::nullopt, error);
+      }
+    };
+    while (!stop) {
+      bool any = false;
+      for (std::size_t k = 0; k < lanes; ++k) {
+        start_next(lane[k]);
+        sims[k] = lane[k].index >= 0 ? lane[k].sim.get() : nullptr;
+        errors[k] = nullptr;
+        any = any || lane[k].index >= 0;
+      }
+      if (!any) return;
+      batch.step(sims, options.steady.steps_per_period, errors);
+      for (std::size_t k = 0; k < lanes; ++k) {
+        Lane& l = lane[k];
+        if (l.index < 0) continue;
+        std::optional<FrfPoint> point;
+        std::exception_ptr error = errors[k];
+        if (!error) {
+          try {
+            // The period's grid steps end at its section (dt = T / steps_per_period) within
+            // advance_to's slack: this takes no step, and any the grid would leave it.
+            l.sim->advance_to(l.run->next_section());
+            if (l.run->end_period(*l.sim)) {
+              point = l.run->finish(*l.sim);
+              point->branch = SweepMode::from_rest;
+            }
+          } catch (...) {
+            error = std::current_exception();
+          }
+        }
+        if (point || error) end_point(l, std::move(point), error);
+      }
+    }
+  });
+  for (const std::exception_ptr& failure : failures) {
+    if (failure) std::rethrow_exception(failure);
   }
-  point.transient_periods = std::min(m, steady.max_periods);
-  const int window = point.periodicity > 0 ? point.periodicity : steady.window_periods;
-  sim->record_responses(true);
-  sim->reset_statistics();
-  sim->advance_to((point.transient_periods + window) * period);
-
-  const ResponseStatistics& st = sim->statistics();
-  point.interacting = run_amplitudes(*sim);
-  point.events = st.events;
-  for (const GapResponse& g : st.gaps) point.impacts += g.impacts;
-  return point;
+  return results;
 }
 
 }  // namespace
@@ -183,6 +312,14 @@ std::vector<FrfPoint> frequency_response(const Model& model, const FrequencyResp
   validate(model);
   if (options.method == FrfMethod::continuation) return frequency_response_by_continuation(model, options);
   const double omega1 = reference_frequency(model);
+
+  if (options.lanes < 1 || options.lanes > Lockstep::kLanes) {
+    throw std::invalid_argument(fmt::format("lanes = {} must be in [1, {}]", options.lanes, Lockstep::kLanes));
+  }
+  if (options.sweep == SweepMode::from_rest && options.lanes > 1 &&
+      options.time_history.integrator == Integrator::newmark) {
+    return points_from_rest_in_lockstep(model, omega1, options);
+  }
 
   std::vector<double> ascending = options.ratios;
   std::sort(ascending.begin(), ascending.end());

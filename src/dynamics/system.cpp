@@ -20,7 +20,6 @@ using detail::with_event_law;
 
 namespace {
 
-constexpr double kInactive = -std::numeric_limits<double>::infinity();
 /// The closing speed u̇_L − u̇_R of a pair counts only above this fraction of |u̇_L| + |u̇_R|: below
 /// it, it is the round-off of equal velocities computed apart, or the remainder of the
 /// sequential restitution of a chain, which stops there. One threshold for both, so that what
@@ -181,17 +180,7 @@ namespace {
                                .reaction = c.stop_reaction[p],
                                .reaction_noise = c.stop_noise[p]};
     link.law.guards(kinematics(x, link), c.config[p], c.states.at(link), context, values);
-    for (std::size_t i = 0; i < values.size(); ++i) {
-      const GuardValue& v = values[i];
-      const std::size_t j = 2 * p + i;
-      if (!v.active) {
-        g[j] = kInactive;
-        dg[j] = 0.0;
-        continue;
-      }
-      g[j] = (v.hysteresis ? v.value - c.bias[p] : v.value) - v.noise;
-      dg[j] = v.rate;
-    }
+    for (std::size_t i = 0; i < values.size(); ++i) guard_entry(values[i], c.bias[p], g[2 * p + i], dg[2 * p + i]);
   });
 }
 

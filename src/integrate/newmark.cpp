@@ -179,15 +179,11 @@ void NewmarkIntegrator::step_banded(const LinearPhase& phase, const LinearPhase:
     double* __restrict v_new = to.v.data();
     double* __restrict a_new = to.a.data();
     for (int r = 0; r < n; ++r) {
-      const double w1 = -1.0 * (v[r] + half * a[r]);
-      const double w2 = -1.0 * (u[r] + tau * v[r] + quarter_sq * a[r]);
-      double sum = load[r] - ground_end * mass[r];
-      sum += c[r] * w1;
-      sum += k[r] * w2;
-      const double x = inverse_d[r] * sum;
-      u_new[r] = -w2 + quarter_sq * x;
-      v_new[r] = v[r] + half * (a[r] + x);
-      a_new[r] = x;
+      const DiagonalRowStep end = newmark_diagonal_row(u[r], v[r], a[r], tau, half, quarter_sq, load[r], ground_end,
+                                                       mass[r], c[r], k[r], inverse_d[r]);
+      u_new[r] = end.u;
+      v_new[r] = end.v;
+      a_new[r] = end.a;
     }
     return;
   }

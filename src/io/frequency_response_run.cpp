@@ -28,6 +28,7 @@ FrequencyResponseOptions frequency_response_options(const RunInput& input) {
   o.continuation = f.continuation;
   o.time_history = input.analysis.options;
   o.threads = f.threads;
+  o.lanes = f.lanes;
   return o;
 }
 

@@ -1366,6 +1366,11 @@ FrfSettings read_frf(TableReader& t, TableReader& analysis, const Model& model, 
     analysis.fail("integrator", "must be \"exact\" for continuation: the map's Jacobian comes from the exact "
                                 "integrator's propagators and saltation matrices");
   }
+  if (t.has("lanes") && (f.method != FrfMethod::simulation || f.sweep != SweepMode::from_rest ||
+                         a.options.integrator != Integrator::newmark)) {
+    t.fail("lanes", "only for method = \"simulation\" with sweep = \"rest\" and analysis.integrator = \"newmark\": "
+                    "the points stepped together in lockstep");
+  }
   if (f.method == FrfMethod::continuation && a.options.separation == SeparationCriterion::force) {
     analysis.fail("separation", "must be \"displacement\" for frf.method = \"continuation\": under the force "
                                 "criterion a separated element's free end relaxes with a memory the floors' state "

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "poundsim/error.hpp"
+#include "poundsim/io/frequency_response_run.hpp"
 #include "../test_models.hpp"
 
 namespace poundsim::io {
@@ -321,6 +322,23 @@ TEST(InputFrf, ReadsTheSweep) {
   EXPECT_EQ(in.analysis.options.integrator, Integrator::exact);
   const RunInput listed = read(replace(kFrf, "ratio_min = 0.5\nratio_max = 1.5\npoints = 5", "ratios = [1.2, 0.7]"));
   EXPECT_EQ(listed.frf->ratios, (std::vector<double>{0.7, 1.2}));
+}
+
+TEST(InputFrf, LanesAreThoseOfPointsFromRestWithNewmark) {
+  const std::string rest = replace(replace(kFrf, "sweep = \"both\"", "sweep = \"rest\""), "integrator = \"exact\"",
+                                   "integrator = \"newmark\"");
+  EXPECT_EQ(read(rest).frf->lanes, 8);
+  EXPECT_EQ(read(rest, {"frf.lanes=3"}).frf->lanes, 3);
+  EXPECT_EQ(io::frequency_response_options(read(rest, {"frf.lanes=3"})).lanes, 3);
+  EXPECT_NE(error_of(rest, {"frf.lanes=9"}).find("frf.lanes: must be ≤ 8 (got 9)"), std::string::npos);
+  EXPECT_NE(error_of(rest, {"frf.lanes=0"}).find("frf.lanes: must be ≥ 1 (got 0)"), std::string::npos);
+  // Nothing to step together: a sweep, the exact integrator.
+  EXPECT_NE(error_of(replace(rest, "sweep = \"rest\"", "sweep = \"up\""), {"frf.lanes=4"})
+                .find("frf.lanes: only for method = \"simulation\" with sweep = \"rest\""),
+            std::string::npos);
+  EXPECT_NE(error_of(kFrf, {"frf.sweep=\"rest\"", "frf.method=\"simulation\"", "frf.lanes=4"})
+                .find("analysis.integrator = \"newmark\""),
+            std::string::npos);
 }
 
 TEST(InputFrf, RejectsWhatAFrequencyResponseDoesNotUse) {

@@ -88,6 +88,9 @@ struct FrequencyResponseOptions {
   /// Integrator, event tolerance, lock time, separation; dt is set per point from T.
   TimeHistoryOptions time_history;
   int threads = 0;               ///< 0: all hardware threads. Results do not depend on it.
+  /// Points from rest with Newmark that each thread steps together (integrate/lockstep.hpp), in
+  /// [1, Lockstep::kLanes = 8]; 1 runs one point after another. Results do not depend on it.
+  int lanes = 8;
   /// Called after every point with (points done, points in all); from worker threads.
   std::function<void(int, int)> progress;
 };

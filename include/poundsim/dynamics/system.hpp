@@ -21,6 +21,7 @@
 /// reports each event; the loop that owns the phases and the monitors provides both as an
 /// EventHandler.
 
+#include <limits>
 #include <optional>
 #include <span>
 #include <vector>
@@ -142,6 +143,19 @@ class PoundingSystem {
   /// reactions of the locked elements into c first.
   void evaluate_guards(const KinematicState& x, const LinearPhase& phase, ContactState& c,
                        std::span<double> g, std::span<double> dg) const;
+  /// One guard's entry in g and dg as evaluate_guards writes it: the law's value, less the
+  /// element's impact hysteresis `bias` when the guard takes it, less its round-off level; −∞
+  /// (never fires) with rate 0 when inactive. The lockstep kernel (integrate/lockstep.hpp) writes
+  /// the same entries through it.
+  [[gnu::always_inline]] static void guard_entry(const GuardValue& v, double bias, double& g, double& dg) {
+    if (!v.active) {
+      g = -std::numeric_limits<double>::infinity();
+      dg = 0.0;
+      return;
+    }
+    g = (v.hysteresis ? v.value - bias : v.value) - v.noise;
+    dg = v.rate;
+  }
   /// λ and its round-off level of every locked element at x, into c.
   void compute_stop_reactions(const KinematicState& x, const LinearPhase& phase, ContactState& c) const;
 

@@ -34,6 +34,28 @@
 
 namespace poundsim {
 
+/// One DOF's Newmark step when the effective matrix is diagonal (LinearPhase::Bands of width 0:
+/// no DOF coupled to another), with half = τ/2 and quarter_sq = τ²/4 as the step computes them:
+/// ü⁺ = (1/D)(b − m a_g − c (u̇ + τ/2 ü) − k (u + τ u̇ + τ²/4 ü)), then u⁺ and u̇⁺. The banded step
+/// (NewmarkIntegrator::step_banded<0>) and the lockstep kernel (lockstep.hpp) both step through
+/// it, so their operations, and bits, are the same by construction: the order is that of the
+/// sparse step's passes (C's term before K's; −w as the column loop's −1·w).
+struct DiagonalRowStep {
+  double u, v, a;
+};
+[[gnu::always_inline]] inline DiagonalRowStep newmark_diagonal_row(double u, double v, double a, double tau, double half,
+                                                                   double quarter_sq, double load, double ground_end,
+                                                                   double mass, double damping, double stiffness,
+                                                                   double inverse_d) {
+  const double w1 = -1.0 * (v + half * a);
+  const double w2 = -1.0 * (u + tau * v + quarter_sq * a);
+  double sum = load - ground_end * mass;
+  sum += damping * w1;
+  sum += stiffness * w2;
+  const double x = inverse_d * sum;
+  return {.u = -w2 + quarter_sq * x, .v = v + half * (a + x), .a = x};
+}
+
 /// The smooth links' forces and tangents at a trial state, by gap element (what the Newton
 /// iterations ask of the system).
 class SmoothForces {

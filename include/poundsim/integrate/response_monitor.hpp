@@ -153,6 +153,10 @@ class ResponseMonitor {
     const LinearForm& storey = first_storey_[static_cast<std::size_t>(f)];
     return storey.stiffness * x.u.data()[d] + storey.damping * x.v.data()[d] + storey.force_at_zero;
   }
+  /// The floor DOF above frame f's first storey, and that storey's linear form: storey_shear's
+  /// terms (the lockstep kernel computes the same shear over its lanes).
+  [[nodiscard]] int first_storey_dof(int f) const { return first_storey_dofs_[static_cast<std::size_t>(f)]; }
+  [[nodiscard]] const LinearForm& first_storey_form(int f) const { return first_storey_[static_cast<std::size_t>(f)]; }
   /// Σ shear·0 over the frames' first-storey shears at x: ±0 when they are all finite, NaN
   /// otherwise (Loop::all_finite).
   [[nodiscard]] double storey_shear_poison(const KinematicState& x) const {

@@ -67,6 +67,8 @@ class Stepper;
 class TangentFlow;
 }  // namespace detail
 
+class Lockstep;
+
 /// Options of the time-history integration. SI units.
 struct TimeHistoryOptions {
   double dt = 0.0;                 ///< Newmark step h [s]; required, > 0.
@@ -159,6 +161,8 @@ namespace detail {
 /// fired; it asks the system (system()) for the guards. The Simulator is this loop with its
 /// public face (advance_to, restart, the results).
 class Loop {
+  friend class poundsim::Lockstep;  // the plain grid steps of several loops at once (lockstep.hpp)
+
  public:
   /// Guard values g and rates ġ (PoundingSystem::evaluate_guards): at the current state (lo), at
   /// the end of the trial step (hi), and scratch (work).
@@ -253,6 +257,8 @@ class Loop {
 }  // namespace detail
 
 class Simulator : private detail::Loop {
+  friend class Lockstep;
+
  public:
   /// Validates its inputs (std::invalid_argument on failure) and equilibrates the initial state.
   Simulator(Model model, Excitation excitation, TimeHistoryOptions options,

@@ -433,6 +433,7 @@ struct FrfSettings {
   ShootingOptions shooting;           ///< [frf.continuation]
   ContinuationOptions continuation;   ///< [frf.continuation]
   int threads = 0;                    ///< 0: all cores
+  int lanes = 8;                      ///< points stepped together by each thread (FrequencyResponseOptions::lanes)
 
   /// The fields of [frf] read as declared (fields.hpp); the ratios and the steady-state options
   /// are read with their own rules.
@@ -450,6 +451,8 @@ struct FrfSettings {
                     "simulation: every point from rest, or a sweep up, down or both ways through the ratios"},
         CustomField<F>{"continuation", "the continuation's options (method = \"continuation\")"},
         threads_field(&F::threads, "worker threads"),
+        IntegerField{"lanes", &F::lanes, 1, 8,
+                     "simulation from rest with Newmark: points each thread steps together (1: one at a time)"},
     };
   }
 };

@@ -1,0 +1,356 @@
+#include "poundsim/integrate/lockstep.hpp"
+
+#include <array>
+#include <cstddef>
+#include <stdexcept>
+#include <variant>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "poundsim/error.hpp"
+#include "poundsim/integrate/newmark.hpp"
+#include "poundsim/integrate/simulator.hpp"
+#include "poundsim/model/laws/paper_gap.hpp"
+
+namespace poundsim {
+
+namespace {
+constexpr int kLanes = Lockstep::kLanes;
+constexpr auto kWidth = static_cast<std::size_t>(kLanes);
+}  // namespace
+
+/// The lanes' states, constants and guards as arrays over the lanes: entry i of lane l at
+/// [i·kLanes + l]. Every lean lane of a batch has the same numbers of DOFs, gap elements and
+/// frames (its shape, set by the first lane gathered).
+class Lockstep::Batch {
+ public:
+  /// Whether `s`'s next grid step can be lean (lockstep.hpp), and `s` has the batch's shape.
+  [[nodiscard]] bool eligible(const Simulator& s) const;
+  /// Takes lane l's state, phase and guards from `s` into the arrays (eligible(s) first).
+  void gather(int lane, Simulator& s);
+  /// Writes lane l back into its simulator: the state, the guards and the steps it took.
+  void scatter(int lane, Simulator& s);
+  /// One lean step of every lean lane; a lane whose step is refused (a guard fired or may graze,
+  /// a value is not finite) leaves the lean lanes, its state that of the step's start.
+  void step_lean();
+
+  [[nodiscard]] bool lean(int lane) const { return lean_[static_cast<std::size_t>(lane)]; }
+  [[nodiscard]] bool any_lean() const {
+    for (const bool b : lean_) {
+      if (b) return true;
+    }
+    return false;
+  }
+  /// Lane l's lean step was refused by the last step_lean().
+  [[nodiscard]] bool refused(int lane) const { return refused_[static_cast<std::size_t>(lane)]; }
+  void clear_refused(int lane) { refused_[static_cast<std::size_t>(lane)] = false; }
+  /// Forgets the shape (the next lane gathered sets it): when every lane has been written back.
+  void reset_shape() { shaped_ = false; }
+  std::int64_t lean_steps = 0;
+
+ private:
+  void set_shape(const Simulator& s);
+
+  bool shaped_ = false;
+  int dofs_ = 0, gaps_ = 0, frames_ = 0;
+  std::array<bool, kWidth> lean_{}, refused_{};
+  std::array<Simulator*, kWidth> sims_{};
+  std::array<std::int64_t, kWidth> taken_{}, index_{};
+  // Per lane.
+  std::array<double, kWidth> t_{}, ground_{}, dt_{}, half_{}, quarter_sq_{}, origin_{}, t_end_{}, ground_end_{};
+  std::array<SeparationCriterion, kWidth> separation_{};
+  // Per DOF and lane: the state at the step's start and end, the phase's rows (band of width 0).
+  std::vector<double> u_, v_, a_, u_end_, v_end_, a_end_, mass_, load_, damping_, stiffness_, inverse_d_;
+  // Per guard (2 a gap element) and lane: values and rates at the step's start and end.
+  std::vector<double> g_lo_, rate_lo_, g_hi_, rate_hi_;
+  // Per gap element and lane.
+  std::vector<const PaperGap*> law_;
+  std::vector<const PaperGap::State*> law_state_;
+  std::vector<LinkMode> mode_;
+  std::vector<int> floor_a_, floor_b_, element_;
+  std::vector<double> bias_, reaction_, reaction_noise_;
+  // Per frame and lane: the first storey's DOF and linear form (ResponseMonitor::storey_shear).
+  std::vector<int> first_dof_;
+  std::vector<double> first_k_, first_c_, first_f0_;
+};
+
+bool Lockstep::Batch::eligible(const Simulator& s) const {
+  if (s.failure_ || s.options_.integrator != Integrator::newmark || s.recording_ || s.metering_ || s.tracking_) {
+    return false;
+  }
+  const PoundingSystem& system = s.system_;
+  if (system.has_committing_laws() || !s.smooth_first_storeys_.empty()) return false;
+  if (system.tracked_count() != system.gap_count()) return false;  // a yielding storey's events
+  if (shaped_ && (system.layout().size() != dofs_ || system.gap_count() != gaps_ ||
+                  system.model().frame_count() != frames_)) {
+    return false;
+  }
+  const LinearPhase& phase = *s.phase_;
+  if (!phase.is_unreduced() || phase.has_smooth_links()) return false;
+  try {
+    const LinearPhase::Bands* bands = phase.bands_for(phase.step_solver());
+    if (bands == nullptr || bands->width != 0) return false;
+  } catch (const SimulationError&) {
+    return false;  // the simulator's own step fails the same way, and says so
+  }
+  for (const Link& link : system.tracked_links()) {
+    if (!std::holds_alternative<PaperGap>(link.law) || !link.joins_floors() || link.b < 0) return false;
+    const auto p = static_cast<std::size_t>(link.element);
+    if (s.contact_.transmits[p] != 0 || s.contact_.rigid[p] != 0) return false;
+  }
+  return true;
+}
+
+void Lockstep::Batch::set_shape(const Simulator& s) {
+  dofs_ = s.system_.layout().size();
+  gaps_ = s.system_.gap_count();
+  frames_ = s.system_.model().frame_count();
+  const auto per_lane = [](int count) { return static_cast<std::size_t>(count) * kWidth; };
+  for (auto* x : {&u_, &v_, &a_, &u_end_, &v_end_, &a_end_, &mass_, &load_, &damping_, &stiffness_, &inverse_d_}) {
+    x->assign(per_lane(dofs_), 0.0);
+  }
+  for (auto* x : {&g_lo_, &rate_lo_, &g_hi_, &rate_hi_}) x->assign(per_lane(2 * gaps_), 0.0);
+  law_.assign(per_lane(gaps_), nullptr);
+  law_state_.assign(per_lane(gaps_), nullptr);
+  mode_.assign(per_lane(gaps_), LinkMode{});
+  for (auto* x : {&floor_a_, &floor_b_, &element_}) x->assign(per_lane(gaps_), 0);
+  for (auto* x : {&bias_, &reaction_, &reaction_noise_}) x->assign(per_lane(gaps_), 0.0);
+  first_dof_.assign(per_lane(frames_), 0);
+  for (auto* x : {&first_k_, &first_c_, &first_f0_}) x->assign(per_lane(frames_), 0.0);
+  shaped_ = true;
+}
+
+void Lockstep::Batch::gather(int lane, Simulator& s) {
+  if (!shaped_) set_shape(s);
+  const auto l = static_cast<std::size_t>(lane);
+  sims_[l] = &s;
+  lean_[l] = true;
+  refused_[l] = false;
+  taken_[l] = 0;
+  const KinematicState& x = s.state_;
+  const LinearPhase& phase = *s.phase_;
+  const LinearPhase::Bands& bands = *phase.bands_for(phase.step_solver());
+  const double tau = s.options_.dt;
+  t_[l] = x.t;
+  ground_[l] = x.ground;
+  dt_[l] = tau;
+  half_[l] = 0.5 * tau;  // as NewmarkIntegrator::step_banded computes them
+  quarter_sq_[l] = 0.25 * tau * tau;
+  origin_[l] = s.grid_origin_;
+  index_[l] = s.grid_index_;
+  separation_[l] = s.options_.separation;
+  for (int r = 0; r < dofs_; ++r) {
+    const std::size_t i = static_cast<std::size_t>(r) * kWidth + l;
+    u_[i] = x.u(r);
+    v_[i] = x.v(r);
+    a_[i] = x.a(r);
+    mass_[i] = phase.mass()(r);
+    load_[i] = phase.constant_load()(r);
+    damping_[i] = bands.damping[static_cast<std::size_t>(r)];
+    stiffness_[i] = bands.stiffness[static_cast<std::size_t>(r)];
+    inverse_d_[i] = bands.inverse_diagonal[static_cast<std::size_t>(r)];
+  }
+  for (std::size_t j = 0; j < 2 * static_cast<std::size_t>(gaps_); ++j) {
+    g_lo_[j * kWidth + l] = s.guards_.lo[j];
+    rate_lo_[j * kWidth + l] = s.guards_.rate_lo[j];
+  }
+  const std::span<const Link> links = s.system_.tracked_links();
+  for (std::size_t p = 0; p < links.size(); ++p) {
+    const Link& link = links[p];
+    const auto e = static_cast<std::size_t>(link.element);
+    const PaperGap& law = std::get<PaperGap>(link.law);
+    const std::size_t i = p * kWidth + l;
+    law_[i] = &law;
+    law_state_[i] = &s.contact_.states.at(law, link.slot);
+    mode_[i] = s.contact_.config[e];
+    floor_a_[i] = link.a;
+    floor_b_[i] = link.b;
+    element_[i] = link.element;
+    bias_[i] = s.contact_.bias[e];
+    reaction_[i] = s.contact_.stop_reaction[e];
+    reaction_noise_[i] = s.contact_.stop_noise[e];
+  }
+  for (int f = 0; f < frames_; ++f) {
+    const std::size_t i = static_cast<std::size_t>(f) * kWidth + l;
+    const LinearForm& form = s.monitor_.first_storey_form(f);
+    first_dof_[i] = s.monitor_.first_storey_dof(f);
+    first_k_[i] = form.stiffness;
+    first_c_[i] = form.damping;
+    first_f0_[i] = form.force_at_zero;
+  }
+}
+
+void Lockstep::Batch::scatter(int lane, Simulator& s) {
+  const auto l = static_cast<std::size_t>(lane);
+  lean_[l] = false;
+  KinematicState& x = s.state_;
+  for (int r = 0; r < dofs_; ++r) {
+    const std::size_t i = static_cast<std::size_t>(r) * kWidth + l;
+    x.u(r) = u_[i];
+    x.v(r) = v_[i];
+    x.a(r) = a_[i];
+  }
+  x.t = t_[l];
+  x.ground = ground_[l];
+  for (std::size_t j = 0; j < 2 * static_cast<std::size_t>(gaps_); ++j) {
+    s.guards_.lo[j] = g_lo_[j * kWidth + l];
+    s.guards_.rate_lo[j] = rate_lo_[j * kWidth + l];
+  }
+  // What Simulator::advance_to and Loop::after_accept count for each step; an accepted step
+  // starts with no event (integrate_to).
+  s.grid_index_ = index_[l];
+  s.monitor_.counts().steps += taken_[l];
+  s.monitor_.counts().substeps += taken_[l];
+  if (taken_[l] > 0) s.events_this_step_ = 0;
+  lean_steps += taken_[l];
+  taken_[l] = 0;
+  sims_[l] = nullptr;
+}
+
+void Lockstep::Batch::step_lean() {
+  // The grid time and the ground's acceleration at the step's end, lane by lane: the
+  // excitation's own function (Simulator::advance_to's next grid time; NewmarkStepper's trial
+  // step asks a_g at the state's time + τ).
+  for (std::size_t l = 0; l < kWidth; ++l) {
+    if (!lean_[l]) continue;
+    t_end_[l] = origin_[l] + static_cast<double>(index_[l] + 1) * dt_[l];
+    ground_end_[l] = sims_[l]->system_.ground_acceleration(t_[l] + dt_[l]);
+  }
+  // NewmarkIntegrator::step_banded<0>'s rows (newmark_diagonal_row), every lane at once (the lanes not lean step
+  // their stale, finite values, and nothing reads them).
+  for (std::size_t r = 0; r < static_cast<std::size_t>(dofs_); ++r) {
+    const std::size_t o = r * kWidth;
+    const double* __restrict u = u_.data() + o;
+    const double* __restrict v = v_.data() + o;
+    const double* __restrict a = a_.data() + o;
+    const double* __restrict mass = mass_.data() + o;
+    const double* __restrict load = load_.data() + o;
+    const double* __restrict c = damping_.data() + o;
+    const double* __restrict k = stiffness_.data() + o;
+    const double* __restrict inverse_d = inverse_d_.data() + o;
+    double* __restrict u_end = u_end_.data() + o;
+    double* __restrict v_end = v_end_.data() + o;
+    double* __restrict a_end = a_end_.data() + o;
+    for (std::size_t l = 0; l < kWidth; ++l) {
+      const DiagonalRowStep end = newmark_diagonal_row(u[l], v[l], a[l], dt_[l], half_[l], quarter_sq_[l], load[l],
+                                                       ground_end_[l], mass[l], c[l], k[l], inverse_d[l]);
+      u_end[l] = end.u;
+      v_end[l] = end.v;
+      a_end[l] = end.a;
+    }
+  }
+  // The guards at the step's end: each element's law and the system's entries, as
+  // PoundingSystem::evaluate_guards writes them for an unreduced phase.
+  std::array<GuardValue, 2> values;
+  for (std::size_t p = 0; p < static_cast<std::size_t>(gaps_); ++p) {
+    for (std::size_t l = 0; l < kWidth; ++l) {
+      if (!lean_[l]) continue;
+      const std::size_t i = p * kWidth + l;
+      const auto fa = static_cast<std::size_t>(floor_a_[i]) * kWidth + l;
+      const auto fb = static_cast<std::size_t>(floor_b_[i]) * kWidth + l;
+      const LinkKinematics k{.ua = u_end_[fa], .ub = u_end_[fb], .va = v_end_[fa], .vb = v_end_[fb],
+                             .aa = a_end_[fa], .ab = a_end_[fb], .t = t_end_[l]};
+      const GuardContext context{.separation = separation_[l], .reaction = reaction_[i],
+                                 .reaction_noise = reaction_noise_[i]};
+      law_[i]->guards(k, mode_[i], *law_state_[i], context, values);
+      const auto j = 2 * static_cast<std::size_t>(element_[i]);
+      PoundingSystem::guard_entry(values[0], bias_[i], g_hi_[j * kWidth + l], rate_hi_[j * kWidth + l]);
+      PoundingSystem::guard_entry(values[1], bias_[i], g_hi_[(j + 1) * kWidth + l], rate_hi_[(j + 1) * kWidth + l]);
+    }
+  }
+  // Lane by lane: a guard that fired or may graze (NewmarkStepper's scan_guards), or a value
+  // that is not finite (Loop::all_finite: x·0 is NaN exactly then), refuses the step; else the
+  // end becomes the start.
+  const std::size_t guards = 2 * static_cast<std::size_t>(gaps_);
+  for (std::size_t l = 0; l < kWidth; ++l) {
+    if (!lean_[l]) continue;
+    bool fired = false, may_graze = false;
+    for (std::size_t j = 0; j < guards; ++j) {
+      const std::size_t i = j * kWidth + l;
+      const double lo = g_lo_[i], hi = g_hi_[i];
+      fired |= hi > 0.0;
+      may_graze |= (lo <= 0) & (hi <= 0) & (rate_lo_[i] > 0) & (rate_hi_[i] < 0);
+    }
+    double poison = ground_end_[l] * 0.0;
+    for (std::size_t r = 0; r < static_cast<std::size_t>(dofs_); ++r) {
+      const std::size_t i = r * kWidth + l;
+      poison += (u_end_[i] * 0.0 + v_end_[i] * 0.0) + a_end_[i] * 0.0;
+    }
+    for (std::size_t f = 0; f < static_cast<std::size_t>(frames_); ++f) {
+      const std::size_t i = f * kWidth + l;
+      const std::size_t d = static_cast<std::size_t>(first_dof_[i]) * kWidth + l;
+      poison += (first_k_[i] * u_end_[d] + first_c_[i] * v_end_[d] + first_f0_[i]) * 0.0;
+    }
+    if (fired || may_graze || poison != 0.0) {
+      lean_[l] = false;
+      refused_[l] = true;
+      continue;
+    }
+    for (std::size_t r = 0; r < static_cast<std::size_t>(dofs_); ++r) {
+      const std::size_t i = r * kWidth + l;
+      u_[i] = u_end_[i];
+      v_[i] = v_end_[i];
+      a_[i] = a_end_[i];
+    }
+    for (std::size_t j = 0; j < guards; ++j) {
+      g_lo_[j * kWidth + l] = g_hi_[j * kWidth + l];
+      rate_lo_[j * kWidth + l] = rate_hi_[j * kWidth + l];
+    }
+    t_[l] = t_end_[l];
+    ground_[l] = ground_end_[l];
+    ++index_[l];
+    ++taken_[l];
+  }
+}
+
+Lockstep::Lockstep() : batch_(std::make_unique<Batch>()) {}
+Lockstep::~Lockstep() = default;
+
+const Lockstep::Counts& Lockstep::counts() const { return counts_; }
+
+void Lockstep::step(std::span<Simulator* const> lanes, int steps, std::span<std::exception_ptr> errors) {
+  if (lanes.size() > kWidth) {
+    throw std::invalid_argument(fmt::format("Lockstep::step: {} simulators, at most {}", lanes.size(), kLanes));
+  }
+  if (errors.size() != lanes.size()) {
+    throw std::invalid_argument(fmt::format("Lockstep::step: {} errors for {} simulators", errors.size(), lanes.size()));
+  }
+  Batch& batch = *batch_;
+  std::array<bool, kWidth> skipped{};
+  batch.reset_shape();  // every lane was written back at the end of the last call
+  for (std::size_t l = 0; l < lanes.size(); ++l) {
+    skipped[l] = lanes[l] == nullptr || errors[l] != nullptr;
+    if (!skipped[l] && batch.eligible(*lanes[l])) batch.gather(static_cast<int>(l), *lanes[l]);
+  }
+  for (int s = 0; s < steps; ++s) {
+    if (batch.any_lean()) batch.step_lean();
+    for (std::size_t l = 0; l < lanes.size(); ++l) {
+      const int lane = static_cast<int>(l);
+      if (skipped[l] || batch.lean(lane)) continue;
+      Simulator& sim = *lanes[l];
+      if (batch.refused(lane)) {  // its simulator takes this step from the same state
+        batch.clear_refused(lane);
+        batch.scatter(lane, sim);
+        ++counts_.refused;
+      }
+      try {
+        sim.step();
+      } catch (...) {
+        errors[l] = std::current_exception();
+        skipped[l] = true;
+        continue;
+      }
+      ++counts_.general;
+      // The batch's shape stays as it is within a call: a lane still to be written back (refused
+      // beside this one) holds its state in the arrays.
+      if (batch.eligible(sim)) batch.gather(lane, sim);
+    }
+  }
+  for (std::size_t l = 0; l < lanes.size(); ++l) {
+    if (batch.lean(static_cast<int>(l))) batch.scatter(static_cast<int>(l), *lanes[l]);
+  }
+  counts_.lean = batch.lean_steps;
+}
+
+}  // namespace poundsim
