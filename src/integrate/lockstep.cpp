@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <stdexcept>
 #include <variant>
 #include <vector>
@@ -65,8 +66,11 @@ class Lockstep::Batch {
   // Per guard (2 a gap element) and lane: values and rates at the step's start and end.
   std::vector<double> g_lo_, rate_lo_, g_hi_, rate_hi_;
   // Per gap element and lane.
-  std::vector<const PaperGap*> law_;
-  std::vector<const PaperGap::State*> law_state_;
+  // Copies, not pointers: a lane's law and its State stay as they were while it is lean (only
+  // events change them), and a lane not lean reads its stale copy, never a simulator that may
+  // be gone.
+  std::vector<PaperGap> law_;
+  std::vector<PaperGap::State> law_state_;
   std::vector<LinkMode> mode_;
   std::vector<int> floor_a_, floor_b_, element_;
   std::vector<double> bias_, reaction_, reaction_noise_;
@@ -111,8 +115,8 @@ void Lockstep::Batch::set_shape(const Simulator& s) {
     x->assign(per_lane(dofs_), 0.0);
   }
   for (auto* x : {&g_lo_, &rate_lo_, &g_hi_, &rate_hi_}) x->assign(per_lane(2 * gaps_), 0.0);
-  law_.assign(per_lane(gaps_), nullptr);
-  law_state_.assign(per_lane(gaps_), nullptr);
+  law_.assign(per_lane(gaps_), PaperGap{});
+  law_state_.assign(per_lane(gaps_), PaperGap::State{});
   mode_.assign(per_lane(gaps_), LinkMode{});
   for (auto* x : {&floor_a_, &floor_b_, &element_}) x->assign(per_lane(gaps_), 0);
   for (auto* x : {&bias_, &reaction_, &reaction_noise_}) x->assign(per_lane(gaps_), 0.0);
@@ -161,8 +165,8 @@ void Lockstep::Batch::gather(int lane, Simulator& s) {
     const auto e = static_cast<std::size_t>(link.element);
     const PaperGap& law = std::get<PaperGap>(link.law);
     const std::size_t i = p * kWidth + l;
-    law_[i] = &law;
-    law_state_[i] = &s.contact_.states.at(law, link.slot);
+    law_[i] = law;
+    law_state_[i] = s.contact_.states.at(law, link.slot);
     mode_[i] = s.contact_.config[e];
     floor_a_[i] = link.a;
     floor_b_[i] = link.b;
@@ -208,36 +212,54 @@ void Lockstep::Batch::scatter(int lane, Simulator& s) {
   sims_[l] = nullptr;
 }
 
-void Lockstep::Batch::step_lean() {
+// Flattened: each law's guards(), the excitation's a_g and the rows are inlined into the loops
+// over the lanes (libm's sine stays a call).
+[[gnu::flatten]] void Lockstep::Batch::step_lean() {
+  // Plain pointers, restrict: stores into the arrays cannot change the vectors' own pointers, and
+  // the passes over the lanes compile to straight-line (or vector) code.
+  const auto dofs = static_cast<std::size_t>(dofs_), guards = 2 * static_cast<std::size_t>(gaps_);
+  const double* __restrict dt = dt_.data();
+  const double* __restrict half = half_.data();
+  const double* __restrict quarter_sq = quarter_sq_.data();
+  double* __restrict t_end = t_end_.data();
+  double* __restrict ground_end = ground_end_.data();
+  double* __restrict u = u_.data();
+  double* __restrict v = v_.data();
+  double* __restrict a = a_.data();
+  double* __restrict u_end = u_end_.data();
+  double* __restrict v_end = v_end_.data();
+  double* __restrict a_end = a_end_.data();
+  double* __restrict g_lo = g_lo_.data();
+  double* __restrict rate_lo = rate_lo_.data();
+  double* __restrict g_hi = g_hi_.data();
+  double* __restrict rate_hi = rate_hi_.data();
+
   // The grid time and the ground's acceleration at the step's end, lane by lane: the
   // excitation's own function (Simulator::advance_to's next grid time; NewmarkStepper's trial
   // step asks a_g at the state's time + τ).
   for (std::size_t l = 0; l < kWidth; ++l) {
-    if (!lean_[l]) continue;
-    t_end_[l] = origin_[l] + static_cast<double>(index_[l] + 1) * dt_[l];
-    ground_end_[l] = sims_[l]->system_.ground_acceleration(t_[l] + dt_[l]);
+    t_end[l] = origin_[l] + static_cast<double>(index_[l] + 1) * dt[l];
+    if (lean_[l]) ground_end[l] = sims_[l]->system_.ground_acceleration(t_[l] + dt[l]);
   }
-  // NewmarkIntegrator::step_banded<0>'s rows (newmark_diagonal_row), every lane at once (the lanes not lean step
-  // their stale, finite values, and nothing reads them).
-  for (std::size_t r = 0; r < static_cast<std::size_t>(dofs_); ++r) {
-    const std::size_t o = r * kWidth;
-    const double* __restrict u = u_.data() + o;
-    const double* __restrict v = v_.data() + o;
-    const double* __restrict a = a_.data() + o;
-    const double* __restrict mass = mass_.data() + o;
-    const double* __restrict load = load_.data() + o;
-    const double* __restrict c = damping_.data() + o;
-    const double* __restrict k = stiffness_.data() + o;
-    const double* __restrict inverse_d = inverse_d_.data() + o;
-    double* __restrict u_end = u_end_.data() + o;
-    double* __restrict v_end = v_end_.data() + o;
-    double* __restrict a_end = a_end_.data() + o;
-    for (std::size_t l = 0; l < kWidth; ++l) {
-      const DiagonalRowStep end = newmark_diagonal_row(u[l], v[l], a[l], dt_[l], half_[l], quarter_sq_[l], load[l],
-                                                       ground_end_[l], mass[l], c[l], k[l], inverse_d[l]);
-      u_end[l] = end.u;
-      v_end[l] = end.v;
-      a_end[l] = end.a;
+  // Every lane steps from here to the choice of which steps are taken: the lanes not lean hold
+  // stale finite values and copies of their laws, and nothing reads what they compute.
+  // NewmarkIntegrator::step_banded<0>'s rows (newmark_diagonal_row), every lane at once.
+  {
+    const double* __restrict mass = mass_.data();
+    const double* __restrict load = load_.data();
+    const double* __restrict c = damping_.data();
+    const double* __restrict k = stiffness_.data();
+    const double* __restrict inverse_d = inverse_d_.data();
+    for (std::size_t r = 0; r < dofs; ++r) {
+      const std::size_t o = r * kWidth;
+      for (std::size_t l = 0; l < kWidth; ++l) {
+        const std::size_t i = o + l;
+        const DiagonalRowStep end = newmark_diagonal_row(u[i], v[i], a[i], dt[l], half[l], quarter_sq[l], load[i],
+                                                         ground_end[l], mass[i], c[i], k[i], inverse_d[i]);
+        u_end[i] = end.u;
+        v_end[i] = end.v;
+        a_end[i] = end.a;
+      }
     }
   }
   // The guards at the step's end: each element's law and the system's entries, as
@@ -245,62 +267,75 @@ void Lockstep::Batch::step_lean() {
   std::array<GuardValue, 2> values;
   for (std::size_t p = 0; p < static_cast<std::size_t>(gaps_); ++p) {
     for (std::size_t l = 0; l < kWidth; ++l) {
-      if (!lean_[l]) continue;
       const std::size_t i = p * kWidth + l;
       const auto fa = static_cast<std::size_t>(floor_a_[i]) * kWidth + l;
       const auto fb = static_cast<std::size_t>(floor_b_[i]) * kWidth + l;
-      const LinkKinematics k{.ua = u_end_[fa], .ub = u_end_[fb], .va = v_end_[fa], .vb = v_end_[fb],
-                             .aa = a_end_[fa], .ab = a_end_[fb], .t = t_end_[l]};
+      const LinkKinematics k{.ua = u_end[fa], .ub = u_end[fb], .va = v_end[fa], .vb = v_end[fb],
+                             .aa = a_end[fa], .ab = a_end[fb], .t = t_end[l]};
       const GuardContext context{.separation = separation_[l], .reaction = reaction_[i],
                                  .reaction_noise = reaction_noise_[i]};
-      law_[i]->guards(k, mode_[i], *law_state_[i], context, values);
+      law_[i].guards(k, mode_[i], law_state_[i], context, values);
       const auto j = 2 * static_cast<std::size_t>(element_[i]);
-      PoundingSystem::guard_entry(values[0], bias_[i], g_hi_[j * kWidth + l], rate_hi_[j * kWidth + l]);
-      PoundingSystem::guard_entry(values[1], bias_[i], g_hi_[(j + 1) * kWidth + l], rate_hi_[(j + 1) * kWidth + l]);
+      PoundingSystem::guard_entry(values[0], bias_[i], g_hi[j * kWidth + l], rate_hi[j * kWidth + l]);
+      PoundingSystem::guard_entry(values[1], bias_[i], g_hi[(j + 1) * kWidth + l], rate_hi[(j + 1) * kWidth + l]);
     }
   }
-  // Lane by lane: a guard that fired or may graze (NewmarkStepper's scan_guards), or a value
-  // that is not finite (Loop::all_finite: x·0 is NaN exactly then), refuses the step; else the
-  // end becomes the start.
-  const std::size_t guards = 2 * static_cast<std::size_t>(gaps_);
+  // A guard that fired or may graze (NewmarkStepper's scan_guards), or a value that is not finite
+  // (Loop::all_finite: x·0 is NaN exactly then), refuses a lane's step. Lane by lane in arrays:
+  // passes of kLanes without branches.
+  alignas(64) std::array<double, kWidth> poison{};
+  alignas(64) std::array<std::int64_t, kWidth> refuse{};
+  for (std::size_t l = 0; l < kWidth; ++l) poison[l] = ground_end[l] * 0.0;
+  for (std::size_t j = 0; j < guards; ++j) {
+    const std::size_t o = j * kWidth;
+    for (std::size_t l = 0; l < kWidth; ++l) {
+      const double lo = g_lo[o + l], hi = g_hi[o + l];
+      refuse[l] |= static_cast<std::int64_t>(hi > 0.0) |
+                   static_cast<std::int64_t>((lo <= 0) & (hi <= 0) & (rate_lo[o + l] > 0) & (rate_hi[o + l] < 0));
+    }
+  }
+  for (std::size_t r = 0; r < dofs; ++r) {
+    const std::size_t o = r * kWidth;
+    for (std::size_t l = 0; l < kWidth; ++l) poison[l] += (u_end[o + l] * 0.0 + v_end[o + l] * 0.0) + a_end[o + l] * 0.0;
+  }
+  for (std::size_t f = 0; f < static_cast<std::size_t>(frames_); ++f) {
+    const std::size_t o = f * kWidth;
+    for (std::size_t l = 0; l < kWidth; ++l) {
+      const std::size_t d = static_cast<std::size_t>(first_dof_[o + l]) * kWidth + l;
+      poison[l] += (first_k_[o + l] * u_end[d] + first_c_[o + l] * v_end[d] + first_f0_[o + l]) * 0.0;
+    }
+  }
+  // The lean lanes whose step stands take it: its end becomes the start.
+  alignas(64) std::array<double, kWidth> take{};
   for (std::size_t l = 0; l < kWidth; ++l) {
     if (!lean_[l]) continue;
-    bool fired = false, may_graze = false;
-    for (std::size_t j = 0; j < guards; ++j) {
-      const std::size_t i = j * kWidth + l;
-      const double lo = g_lo_[i], hi = g_hi_[i];
-      fired |= hi > 0.0;
-      may_graze |= (lo <= 0) & (hi <= 0) & (rate_lo_[i] > 0) & (rate_hi_[i] < 0);
-    }
-    double poison = ground_end_[l] * 0.0;
-    for (std::size_t r = 0; r < static_cast<std::size_t>(dofs_); ++r) {
-      const std::size_t i = r * kWidth + l;
-      poison += (u_end_[i] * 0.0 + v_end_[i] * 0.0) + a_end_[i] * 0.0;
-    }
-    for (std::size_t f = 0; f < static_cast<std::size_t>(frames_); ++f) {
-      const std::size_t i = f * kWidth + l;
-      const std::size_t d = static_cast<std::size_t>(first_dof_[i]) * kWidth + l;
-      poison += (first_k_[i] * u_end_[d] + first_c_[i] * v_end_[d] + first_f0_[i]) * 0.0;
-    }
-    if (fired || may_graze || poison != 0.0) {
+    if (refuse[l] != 0 || poison[l] != 0.0) {
       lean_[l] = false;
       refused_[l] = true;
       continue;
     }
-    for (std::size_t r = 0; r < static_cast<std::size_t>(dofs_); ++r) {
-      const std::size_t i = r * kWidth + l;
-      u_[i] = u_end_[i];
-      v_[i] = v_end_[i];
-      a_[i] = a_end_[i];
-    }
-    for (std::size_t j = 0; j < guards; ++j) {
-      g_lo_[j * kWidth + l] = g_hi_[j * kWidth + l];
-      rate_lo_[j * kWidth + l] = rate_hi_[j * kWidth + l];
-    }
-    t_[l] = t_end_[l];
-    ground_[l] = ground_end_[l];
+    take[l] = 1.0;
+    t_[l] = t_end[l];
+    ground_[l] = ground_end[l];
     ++index_[l];
     ++taken_[l];
+  }
+  for (std::size_t r = 0; r < dofs; ++r) {
+    const std::size_t o = r * kWidth;
+    for (std::size_t l = 0; l < kWidth; ++l) {
+      const bool keep = take[l] != 0.0;
+      u[o + l] = keep ? u_end[o + l] : u[o + l];
+      v[o + l] = keep ? v_end[o + l] : v[o + l];
+      a[o + l] = keep ? a_end[o + l] : a[o + l];
+    }
+  }
+  for (std::size_t j = 0; j < guards; ++j) {
+    const std::size_t o = j * kWidth;
+    for (std::size_t l = 0; l < kWidth; ++l) {
+      const bool keep = take[l] != 0.0;
+      g_lo[o + l] = keep ? g_hi[o + l] : g_lo[o + l];
+      rate_lo[o + l] = keep ? rate_hi[o + l] : rate_lo[o + l];
+    }
   }
 }
 
