@@ -1,5 +1,6 @@
 #include "poundsim/integrate/lockstep.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -23,14 +24,19 @@ constexpr auto kWidth = static_cast<std::size_t>(kLanes);
 
 /// The lanes' states, constants and guards as arrays over the lanes: entry i of lane l at
 /// [i·kLanes + l]. Every lean lane of a batch has the same numbers of DOFs, gap elements and
-/// frames (its shape, set by the first lane gathered).
+/// frames (its shape, set by the first lane gathered). The phase's bands are stored at the widest
+/// width (Bands::kMaxWidth), zero outside each lane's own; a step runs at the widest band among
+/// the lanes gathered since the call began (width_): a narrower lane's extra terms are products
+/// with zeros, and adding ±0 changes no sum here (docs/numerics.md, "the step in dense bands": no
+/// sum is −0), so each lane's row is its own step's to the bit.
 class Lockstep::Batch {
  public:
   /// Whether `s`'s next grid step can be lean (lockstep.hpp), and `s` has the batch's shape.
   [[nodiscard]] bool eligible(const Simulator& s) const;
   /// Takes lane l's state, phase and guards from `s` into the arrays (eligible(s) first).
   void gather(int lane, Simulator& s);
-  /// Writes lane l back into its simulator: the state, the guards and the steps it took.
+  /// Writes lane l back into its simulator: the state, the guards, the time in contact and the
+  /// steps it took.
   void scatter(int lane, Simulator& s);
   /// One lean step of every lean lane; a lane whose step is refused (a guard fired or may graze,
   /// a value is not finite) leaves the lean lanes, its state that of the step's start.
@@ -46,34 +52,48 @@ class Lockstep::Batch {
   /// Lane l's lean step was refused by the last step_lean().
   [[nodiscard]] bool refused(int lane) const { return refused_[static_cast<std::size_t>(lane)]; }
   void clear_refused(int lane) { refused_[static_cast<std::size_t>(lane)] = false; }
-  /// Forgets the shape (the next lane gathered sets it): when every lane has been written back.
-  void reset_shape() { shaped_ = false; }
+  /// Forgets the shape and the width (the next lane gathered sets them): when every lane has
+  /// been written back.
+  void reset_shape() {
+    shaped_ = false;
+    width_ = 0;
+  }
   std::int64_t lean_steps = 0;
 
  private:
+  static constexpr int kMaxBand = LinearPhase::Bands::kMaxWidth;
+  static constexpr auto kPad = static_cast<std::size_t>(kMaxBand);
+  static constexpr auto kRowMax = static_cast<std::size_t>(2 * kMaxBand + 1);
   void set_shape(const Simulator& s);
+  template <int B>
+  void step_rows();
 
   bool shaped_ = false;
   int dofs_ = 0, gaps_ = 0, frames_ = 0;
+  int width_ = 0;  ///< the band the step runs at
   std::array<bool, kWidth> lean_{}, refused_{};
   std::array<Simulator*, kWidth> sims_{};
   std::array<std::int64_t, kWidth> taken_{}, index_{};
   // Per lane.
   std::array<double, kWidth> t_{}, ground_{}, dt_{}, half_{}, quarter_sq_{}, origin_{}, t_end_{}, ground_end_{};
   std::array<SeparationCriterion, kWidth> separation_{};
-  // Per DOF and lane: the state at the step's start and end, the phase's rows (band of width 0).
-  std::vector<double> u_, v_, a_, u_end_, v_end_, a_end_, mass_, load_, damping_, stiffness_, inverse_d_;
+  // Per DOF and lane: the state at the step's start and end, the phase's mass, load and D⁻¹.
+  std::vector<double> u_, v_, a_, u_end_, v_end_, a_end_, mass_, load_, inverse_d_;
+  // The bands: per DOF kRowMax entries (r, r − kMaxBand … r + kMaxBand) of C and K; L's columns
+  // −kMaxBand … n − 1, kMaxBand entries each (rows i + 1 …); −w1, −w2, y and x padded by
+  // kMaxBand DOFs each side (the pads zero, never written).
+  std::vector<double> damping_, stiffness_, lower_, minus_w1_, minus_w2_, y_, x_;
   // Per guard (2 a gap element) and lane: values and rates at the step's start and end.
   std::vector<double> g_lo_, rate_lo_, g_hi_, rate_hi_;
-  // Per gap element and lane.
-  // Copies, not pointers: a lane's law and its State stay as they were while it is lean (only
-  // events change them), and a lane not lean reads its stale copy, never a simulator that may
-  // be gone.
+  // Per gap element and lane. Copies, not pointers: a lane's law and its State stay as they were
+  // while it is lean (only events change them), and a lane not lean reads its stale copy, never
+  // a simulator that may be gone.
   std::vector<PaperGap> law_;
   std::vector<PaperGap::State> law_state_;
   std::vector<LinkMode> mode_;
   std::vector<int> floor_a_, floor_b_, element_;
-  std::vector<double> bias_, reaction_, reaction_noise_;
+  std::vector<char> transmits_;
+  std::vector<double> bias_, reaction_, reaction_noise_, contact_time_;
   // Per frame and lane: the first storey's DOF and linear form (ResponseMonitor::storey_shear).
   std::vector<int> first_dof_;
   std::vector<double> first_k_, first_c_, first_f0_;
@@ -93,15 +113,13 @@ bool Lockstep::Batch::eligible(const Simulator& s) const {
   const LinearPhase& phase = *s.phase_;
   if (!phase.is_unreduced() || phase.has_smooth_links()) return false;
   try {
-    const LinearPhase::Bands* bands = phase.bands_for(phase.step_solver());
-    if (bands == nullptr || bands->width != 0) return false;
+    if (phase.bands_for(phase.step_solver()) == nullptr) return false;  // locked links, wide bands
   } catch (const SimulationError&) {
     return false;  // the simulator's own step fails the same way, and says so
   }
   for (const Link& link : system.tracked_links()) {
     if (!std::holds_alternative<PaperGap>(link.law) || !link.joins_floors() || link.b < 0) return false;
-    const auto p = static_cast<std::size_t>(link.element);
-    if (s.contact_.transmits[p] != 0 || s.contact_.rigid[p] != 0) return false;
+    if (s.contact_.rigid[static_cast<std::size_t>(link.element)] != 0) return false;
   }
   return true;
 }
@@ -110,18 +128,22 @@ void Lockstep::Batch::set_shape(const Simulator& s) {
   dofs_ = s.system_.layout().size();
   gaps_ = s.system_.gap_count();
   frames_ = s.system_.model().frame_count();
-  const auto per_lane = [](int count) { return static_cast<std::size_t>(count) * kWidth; };
-  for (auto* x : {&u_, &v_, &a_, &u_end_, &v_end_, &a_end_, &mass_, &load_, &damping_, &stiffness_, &inverse_d_}) {
-    x->assign(per_lane(dofs_), 0.0);
-  }
-  for (auto* x : {&g_lo_, &rate_lo_, &g_hi_, &rate_hi_}) x->assign(per_lane(2 * gaps_), 0.0);
-  law_.assign(per_lane(gaps_), PaperGap{});
-  law_state_.assign(per_lane(gaps_), PaperGap::State{});
-  mode_.assign(per_lane(gaps_), LinkMode{});
-  for (auto* x : {&floor_a_, &floor_b_, &element_}) x->assign(per_lane(gaps_), 0);
-  for (auto* x : {&bias_, &reaction_, &reaction_noise_}) x->assign(per_lane(gaps_), 0.0);
-  first_dof_.assign(per_lane(frames_), 0);
-  for (auto* x : {&first_k_, &first_c_, &first_f0_}) x->assign(per_lane(frames_), 0.0);
+  const auto n = static_cast<std::size_t>(dofs_);
+  const auto per_lane = [](std::size_t count) { return count * kWidth; };
+  for (auto* x : {&u_, &v_, &a_, &u_end_, &v_end_, &a_end_, &mass_, &load_, &inverse_d_}) x->assign(per_lane(n), 0.0);
+  for (auto* x : {&damping_, &stiffness_}) x->assign(per_lane(n * kRowMax), 0.0);
+  lower_.assign(per_lane((n + kPad) * kPad), 0.0);
+  for (auto* x : {&minus_w1_, &minus_w2_, &y_, &x_}) x->assign(per_lane(n + 2 * kPad), 0.0);
+  const auto guards = static_cast<std::size_t>(2 * gaps_), gaps = static_cast<std::size_t>(gaps_);
+  for (auto* x : {&g_lo_, &rate_lo_, &g_hi_, &rate_hi_}) x->assign(per_lane(guards), 0.0);
+  law_.assign(per_lane(gaps), PaperGap{});
+  law_state_.assign(per_lane(gaps), PaperGap::State{});
+  mode_.assign(per_lane(gaps), LinkMode{});
+  for (auto* x : {&floor_a_, &floor_b_, &element_}) x->assign(per_lane(gaps), 0);
+  transmits_.assign(per_lane(gaps), 0);
+  for (auto* x : {&bias_, &reaction_, &reaction_noise_, &contact_time_}) x->assign(per_lane(gaps), 0.0);
+  first_dof_.assign(per_lane(static_cast<std::size_t>(frames_)), 0);
+  for (auto* x : {&first_k_, &first_c_, &first_f0_}) x->assign(per_lane(static_cast<std::size_t>(frames_)), 0.0);
   shaped_ = true;
 }
 
@@ -135,6 +157,7 @@ void Lockstep::Batch::gather(int lane, Simulator& s) {
   const KinematicState& x = s.state_;
   const LinearPhase& phase = *s.phase_;
   const LinearPhase::Bands& bands = *phase.bands_for(phase.step_solver());
+  width_ = std::max(width_, bands.width);
   const double tau = s.options_.dt;
   t_[l] = x.t;
   ground_[l] = x.ground;
@@ -144,16 +167,34 @@ void Lockstep::Batch::gather(int lane, Simulator& s) {
   origin_[l] = s.grid_origin_;
   index_[l] = s.grid_index_;
   separation_[l] = s.options_.separation;
-  for (int r = 0; r < dofs_; ++r) {
-    const std::size_t i = static_cast<std::size_t>(r) * kWidth + l;
-    u_[i] = x.u(r);
-    v_[i] = x.v(r);
-    a_[i] = x.a(r);
-    mass_[i] = phase.mass()(r);
-    load_[i] = phase.constant_load()(r);
-    damping_[i] = bands.damping[static_cast<std::size_t>(r)];
-    stiffness_[i] = bands.stiffness[static_cast<std::size_t>(r)];
-    inverse_d_[i] = bands.inverse_diagonal[static_cast<std::size_t>(r)];
+  const auto n = static_cast<std::size_t>(dofs_);
+  const auto b = static_cast<std::size_t>(bands.width);
+  for (std::size_t r = 0; r < n; ++r) {
+    const std::size_t i = r * kWidth + l;
+    const auto dof = static_cast<Eigen::Index>(r);
+    u_[i] = x.u(dof);
+    v_[i] = x.v(dof);
+    a_[i] = x.a(dof);
+    mass_[i] = phase.mass()(dof);
+    load_[i] = phase.constant_load()(dof);
+    inverse_d_[i] = bands.inverse_diagonal[r];
+    // Entry (r, r + d) at kMaxBand + d; the lane's own band holds |d| ≤ b.
+    for (std::size_t e = 0; e < kRowMax; ++e) {
+      const bool inside = e + b >= kPad && e <= kPad + b;
+      const std::size_t own = r * (2 * b + 1) + (e + b - kPad);
+      damping_[(r * kRowMax + e) * kWidth + l] = inside ? bands.damping[own] : 0.0;
+      stiffness_[(r * kRowMax + e) * kWidth + l] = inside ? bands.stiffness[own] : 0.0;
+    }
+  }
+  // L's column i (−kMaxBand … n − 1): rows i + 1 … i + b from the phase's bands (column i at
+  // (i + b)·b there), zeros beyond.
+  for (std::size_t column = 0; column < n + kPad; ++column) {
+    const auto i = static_cast<std::ptrdiff_t>(column) - static_cast<std::ptrdiff_t>(kPad);
+    for (std::size_t e = 0; e < kPad; ++e) {
+      double value = 0.0;
+      if (e < b && i >= 0) value = bands.lower[(static_cast<std::size_t>(i) + b) * b + e];
+      lower_[(column * kPad + e) * kWidth + l] = value;
+    }
   }
   for (std::size_t j = 0; j < 2 * static_cast<std::size_t>(gaps_); ++j) {
     g_lo_[j * kWidth + l] = s.guards_.lo[j];
@@ -171,9 +212,11 @@ void Lockstep::Batch::gather(int lane, Simulator& s) {
     floor_a_[i] = link.a;
     floor_b_[i] = link.b;
     element_[i] = link.element;
+    transmits_[i] = s.contact_.transmits[e];
     bias_[i] = s.contact_.bias[e];
     reaction_[i] = s.contact_.stop_reaction[e];
     reaction_noise_[i] = s.contact_.stop_noise[e];
+    contact_time_[i] = s.monitor_.counts().gaps[e].contact_time;
   }
   for (int f = 0; f < frames_; ++f) {
     const std::size_t i = static_cast<std::size_t>(f) * kWidth + l;
@@ -189,11 +232,12 @@ void Lockstep::Batch::scatter(int lane, Simulator& s) {
   const auto l = static_cast<std::size_t>(lane);
   lean_[l] = false;
   KinematicState& x = s.state_;
-  for (int r = 0; r < dofs_; ++r) {
-    const std::size_t i = static_cast<std::size_t>(r) * kWidth + l;
-    x.u(r) = u_[i];
-    x.v(r) = v_[i];
-    x.a(r) = a_[i];
+  for (std::size_t r = 0; r < static_cast<std::size_t>(dofs_); ++r) {
+    const std::size_t i = r * kWidth + l;
+    const auto dof = static_cast<Eigen::Index>(r);
+    x.u(dof) = u_[i];
+    x.v(dof) = v_[i];
+    x.a(dof) = a_[i];
   }
   x.t = t_[l];
   x.ground = ground_[l];
@@ -203,6 +247,10 @@ void Lockstep::Batch::scatter(int lane, Simulator& s) {
   }
   // What Simulator::advance_to and Loop::after_accept count for each step; an accepted step
   // starts with no event (integrate_to).
+  for (std::size_t p = 0; p < static_cast<std::size_t>(gaps_); ++p) {
+    const std::size_t i = p * kWidth + l;
+    s.monitor_.counts().gaps[static_cast<std::size_t>(element_[i])].contact_time = contact_time_[i];
+  }
   s.grid_index_ = index_[l];
   s.monitor_.counts().steps += taken_[l];
   s.monitor_.counts().substeps += taken_[l];
@@ -214,21 +262,90 @@ void Lockstep::Batch::scatter(int lane, Simulator& s) {
 
 // Flattened: each law's guards(), the excitation's a_g and the rows are inlined into the loops
 // over the lanes (libm's sine stays a call).
-[[gnu::flatten]] void Lockstep::Batch::step_lean() {
+template <int B>
+[[gnu::flatten]] void Lockstep::Batch::step_rows() {
   // Plain pointers, restrict: stores into the arrays cannot change the vectors' own pointers, and
   // the passes over the lanes compile to straight-line (or vector) code.
-  const auto dofs = static_cast<std::size_t>(dofs_), guards = 2 * static_cast<std::size_t>(gaps_);
+  constexpr std::ptrdiff_t S = kLanes;
+  const auto n = static_cast<std::ptrdiff_t>(dofs_);
   const double* __restrict dt = dt_.data();
   const double* __restrict half = half_.data();
   const double* __restrict quarter_sq = quarter_sq_.data();
+  const double* __restrict ground_end = ground_end_.data();
+  const double* __restrict u = u_.data();
+  const double* __restrict v = v_.data();
+  const double* __restrict a = a_.data();
+  const double* __restrict mass = mass_.data();
+  const double* __restrict load = load_.data();
+  const double* __restrict inverse_d = inverse_d_.data();
+  double* __restrict u_end = u_end_.data();
+  double* __restrict v_end = v_end_.data();
+  double* __restrict a_end = a_end_.data();
+  if constexpr (B == 0) {
+    // No lane couples a DOF to another: each row's whole step in one pass (its step_banded<0>).
+    const double* __restrict c = damping_.data() + kPad * kWidth;  // the diagonal entries
+    const double* __restrict k = stiffness_.data() + kPad * kWidth;
+    for (std::ptrdiff_t r = 0; r < n; ++r) {
+      for (std::ptrdiff_t l = 0; l < S; ++l) {
+        const std::ptrdiff_t i = r * S + l, row = r * static_cast<std::ptrdiff_t>(kRowMax) * S + l;
+        const DiagonalRowStep end = newmark_diagonal_row(u[i], v[i], a[i], dt[l], half[l], quarter_sq[l], load[i],
+                                                         ground_end[l], mass[i], c[row], k[row], inverse_d[i]);
+        u_end[i] = end.u;
+        v_end[i] = end.v;
+        a_end[i] = end.a;
+      }
+    }
+    return;
+  }
+  // step_banded<B>'s passes over the rows, every lane at once.
+  double* __restrict minus_w1 = minus_w1_.data() + kPad * kWidth;
+  double* __restrict minus_w2 = minus_w2_.data() + kPad * kWidth;
+  double* __restrict y = y_.data() + kPad * kWidth;
+  double* __restrict x = x_.data() + kPad * kWidth;
+  for (std::ptrdiff_t r = 0; r < n; ++r) {
+    for (std::ptrdiff_t l = 0; l < S; ++l) {
+      const std::ptrdiff_t i = r * S + l;
+      const NewmarkPredictors w = newmark_predictors(u[i], v[i], a[i], dt[l], half[l], quarter_sq[l]);
+      minus_w1[i] = w.minus_w1;
+      minus_w2[i] = w.minus_w2;
+    }
+  }
+  // Row r's entries (r, r − B) … (r, r + B) start kMaxBand − B into its kRowMax; L's column 0 is
+  // kMaxBand columns in.
+  const double* __restrict c = damping_.data() + (kPad - static_cast<std::size_t>(B)) * kWidth;
+  const double* __restrict k = stiffness_.data() + (kPad - static_cast<std::size_t>(B)) * kWidth;
+  const double* __restrict lower = lower_.data() + kPad * kPad * kWidth;
+  for (std::ptrdiff_t r = 0; r < n; ++r) {
+    for (std::ptrdiff_t l = 0; l < S; ++l) {
+      const std::ptrdiff_t i = r * S + l, row = r * static_cast<std::ptrdiff_t>(kRowMax) * S + l;
+      y[i] = banded_forward_row<B, S, kMaxBand>(load[i], ground_end[l], mass[i], c + row, k + row, minus_w1 + l,
+                                                minus_w2 + l, y + l, lower + l, r);
+      x[i] = inverse_d[i] * y[i];
+    }
+  }
+  for (std::ptrdiff_t r = n - 1; r >= 0; --r) {
+    for (std::ptrdiff_t l = 0; l < S; ++l) {
+      const std::ptrdiff_t i = r * S + l;
+      x[i] = banded_backward_row<B, S, kMaxBand>(x + l, lower + l, r);
+      const DiagonalRowStep end = newmark_end(minus_w2[i], v[i], a[i], half[l], quarter_sq[l], x[i]);
+      u_end[i] = end.u;
+      v_end[i] = end.v;
+      a_end[i] = end.a;
+    }
+  }
+}
+
+[[gnu::flatten]] void Lockstep::Batch::step_lean() {
+  const auto dofs = static_cast<std::size_t>(dofs_), guards = 2 * static_cast<std::size_t>(gaps_);
+  const double* __restrict dt = dt_.data();
   double* __restrict t_end = t_end_.data();
   double* __restrict ground_end = ground_end_.data();
   double* __restrict u = u_.data();
   double* __restrict v = v_.data();
   double* __restrict a = a_.data();
-  double* __restrict u_end = u_end_.data();
-  double* __restrict v_end = v_end_.data();
-  double* __restrict a_end = a_end_.data();
+  const double* __restrict u_end = u_end_.data();
+  const double* __restrict v_end = v_end_.data();
+  const double* __restrict a_end = a_end_.data();
   double* __restrict g_lo = g_lo_.data();
   double* __restrict rate_lo = rate_lo_.data();
   double* __restrict g_hi = g_hi_.data();
@@ -243,27 +360,18 @@ void Lockstep::Batch::scatter(int lane, Simulator& s) {
   }
   // Every lane steps from here to the choice of which steps are taken: the lanes not lean hold
   // stale finite values and copies of their laws, and nothing reads what they compute.
-  // NewmarkIntegrator::step_banded<0>'s rows (newmark_diagonal_row), every lane at once.
-  {
-    const double* __restrict mass = mass_.data();
-    const double* __restrict load = load_.data();
-    const double* __restrict c = damping_.data();
-    const double* __restrict k = stiffness_.data();
-    const double* __restrict inverse_d = inverse_d_.data();
-    for (std::size_t r = 0; r < dofs; ++r) {
-      const std::size_t o = r * kWidth;
-      for (std::size_t l = 0; l < kWidth; ++l) {
-        const std::size_t i = o + l;
-        const DiagonalRowStep end = newmark_diagonal_row(u[i], v[i], a[i], dt[l], half[l], quarter_sq[l], load[i],
-                                                         ground_end[l], mass[i], c[i], k[i], inverse_d[i]);
-        u_end[i] = end.u;
-        v_end[i] = end.v;
-        a_end[i] = end.a;
-      }
-    }
+  switch (width_) {
+    case 0: step_rows<0>(); break;
+    case 1: step_rows<1>(); break;
+    case 2: step_rows<2>(); break;
+    case 3: step_rows<3>(); break;
+    default: step_rows<4>(); break;
   }
+  static_assert(kMaxBand == 4);
   // The guards at the step's end: each element's law and the system's entries, as
-  // PoundingSystem::evaluate_guards writes them for an unreduced phase.
+  // PoundingSystem::evaluate_guards writes them for an unreduced phase; and the forces of the
+  // elements in contact, whose finiteness Loop::all_finite checks.
+  alignas(64) std::array<double, kWidth> poison{};
   std::array<GuardValue, 2> values;
   for (std::size_t p = 0; p < static_cast<std::size_t>(gaps_); ++p) {
     for (std::size_t l = 0; l < kWidth; ++l) {
@@ -278,14 +386,14 @@ void Lockstep::Batch::scatter(int lane, Simulator& s) {
       const auto j = 2 * static_cast<std::size_t>(element_[i]);
       PoundingSystem::guard_entry(values[0], bias_[i], g_hi[j * kWidth + l], rate_hi[j * kWidth + l]);
       PoundingSystem::guard_entry(values[1], bias_[i], g_hi[(j + 1) * kWidth + l], rate_hi[(j + 1) * kWidth + l]);
+      if (transmits_[i] != 0) poison[l] += law_[i].force(k, mode_[i], law_state_[i]) * 0.0;
     }
   }
   // A guard that fired or may graze (NewmarkStepper's scan_guards), or a value that is not finite
   // (Loop::all_finite: x·0 is NaN exactly then), refuses a lane's step. Lane by lane in arrays:
   // passes of kLanes without branches.
-  alignas(64) std::array<double, kWidth> poison{};
   alignas(64) std::array<std::int64_t, kWidth> refuse{};
-  for (std::size_t l = 0; l < kWidth; ++l) poison[l] = ground_end[l] * 0.0;
+  for (std::size_t l = 0; l < kWidth; ++l) poison[l] += ground_end[l] * 0.0;
   for (std::size_t j = 0; j < guards; ++j) {
     const std::size_t o = j * kWidth;
     for (std::size_t l = 0; l < kWidth; ++l) {
@@ -305,7 +413,9 @@ void Lockstep::Batch::scatter(int lane, Simulator& s) {
       poison[l] += (first_k_[o + l] * u_end[d] + first_c_[o + l] * v_end[d] + first_f0_[o + l]) * 0.0;
     }
   }
-  // The lean lanes whose step stands take it: its end becomes the start.
+  // The lean lanes whose step stands take it: its end becomes the start, and an element in
+  // contact adds the step to its time in contact (Loop::after_accept: the end's time less the
+  // start's).
   alignas(64) std::array<double, kWidth> take{};
   for (std::size_t l = 0; l < kWidth; ++l) {
     if (!lean_[l]) continue;
@@ -315,6 +425,10 @@ void Lockstep::Batch::scatter(int lane, Simulator& s) {
       continue;
     }
     take[l] = 1.0;
+    const double h = t_end[l] - t_[l];
+    for (std::size_t p = 0; p < static_cast<std::size_t>(gaps_); ++p) {
+      if (transmits_[p * kWidth + l] != 0) contact_time_[p * kWidth + l] += h;
+    }
     t_[l] = t_end[l];
     ground_[l] = ground_end[l];
     ++index_[l];

@@ -195,49 +195,33 @@ void NewmarkIntegrator::step_banded(const LinearPhase& phase, const LinearPhase:
   double* __restrict y = band_y_.data() + kPad;
   double* __restrict x = band_x_.data() + kPad;
   for (int i = 0; i < n; ++i) {
-    w1[i] = -1.0 * (v[i] + half * a[i]);
-    w2[i] = -1.0 * (u[i] + tau * v[i] + quarter_sq * a[i]);
+    const NewmarkPredictors w = newmark_predictors(u[i], v[i], a[i], tau, half, quarter_sq);
+    w1[i] = w.minus_w1;
+    w2[i] = w.minus_w2;
   }
-  // Row r: load − a_g m, then C(r, j)(−w1_j) for j = r − B … r + B, then K(r, j)(−w2_j): the terms
-  // a column loop adds to it, in its order. Then forward with the unit lower L (columns r − B …
-  // r − 1 in order) and D⁻¹, kept apart: the rows below read the value before D⁻¹.
+  // Row r (banded_forward_row): the terms a column loop adds to it, in its order, then the forward
+  // solve; D⁻¹ kept apart: the rows below read the value before it.
   const double* __restrict c = bands.damping.data();
   const double* __restrict k = bands.stiffness.data();
   const double* __restrict lower = bands.lower.data() + static_cast<std::ptrdiff_t>(B) * B;  // column 0
   const double* __restrict inverse_d = bands.inverse_diagonal.data();
   for (int r = 0; r < n; ++r) {
-    double sum = load[r] - ground_end * mass[r];
-    const double* c_row = c + static_cast<std::ptrdiff_t>(r) * kRow;
-    const double* k_row = k + static_cast<std::ptrdiff_t>(r) * kRow;
-    // Unrolled (the band is known at compile time; -O2 unrolls no loop): 3 instructions a term.
-#pragma GCC unroll 9
-    for (int e = 0; e < kRow; ++e) sum += c_row[e] * w1[r - B + e];
-#pragma GCC unroll 9
-    for (int e = 0; e < kRow; ++e) sum += k_row[e] * w2[r - B + e];
-#pragma GCC unroll 4
-    for (int e = 0; e < B; ++e) {
-      const int i = r - B + e;
-      sum -= y[i] * lower[static_cast<std::ptrdiff_t>(i) * B + (B - 1 - e)];
-    }
-    y[r] = sum;
-    x[r] = inverse_d[r] * sum;
+    const std::ptrdiff_t row = static_cast<std::ptrdiff_t>(r) * kRow;
+    y[r] = banded_forward_row<B, 1>(load[r], ground_end, mass[r], c + row, k + row, w1, w2, y, lower, r);
+    x[r] = inverse_d[r] * y[r];
   }
-  // Backward with Lᵀ (column i takes rows i + 1 … i + B in order); each DOF's end state as soon
-  // as its acceleration is final.
+  // Backward with Lᵀ; each DOF's end state as soon as its acceleration is final.
   to.t = from.t + tau;
   to.ground = ground_end;
   double* __restrict u_new = to.u.data();
   double* __restrict v_new = to.v.data();
   double* __restrict a_new = to.a.data();
   for (int i = n - 1; i >= 0; --i) {
-    double sum = x[i];
-    const double* column = lower + static_cast<std::ptrdiff_t>(i) * B;
-#pragma GCC unroll 4
-    for (int e = 0; e < B; ++e) sum -= column[e] * x[i + 1 + e];
-    x[i] = sum;
-    u_new[i] = -w2[i] + quarter_sq * sum;
-    v_new[i] = v[i] + half * (a[i] + sum);
-    a_new[i] = sum;
+    x[i] = banded_backward_row<B, 1>(x, lower, i);
+    const DiagonalRowStep end = newmark_end(w2[i], v[i], a[i], half, quarter_sq, x[i]);
+    u_new[i] = end.u;
+    v_new[i] = end.v;
+    a_new[i] = end.a;
   }
 }
 

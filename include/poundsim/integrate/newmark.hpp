@@ -24,6 +24,7 @@
 /// from ü⁺ = ü and stops when the residual per unit mass — a bound on the correction still to
 /// make, since J ⪰ M — is below `tolerance` of the accelerations' size.
 
+#include <cstddef>
 #include <span>
 #include <vector>
 
@@ -34,26 +35,79 @@
 
 namespace poundsim {
 
-/// One DOF's Newmark step when the effective matrix is diagonal (LinearPhase::Bands of width 0:
-/// no DOF coupled to another), with half = τ/2 and quarter_sq = τ²/4 as the step computes them:
-/// ü⁺ = (1/D)(b − m a_g − c (u̇ + τ/2 ü) − k (u + τ u̇ + τ²/4 ü)), then u⁺ and u̇⁺. The banded step
-/// (NewmarkIntegrator::step_banded<0>) and the lockstep kernel (lockstep.hpp) both step through
-/// it, so their operations, and bits, are the same by construction: the order is that of the
-/// sparse step's passes (C's term before K's; −w as the column loop's −1·w).
+/// The pieces of a banded Newmark step (NewmarkIntegrator::step_banded, LinearPhase::Bands), one
+/// DOF or row at a time. One simulator's step and the lockstep kernel (lockstep.hpp), which steps
+/// several simulators at once, both step through them, so their operations — and bits — are the
+/// same by construction. Half = τ/2 and quarter_sq = τ²/4 as the step computes them.
+
+/// −w1 = −1·(u̇ + τ/2 ü) and −w2 = −1·(u + τ u̇ + τ²/4 ü): the sparse column loop's x_j = −1·w_j,
+/// negated once instead of at each use (−(−w2) is w2 exactly).
+struct NewmarkPredictors {
+  double minus_w1, minus_w2;
+};
+[[gnu::always_inline]] inline NewmarkPredictors newmark_predictors(double u, double v, double a, double tau,
+                                                                    double half, double quarter_sq) {
+  return {.minus_w1 = -1.0 * (v + half * a), .minus_w2 = -1.0 * (u + tau * v + quarter_sq * a)};
+}
+
+/// The end of a DOF's step from its acceleration ü⁺: u⁺ = w2 + τ²/4 ü⁺, u̇⁺ = u̇ + τ/2 (ü + ü⁺).
 struct DiagonalRowStep {
   double u, v, a;
 };
+[[gnu::always_inline]] inline DiagonalRowStep newmark_end(double minus_w2, double v, double a, double half,
+                                                          double quarter_sq, double acceleration) {
+  return {.u = -minus_w2 + quarter_sq * acceleration, .v = v + half * (a + acceleration), .a = acceleration};
+}
+
+/// One DOF's whole step when the effective matrix is diagonal (a band of width 0: no DOF coupled
+/// to another): ü⁺ = (1/D)(b − m a_g − c w1 − k w2), C's term before K's as in the passes of the
+/// wider bands.
 [[gnu::always_inline]] inline DiagonalRowStep newmark_diagonal_row(double u, double v, double a, double tau, double half,
                                                                    double quarter_sq, double load, double ground_end,
                                                                    double mass, double damping, double stiffness,
                                                                    double inverse_d) {
-  const double w1 = -1.0 * (v + half * a);
-  const double w2 = -1.0 * (u + tau * v + quarter_sq * a);
+  const NewmarkPredictors w = newmark_predictors(u, v, a, tau, half, quarter_sq);
   double sum = load - ground_end * mass;
-  sum += damping * w1;
-  sum += stiffness * w2;
-  const double x = inverse_d * sum;
-  return {.u = -w2 + quarter_sq * x, .v = v + half * (a + x), .a = x};
+  sum += damping * w.minus_w1;
+  sum += stiffness * w.minus_w2;
+  return newmark_end(w.minus_w2, v, a, half, quarter_sq, inverse_d * sum);
+}
+
+/// Row r of a band of width B, forward: load − a_g m, then C(r, j)(−w1_j) for j = r − B … r + B,
+/// then K(r, j)(−w2_j) — the terms a sparse column loop adds to it, in its order — then the
+/// forward solve with the unit lower L (columns r − B … r − 1 in order). Returns y_r, before D⁻¹.
+/// Arrays are strided by S (1 for one simulator; a lockstep batch's lanes): c_row and k_row hold
+/// the row's 2B + 1 entries, w1, w2 and y are indexed by DOF (padded: −B … n − 1 + B), `lower`
+/// points at L's column 0 (column i holds rows i + 1 … i + B at i·C …, C ≥ B values a column).
+template <int B, std::ptrdiff_t S, int C = B>
+[[gnu::always_inline]] inline double banded_forward_row(double load, double ground_end, double mass,
+                                                        const double* c_row, const double* k_row,
+                                                        const double* minus_w1, const double* minus_w2,
+                                                        const double* y, const double* lower, std::ptrdiff_t r) {
+  constexpr int kRow = 2 * B + 1;
+  double sum = load - ground_end * mass;
+  // Unrolled (the band is known at compile time; -O2 unrolls no loop): 3 instructions a term.
+#pragma GCC unroll 9
+  for (int e = 0; e < kRow; ++e) sum += c_row[e * S] * minus_w1[(r - B + e) * S];
+#pragma GCC unroll 9
+  for (int e = 0; e < kRow; ++e) sum += k_row[e * S] * minus_w2[(r - B + e) * S];
+#pragma GCC unroll 4
+  for (int e = 0; e < B; ++e) {
+    const std::ptrdiff_t i = r - B + e;
+    sum -= y[i * S] * lower[(i * C + (B - 1 - e)) * S];
+  }
+  return sum;
+}
+
+/// Row i of the backward solve with Lᵀ (column i takes rows i + 1 … i + B in order): ü⁺_i, from
+/// x = D⁻¹ y (padded with zeros past n − 1), strided and laid out as banded_forward_row's arrays.
+template <int B, std::ptrdiff_t S, int C = B>
+[[gnu::always_inline]] inline double banded_backward_row(const double* x, const double* lower, std::ptrdiff_t i) {
+  double sum = x[i * S];
+  const double* column = lower + i * C * S;
+#pragma GCC unroll 4
+  for (int e = 0; e < B; ++e) sum -= column[e * S] * x[(i + 1 + e) * S];
+  return sum;
 }
 
 /// The smooth links' forces and tangents at a trial state, by gap element (what the Newton
