@@ -3,8 +3,10 @@
 
 #include "poundsim/analysis/frequency_response.hpp"
 
+#include <atomic>
 #include <cmath>
 #include <numbers>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -173,7 +175,7 @@ TEST(FrequencyResponse, SameBitsWhateverTheLanes) {
   long impacts = 0;
   for (const FrfPoint& p : one) impacts += p.impacts;
   EXPECT_GT(impacts, 0);  // the range pounds
-  for (const auto& [lanes, threads] : {std::pair{3, 1}, std::pair{8, 1}, std::pair{8, 2}, std::pair{2, 2}}) {
+  for (const auto& [lanes, threads] : {std::pair{3, 1}, std::pair{8, 1}, std::pair{8, 2}, std::pair{2, 2}, std::pair{1, 2}}) {
     SCOPED_TRACE(::testing::Message() << lanes << " lanes, " << threads << " threads");
     const std::vector<FrfPoint> other = response(model, ratios, threads, lanes, SweepMode::from_rest);
     ASSERT_EQ(one.size(), other.size());
@@ -186,6 +188,54 @@ TEST(FrequencyResponse, SameBitsWhateverTheLanes) {
     bad.lanes = lanes;
     EXPECT_THROW(frequency_response(model, bad), std::invalid_argument);
   }
+}
+
+TEST(FrequencyResponse, AFailureOrAnInterruptEndsItAsOnePointAtATime) {
+  // 1e306 g overflows the state of every point: the lowest point's error is the response's,
+  // whatever the lanes and threads.
+  const Model model = make_model(testing::fig2('c'), {1, 1});
+  const std::vector<double> ratios{0.5, 0.8, 1.1, 1.4};
+  const auto failure = [&](int lanes, int threads) -> std::string {
+    FrequencyResponseOptions o;
+    o.amplitude = 1e306 * kG;
+    o.ratios = ratios;
+    o.lanes = lanes;
+    o.threads = threads;
+    try {
+      (void)frequency_response(model, o);
+    } catch (const SimulationError& e) {
+      return e.what();
+    }
+    return "no failure";
+  };
+  const std::string alone = failure(1, 1);
+  EXPECT_NE(alone.find("is not finite"), std::string::npos) << alone;
+  for (const auto& [lanes, threads] : {std::pair{8, 1}, std::pair{8, 2}, std::pair{3, 2}}) {
+    EXPECT_EQ(failure(lanes, threads), alone) << lanes << " lanes, " << threads << " threads";
+  }
+  // An exception from the progress callback (Python's Ctrl-C) ends the response; only points
+  // that succeeded are reported.
+  struct Interrupt {};
+  for (const auto& [lanes, threads] : {std::pair{1, 1}, std::pair{8, 1}, std::pair{8, 2}}) {
+    FrequencyResponseOptions o;
+    o.amplitude = 0.2 * kG;
+    o.ratios = ratios;
+    o.lanes = lanes;
+    o.threads = threads;
+    std::atomic<int> reports{0};
+    o.progress = [&](int done, int total) {
+      ++reports;
+      EXPECT_EQ(total, 4);
+      if (done >= 1) throw Interrupt{};
+    };
+    EXPECT_THROW((void)frequency_response(model, o), Interrupt);
+    EXPECT_LE(reports.load(), threads);
+  }
+  // Threads ≤ 0 are all cores, as parallel_for takes them.
+  const auto all = response(model, ratios, 0, 8, SweepMode::from_rest);
+  const auto negative = response(model, ratios, -1, 8, SweepMode::from_rest);
+  ASSERT_EQ(negative.size(), all.size());
+  for (std::size_t i = 0; i < all.size(); ++i) testing::expect_same_frf_point(all[i], negative[i]);
 }
 
 TEST(FrequencyResponse, RejectsBadOptions) {

@@ -72,8 +72,6 @@ void expect_same_simulator(const Simulator& lane, const Simulator& alone, std::s
   } else {
     testing::expect_same_frame_peaks(lane.statistics(), alone.statistics());
   }
-  // The grid goes on alike: one more step each.
-  EXPECT_EQ(bits(lane.grid_origin()), bits(alone.grid_origin()));
 }
 
 /// Steps `specs` in lockstep, `calls` × `steps` grid steps, and each alone with step(); compares.
@@ -126,10 +124,10 @@ TEST(Lockstep, LanesThatCannotBeLeanStepAsAlone) {
 }
 
 TEST(Lockstep, MultiStoreyLanesPoundingStepInBands) {
-  // Three-storey frames (a band of width 2 open, wider in contact at several floors) at ratios
-  // that pound, and a lane of another size, which steps alone: every phase whose band is at most
-  // 4 wide is stepped in lockstep at the widest band of the batch, the narrower lanes' extra
-  // terms products with zeros.
+  // Three-storey frames at ratios that pound (a band of width 2 — a storey joins DOFs two apart,
+  // an element in contact neighbours — open and in contact), and a lane of another size, which
+  // steps alone. (The narrower lanes stepped at a wider band, with zeros, are Fig. 2c's open
+  // phases beside phases in contact: the test above.)
   std::vector<LaneSpec> specs;
   for (const double ratio : {0.5, 0.8, 0.95, 1.1, 1.4}) specs.push_back({.storeys = {3, 3}, .ratio = ratio});
   specs.push_back({.storeys = {2, 2}, .ratio = 0.9});
@@ -180,6 +178,9 @@ TEST(Lockstep, AFailingLaneFailsAsAloneAndTheOthersGoOn) {
   EXPECT_FALSE(alone_message.empty());
   EXPECT_EQ(lane_message, alone_message);
   EXPECT_EQ(fine->statistics().steps, 400);
+  auto fine_alone = make_lane({.ratio = 0.7});
+  for (int s = 0; s < 400; ++s) fine_alone->step();
+  expect_same_simulator(*fine, *fine_alone, 1);
   // A failed lane is skipped by the next call (its error kept), and throws again alone.
   batch.step(pointers, 10, errors);
   EXPECT_EQ(fine->statistics().steps, 410);

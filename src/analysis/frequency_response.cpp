@@ -202,8 +202,9 @@ FrfPoint steady_state_point_at(const Model& model, double omega1, double amplitu
 /// The points of `ratios` from rest, each thread stepping up to `lanes` of them in lockstep
 /// (integrate/lockstep.hpp) a period at a time, a lane taking the next point as soon as its own
 /// is done. Each point's simulator takes the steps steady_state_point_at's would, to the bit:
-/// the results depend neither on the lanes nor on the threads. The failure of the lowest point
-/// that fails is rethrown, as parallel_for does.
+/// the results depend neither on the lanes nor on the threads. As parallel_for does with one task
+/// a point: the failure of the lowest point that fails is rethrown, the points above a failure
+/// are not started, and a failed point is not reported to the progress callback.
 std::vector<FrfPoint> points_from_rest_in_lockstep(const Model& model, double omega1,
                                                    const FrequencyResponseOptions& options) {
   const int count = static_cast<int>(options.ratios.size());
@@ -211,8 +212,9 @@ std::vector<FrfPoint> points_from_rest_in_lockstep(const Model& model, double om
   std::vector<std::exception_ptr> failures(static_cast<std::size_t>(count));
   std::atomic<int> next{0}, done{0};
   std::atomic<bool> stop{false};  // the progress callback threw (an interrupt): every worker stops
+  std::atomic<int> lowest_failure{count};  // points above it are not started
   const auto lanes = static_cast<std::size_t>(options.lanes);
-  const int workers = std::min(count, options.threads == 0 ? hardware_threads() : options.threads);
+  const int workers = std::min(count, options.threads > 0 ? options.threads : hardware_threads());
   parallel_for(workers, options.threads, [&](int /*worker*/) {
     struct Lane {
       int index = -1;
@@ -226,12 +228,18 @@ std::vector<FrfPoint> points_from_rest_in_lockstep(const Model& model, double om
     // A point ends with its result or its failure; the progress callback may throw (an
     // interrupt), which ends the whole response as it would from parallel_for's task.
     const auto end_point = [&](Lane& l, std::optional<FrfPoint> point, std::exception_ptr error) {
-      const auto i = static_cast<std::size_t>(l.index);
-      if (point) results[i] = std::move(*point);
-      failures[i] = std::move(error);
+      const int index = l.index;
+      const auto i = static_cast<std::size_t>(index);
       l.run.reset();
       l.sim.reset();
       l.index = -1;
+      if (error) {
+        failures[i] = std::move(error);
+        for (int lowest = lowest_failure; index < lowest && !lowest_failure.compare_exchange_weak(lowest, index);) {
+        }
+        return;
+      }
+      results[i] = std::move(*point);
       const int finished = ++done;
       if (!options.progress) return;
       try {
@@ -244,7 +252,7 @@ std::vector<FrfPoint> points_from_rest_in_lockstep(const Model& model, double om
     const auto start_next = [&](Lane& l) {
       while (l.index < 0) {
         const int i = next++;
-        if (i >= count) return;
+        if (i >= count || i > lowest_failure) return;
         l.index = i;
         std::exception_ptr error;
         try {

@@ -28,7 +28,8 @@ constexpr auto kWidth = static_cast<std::size_t>(kLanes);
 /// width (Bands::kMaxWidth), zero outside each lane's own; a step runs at the widest band among
 /// the lanes gathered since the call began (width_): a narrower lane's extra terms are products
 /// with zeros, and adding ±0 changes no sum here (docs/numerics.md, "the step in dense bands": no
-/// sum is −0), so each lane's row is its own step's to the bit.
+/// sum is −0), so each lane's row is its own step's to the bit — but for an acceleration that
+/// underflows to −0, whose sign the padded backward pass drops (docs/numerics.md).
 class Lockstep::Batch {
  public:
   /// Whether `s`'s next grid step can be lean (lockstep.hpp), and `s` has the batch's shape.
@@ -52,11 +53,14 @@ class Lockstep::Batch {
   /// Lane l's lean step was refused by the last step_lean().
   [[nodiscard]] bool refused(int lane) const { return refused_[static_cast<std::size_t>(lane)]; }
   void clear_refused(int lane) { refused_[static_cast<std::size_t>(lane)] = false; }
-  /// Forgets the shape and the width (the next lane gathered sets them): when every lane has
-  /// been written back.
+  /// Forgets the lanes, the shape and the width (the next lane gathered sets them): when every
+  /// lane has been written back.
   void reset_shape() {
     shaped_ = false;
     width_ = 0;
+    lean_ = {};
+    refused_ = {};
+    sims_ = {};
   }
   std::int64_t lean_steps = 0;
 
@@ -231,6 +235,7 @@ void Lockstep::Batch::gather(int lane, Simulator& s) {
 void Lockstep::Batch::scatter(int lane, Simulator& s) {
   const auto l = static_cast<std::size_t>(lane);
   lean_[l] = false;
+  refused_[l] = false;
   KinematicState& x = s.state_;
   for (std::size_t r = 0; r < static_cast<std::size_t>(dofs_); ++r) {
     const std::size_t i = r * kWidth + l;
@@ -468,37 +473,49 @@ void Lockstep::step(std::span<Simulator* const> lanes, int steps, std::span<std:
   Batch& batch = *batch_;
   std::array<bool, kWidth> skipped{};
   batch.reset_shape();  // every lane was written back at the end of the last call
-  for (std::size_t l = 0; l < lanes.size(); ++l) {
-    skipped[l] = lanes[l] == nullptr || errors[l] != nullptr;
-    if (!skipped[l] && batch.eligible(*lanes[l])) batch.gather(static_cast<int>(l), *lanes[l]);
-  }
-  for (int s = 0; s < steps; ++s) {
-    if (batch.any_lean()) batch.step_lean();
+  // Whatever escapes (an allocation that fails while a lane is gathered), the lean lanes go back
+  // to their simulators first: each is then where its own step()s would have left it.
+  const auto write_back = [&] {
     for (std::size_t l = 0; l < lanes.size(); ++l) {
       const int lane = static_cast<int>(l);
-      if (skipped[l] || batch.lean(lane)) continue;
-      Simulator& sim = *lanes[l];
-      if (batch.refused(lane)) {  // its simulator takes this step from the same state
-        batch.clear_refused(lane);
-        batch.scatter(lane, sim);
-        ++counts_.refused;
-      }
-      try {
-        sim.step();
-      } catch (...) {
-        errors[l] = std::current_exception();
-        skipped[l] = true;
-        continue;
-      }
-      ++counts_.general;
-      // The batch's shape stays as it is within a call: a lane still to be written back (refused
-      // beside this one) holds its state in the arrays.
-      if (batch.eligible(sim)) batch.gather(lane, sim);
+      if (batch.lean(lane) || batch.refused(lane)) batch.scatter(lane, *lanes[l]);
     }
+  };
+  try {
+    for (std::size_t l = 0; l < lanes.size(); ++l) {
+      skipped[l] = lanes[l] == nullptr || errors[l] != nullptr;
+      if (!skipped[l] && batch.eligible(*lanes[l])) batch.gather(static_cast<int>(l), *lanes[l]);
+    }
+    for (int s = 0; s < steps; ++s) {
+      if (batch.any_lean()) batch.step_lean();
+      for (std::size_t l = 0; l < lanes.size(); ++l) {
+        const int lane = static_cast<int>(l);
+        if (skipped[l] || batch.lean(lane)) continue;
+        Simulator& sim = *lanes[l];
+        if (batch.refused(lane)) {  // its simulator takes this step from the same state
+          batch.clear_refused(lane);
+          batch.scatter(lane, sim);
+          ++counts_.refused;
+        }
+        try {
+          sim.step();
+        } catch (...) {
+          errors[l] = std::current_exception();
+          skipped[l] = true;
+          continue;
+        }
+        ++counts_.general;
+        // The batch's shape stays as it is within a call: a lane still to be written back (refused
+        // beside this one) holds its state in the arrays.
+        if (batch.eligible(sim)) batch.gather(lane, sim);
+      }
+    }
+  } catch (...) {
+    write_back();
+    counts_.lean = batch.lean_steps;
+    throw;
   }
-  for (std::size_t l = 0; l < lanes.size(); ++l) {
-    if (batch.lean(static_cast<int>(l))) batch.scatter(static_cast<int>(l), *lanes[l]);
-  }
+  write_back();
   counts_.lean = batch.lean_steps;
 }
 

@@ -9,21 +9,22 @@
 /// virtual stepper, the system's guards law by law, the finiteness check of every quantity. Here
 /// up to kLanes simulators (lanes) take their plain steps together, in structure-of-arrays form:
 /// each DOF's state, matrices and guards are an array over the lanes, so one pass over a DOF
-/// steps every lane, and a release build steps two lanes per SIMD instruction.
+/// steps every lane (a release build vectorises some of these passes; docs/numerics.md measures).
 ///
 /// A lane's step is *lean* when its simulator integrates with Newmark, records no responses and
-/// meters no energy (Simulator::record_responses(false), meter_energy(false)), and its current
-/// phase couples no DOF to another (LinearPhase::Bands of width 0: frames of one storey apart,
-/// the paper's Fig. 2 systems while their gap elements are open), every tracked link being a
-/// paper's gap element (PaperGap) that transmits no force (open). The lean step is
-/// NewmarkIntegrator::step_banded<0>'s arithmetic, the law's guards() and the system's guard
-/// entries (PoundingSystem::guard_entry), operation for operation: the same bits. When a lean
-/// step's guard fires, one may graze inside the step, or something is not finite, that lane's
-/// step is not taken: its simulator takes it through step() from the same state, locating the
-/// events (or naming what is not finite) as it always does. Every other step is the
-/// simulator's own step(). A lane's results therefore do not depend on the other lanes, on how
-/// many there are, or on the threads: test Lockstep.* compares every lane to the bit with its
-/// simulator stepped alone.
+/// meters no energy (Simulator::record_responses(false), meter_energy(false)), its current phase
+/// is unreduced with bands (LinearPhase::Bands, at most 4 wide: single-storey frames apart or in
+/// contact, frames of several storeys), and every tracked link is a paper's gap element
+/// (PaperGap), open or in contact. The lean step is NewmarkIntegrator::step_banded's own row
+/// functions (newmark.hpp), the law's guards() and the system's guard entries
+/// (PoundingSystem::guard_entry), operation for operation: the same bits (docs/numerics.md, "Many
+/// models in lockstep", says why a lane stepped at a wider band than its own keeps them, and the
+/// one corner where it does not: an acceleration underflowing to −0). When a lean step's guard
+/// fires, one may graze inside the step, or something is not finite, that lane's step is not
+/// taken: its simulator takes it through step() from the same state, locating the events (or
+/// naming what is not finite) as it always does. Every other step is the simulator's own step().
+/// A lane's results therefore do not depend on the other lanes, on how many there are, or on the
+/// threads: test Lockstep.* compares every lane to the bit with its simulator stepped alone.
 ///
 /// The lanes' states live in the batch between the calls of step(): `step(lanes, k)` gathers each
 /// lean lane, takes k grid steps and writes every lane back, so between calls each simulator is
