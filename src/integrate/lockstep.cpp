@@ -15,6 +15,8 @@
 #include "poundsim/integrate/simulator.hpp"
 #include "poundsim/model/laws/paper_gap.hpp"
 
+#include "steppers.hpp"  // detail::may_graze
+
 namespace poundsim {
 
 namespace {
@@ -50,9 +52,8 @@ class Lockstep::Batch {
     }
     return false;
   }
-  /// Lane l's lean step was refused by the last step_lean().
+  /// Lane l's lean step was refused by the last step_lean() (scatter() clears it).
   [[nodiscard]] bool refused(int lane) const { return refused_[static_cast<std::size_t>(lane)]; }
-  void clear_refused(int lane) { refused_[static_cast<std::size_t>(lane)] = false; }
   /// Forgets the lanes, the shape and the width (the next lane gathered sets them): when every
   /// lane has been written back.
   void reset_shape() {
@@ -100,7 +101,7 @@ class Lockstep::Batch {
   std::vector<double> bias_, reaction_, reaction_noise_, contact_time_;
   // Per frame and lane: the first storey's DOF and linear form (ResponseMonitor::storey_shear).
   std::vector<int> first_dof_;
-  std::vector<double> first_k_, first_c_, first_f0_;
+  std::vector<LinearForm> first_form_;
 };
 
 bool Lockstep::Batch::eligible(const Simulator& s) const {
@@ -147,7 +148,7 @@ void Lockstep::Batch::set_shape(const Simulator& s) {
   transmits_.assign(per_lane(gaps), 0);
   for (auto* x : {&bias_, &reaction_, &reaction_noise_, &contact_time_}) x->assign(per_lane(gaps), 0.0);
   first_dof_.assign(per_lane(static_cast<std::size_t>(frames_)), 0);
-  for (auto* x : {&first_k_, &first_c_, &first_f0_}) x->assign(per_lane(static_cast<std::size_t>(frames_)), 0.0);
+  first_form_.assign(per_lane(static_cast<std::size_t>(frames_)), LinearForm{});
   shaped_ = true;
 }
 
@@ -224,11 +225,8 @@ void Lockstep::Batch::gather(int lane, Simulator& s) {
   }
   for (int f = 0; f < frames_; ++f) {
     const std::size_t i = static_cast<std::size_t>(f) * kWidth + l;
-    const LinearForm& form = s.monitor_.first_storey_form(f);
     first_dof_[i] = s.monitor_.first_storey_dof(f);
-    first_k_[i] = form.stiffness;
-    first_c_[i] = form.damping;
-    first_f0_[i] = form.force_at_zero;
+    first_form_[i] = s.monitor_.first_storey_form(f);
   }
 }
 
@@ -404,7 +402,7 @@ template <int B>
     for (std::size_t l = 0; l < kWidth; ++l) {
       const double lo = g_lo[o + l], hi = g_hi[o + l];
       refuse[l] |= static_cast<std::int64_t>(hi > 0.0) |
-                   static_cast<std::int64_t>((lo <= 0) & (hi <= 0) & (rate_lo[o + l] > 0) & (rate_hi[o + l] < 0));
+                   static_cast<std::int64_t>(detail::may_graze(lo, hi, rate_lo[o + l], rate_hi[o + l]));
     }
   }
   for (std::size_t r = 0; r < dofs; ++r) {
@@ -415,7 +413,8 @@ template <int B>
     const std::size_t o = f * kWidth;
     for (std::size_t l = 0; l < kWidth; ++l) {
       const std::size_t d = static_cast<std::size_t>(first_dof_[o + l]) * kWidth + l;
-      poison[l] += (first_k_[o + l] * u_end[d] + first_c_[o + l] * v_end[d] + first_f0_[o + l]) * 0.0;
+      const LinearForm& storey = first_form_[o + l];
+      poison[l] += (storey.stiffness * u_end[d] + storey.damping * v_end[d] + storey.force_at_zero) * 0.0;
     }
   }
   // The lean lanes whose step stands take it: its end becomes the start, and an element in
@@ -493,7 +492,6 @@ void Lockstep::step(std::span<Simulator* const> lanes, int steps, std::span<std:
         if (skipped[l] || batch.lean(lane)) continue;
         Simulator& sim = *lanes[l];
         if (batch.refused(lane)) {  // its simulator takes this step from the same state
-          batch.clear_refused(lane);
           batch.scatter(lane, sim);
           ++counts_.refused;
         }

@@ -61,7 +61,7 @@ GuardScan scan_guards(const Loop::Guards& g) {
   const double *lo = g.lo.data(), *hi = g.hi.data(), *rate_lo = g.rate_lo.data(), *rate_hi = g.rate_hi.data();
   for (std::size_t j = 0; j < count; ++j) {
     fired |= hi[j] > 0.0;
-    may_graze |= (lo[j] <= 0) & (hi[j] <= 0) & (rate_lo[j] > 0) & (rate_hi[j] < 0);
+    may_graze |= detail::may_graze(lo[j], hi[j], rate_lo[j], rate_hi[j]);
   }
   return {fired, may_graze};
 }
@@ -124,7 +124,7 @@ bool NewmarkStepper::find_grazing(Loop& loop, double tau) {
   double best_theta = 2.0;
   for (std::size_t j = 0; j < g.hi.size(); ++j) {
     // Inactive guards (−∞) have zero rates and are skipped with the others that do not rise.
-    if (!(g.lo[j] <= 0 && g.hi[j] <= 0 && g.rate_lo[j] > 0 && g.rate_hi[j] < 0)) continue;
+    if (!may_graze(g.lo[j], g.hi[j], g.rate_lo[j], g.rate_hi[j])) continue;
     const HermiteCubic cubic(g.lo[j], g.rate_lo[j], g.hi[j], g.rate_hi[j], tau);
     for (const double theta : cubic.critical_points()) {
       if (theta > 0 && cubic(theta) > 0 && cubic.slope(theta - 1e-9) > 0) {

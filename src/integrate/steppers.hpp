@@ -20,6 +20,15 @@
 
 namespace poundsim::detail {
 
+/// A guard that may rise and fall inside a Newmark step without crossing at its ends: not above
+/// zero at either end, rising at the start and falling at the end. Only such guards need
+/// NewmarkStepper's grazing check (its cubic model's interior maximum); the lockstep kernel
+/// refuses a lane's step for the same reason. Bitwise &: no branch, so a pass over guards or lanes
+/// vectorises.
+[[gnu::always_inline]] inline bool may_graze(double lo, double hi, double rate_lo, double rate_hi) {
+  return (lo <= 0) & (hi <= 0) & (rate_lo > 0) & (rate_hi < 0);
+}
+
 class Stepper {
  public:
   virtual ~Stepper() = default;
