@@ -122,12 +122,14 @@ TEST(NewmarkConvergence, LinearResponseIsSecondOrderInTheStep) {
 
 /// Checks NewmarkIntegrator::step on `phase` against the general step's expressions written with
 /// Eigen (sparse products, SimplicialLDLT's solve), DOF by DOF to the bit, at the phase's step
-/// (the banded path when the phase has bands) and at a sub-step (the sparse loops). `seed` 0 is
-/// a smooth state with nonzero u, u̇ and ü everywhere; others draw each entry at random over
-/// six decades of both signs, a tenth of them exactly 0 (Eigen's forward solve skips the zero
-/// columns) — many rounding-sensitive sums, where an order of terms changed shows.
+/// (the banded path when the phase has bands) and at a sub-step (the sparse loops). With locked
+/// links the expressions are the reduced system's, from q = the groups' representative floors,
+/// and u = T q + o as NewmarkIntegrator::finish writes it. `seed` 0 is a smooth state with nonzero
+/// u, u̇ and ü everywhere; others draw each entry at random over six decades of both signs, a
+/// tenth of them exactly 0 (Eigen's forward solve skips the zero columns) — many
+/// rounding-sensitive sums, where an order of terms changed shows.
 void expect_step_is_eigens(const LinearPhase& phase, double dt, double ground, unsigned seed) {
-  const Eigen::Index n = phase.reduced_size();
+  const Eigen::Index n = phase.full_mass().size(), nr = phase.reduced_size();
   KinematicState from;
   from.resize(static_cast<int>(n));
   std::mt19937_64 random(seed);
@@ -143,6 +145,15 @@ void expect_step_is_eigens(const LinearPhase& phase, double dt, double ground, u
     from.a(i) = seed == 0 ? -0.4 * std::sin(2.1 * x + 0.3) : draw(10.0);
   }
   from.t = 0.37;
+  Eigen::VectorXd q(nr), qd(nr), qdd(nr);
+  phase.gather(from.u, q);
+  phase.gather(from.v, qd);
+  phase.gather(from.a, qdd);
+  // Floor i's group and offset (T = I, o = 0 without locked links).
+  const auto group = [&](Eigen::Index i) {
+    return phase.is_unreduced() ? i : static_cast<Eigen::Index>(phase.group_of()[static_cast<std::size_t>(i)]);
+  };
+  const auto offset = [&](Eigen::Index i) { return phase.is_unreduced() ? 0.0 : phase.offset()(i); };
   for (const double tau : {dt, 0.37 * dt}) {
     const LinearPhase::Solver& solver = tau == dt ? phase.step_solver() : phase.substep_solver(tau);
     KinematicState to;
@@ -150,25 +161,31 @@ void expect_step_is_eigens(const LinearPhase& phase, double dt, double ground, u
     NewmarkIntegrator(n).step(phase, solver, from, tau, ground, to);
 
     const double half = 0.5 * tau, quarter_sq = 0.25 * tau * tau;
-    const Eigen::VectorXd w1 = from.v + half * from.a;
-    const Eigen::VectorXd w2 = from.u + tau * from.v + quarter_sq * from.a;
+    const Eigen::VectorXd w1 = qd + half * qdd;
+    const Eigen::VectorXd w2 = q + tau * qd + quarter_sq * qdd;
     Eigen::VectorXd rhs = phase.constant_load() - ground * phase.mass();
     rhs.noalias() -= phase.damping() * w1;
     rhs.noalias() -= phase.stiffness() * w2;
     const Eigen::VectorXd a_new = solver.solve(rhs);
-    const Eigen::VectorXd u_new = w2 + quarter_sq * a_new;
-    const Eigen::VectorXd v_new = from.v + half * (from.a + a_new);
     EXPECT_EQ(to.t, from.t + tau);
     EXPECT_EQ(to.ground, ground);
     for (Eigen::Index i = 0; i < n; ++i) {
-      EXPECT_TRUE(same_bits(to.a(i), a_new(i))) << "seed " << seed << ", tau " << tau << ", DOF " << i;
-      EXPECT_TRUE(same_bits(to.u(i), u_new(i))) << "seed " << seed << ", tau " << tau << ", DOF " << i;
-      EXPECT_TRUE(same_bits(to.v(i), v_new(i))) << "seed " << seed << ", tau " << tau << ", DOF " << i;
+      const Eigen::Index r = group(i);
+      const double u_new = phase.is_unreduced() ? w2(r) + quarter_sq * a_new(r)
+                                                : w2(r) + quarter_sq * a_new(r) + offset(i);
+      const double v_new = qd(r) + half * (qdd(r) + a_new(r));
+      EXPECT_TRUE(same_bits(to.a(i), a_new(r))) << "seed " << seed << ", tau " << tau << ", DOF " << i;
+      EXPECT_TRUE(same_bits(to.u(i), u_new)) << "seed " << seed << ", tau " << tau << ", DOF " << i;
+      EXPECT_TRUE(same_bits(to.v(i), v_new)) << "seed " << seed << ", tau " << tau << ", DOF " << i;
     }
     // And it is the step: the equation of motion holds at the end, to round-off.
-    Eigen::VectorXd residual = phase.constant_load() - ground * phase.mass() - phase.mass().cwiseProduct(to.a);
-    residual.noalias() -= phase.damping() * to.v;
-    residual.noalias() -= phase.stiffness() * to.u;
+    Eigen::VectorXd q_end(nr), qd_end(nr), qdd_end(nr);
+    phase.gather(to.u, q_end);
+    phase.gather(to.v, qd_end);
+    phase.gather(to.a, qdd_end);
+    Eigen::VectorXd residual = phase.constant_load() - ground * phase.mass() - phase.mass().cwiseProduct(qdd_end);
+    residual.noalias() -= phase.damping() * qd_end;
+    residual.noalias() -= phase.stiffness() * q_end;
     EXPECT_LT(residual.cwiseQuotient(phase.mass()).cwiseAbs().maxCoeff(), 1e-12 * from.a.cwiseAbs().maxCoeff() + 1e-9)
         << "seed " << seed;
   }
@@ -213,6 +230,57 @@ TEST(NewmarkLeanStep, IsEigensExpressionsAndSolveBitForBit) {
     }
     // The conditions of the sparse loops (else the general step would be compared with itself).
     ASSERT_EQ(phase.step_solver().info(), Eigen::Success);
+    ASSERT_EQ(phase.step_solver().permutationP().size(), 0);
+    EXPECT_EQ(phase.bands_for(phase.substep_solver(0.5 * dt)), nullptr);
+    for (unsigned seed = 0; seed <= 20; ++seed) expect_step_is_eigens(phase, dt, seed == 1 ? 0.0 : ground, seed);
+  }
+}
+
+TEST(NewmarkLeanStep, LockedLinksStepInTheGroupsBandsBitForBit) {
+  // A locked link merges its two floors into a group; the groups are contiguous, so the reduced
+  // matrices keep a band and the step runs step_banded's rows over the groups, then u = T q + o.
+  // It must be the general step's Eigen expressions on the reduced system, bit for bit. The
+  // modes repeat over the elements (floor by floor between each pair of neighbouring frames);
+  // the links' lengths differ, so that every offset o is its own. Five frames locked at every
+  // floor have a band (one group a floor) where the same frames in contact have none.
+  const Frame a = make_uniform_frame(5, 2e5, 3e8, 4e5, "a"), b = make_uniform_frame(5, 1.5e5, 1.2e8, 1e5, "b"),
+              c = make_uniform_frame(5, 1.8e5, 2e8, 2e5, "c"), a1 = make_uniform_frame(1, 2e5, 3e8, 4e5, "a1"),
+              b1 = make_uniform_frame(1, 1.5e5, 1.2e8, 1e5, "b1");
+  const GapProperties gap{.stiffness = 7e7, .damping = 3e5, .gap = 0.0, .shortening = 0.05, .restitution = 0.75};
+  struct LockedCase {
+    std::vector<Frame> frames;
+    std::vector<GapMode> modes;  ///< repeated over the elements
+    int groups;
+    int width;
+  };
+  using enum GapMode;
+  const std::vector<LockedCase> cases{
+      {{a1, b1}, {locked}, 1, 0},
+      {{a, b}, {locked}, 5, 1},
+      {{a, b}, {locked, contact, open}, 8, 2},
+      {{a, b}, {open, locked}, 8, 2},
+      {{a, b, c}, {locked, contact}, 10, 3},
+      {{a, b, c, a, b}, {locked}, 5, 1},
+  };
+  const double dt = 2e-3, ground = -1.7;
+  for (const LockedCase& test : cases) {
+    SCOPED_TRACE(::testing::Message() << test.frames.size() << " frames, " << test.groups << " groups");
+    const Model model = make_model(test.frames, gap);
+    const DofLayout layout(model);
+    ContactConfiguration contact;
+    std::vector<double> lengths;
+    for (int e = 0; e < model.gap_count(); ++e) {
+      contact.push_back(static_cast<LinkMode>(test.modes[static_cast<std::size_t>(e) % test.modes.size()]));
+      lengths.push_back(0.05 + 1e-3 * e);
+    }
+    LinearPhase phase(model, layout, contact, dt);
+    phase.set_link_lengths(lengths);
+    ASSERT_FALSE(phase.is_unreduced());
+    ASSERT_EQ(phase.reduced_size(), test.groups);
+    ASSERT_GT(phase.offset().cwiseAbs().maxCoeff(), 0.0);
+    const LinearPhase::Bands* bands = phase.bands_for(phase.step_solver());
+    ASSERT_NE(bands, nullptr);
+    ASSERT_EQ(bands->width, test.width);
     ASSERT_EQ(phase.step_solver().permutationP().size(), 0);
     EXPECT_EQ(phase.bands_for(phase.substep_solver(0.5 * dt)), nullptr);
     for (unsigned seed = 0; seed <= 20; ++seed) expect_step_is_eigens(phase, dt, seed == 1 ? 0.0 : ground, seed);

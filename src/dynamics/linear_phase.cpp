@@ -209,7 +209,7 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
   q_work_.resize(nr);
   qd_work_.resize(nr);
   rhs_work_.resize(nr);
-  if (unreduced_ && smooth_links_.empty()) make_bands();
+  if (smooth_links_.empty()) make_bands();
 }
 
 void LinearPhase::make_bands() {

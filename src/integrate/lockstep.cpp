@@ -118,7 +118,7 @@ bool Lockstep::Batch::eligible(const Simulator& s) const {
   const LinearPhase& phase = *s.phase_;
   if (!phase.is_unreduced() || phase.has_smooth_links()) return false;
   try {
-    if (phase.bands_for(phase.step_solver()) == nullptr) return false;  // locked links, wide bands
+    if (phase.bands_for(phase.step_solver()) == nullptr) return false;  // wide bands
   } catch (const SimulationError&) {
     return false;  // the simulator's own step fails the same way, and says so
   }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
+#include <stdexcept>
 
 namespace poundsim {
 
@@ -106,16 +108,34 @@ namespace {
 void NewmarkIntegrator::step(const LinearPhase& phase, const LinearPhase::Solver& solver,
                              const KinematicState& from, double tau, double ground_end,
                              KinematicState& to) {
-  // Bands exist for unreduced phases only, and for their step solver (factorised, natural order).
+  // Bands exist for phases without smooth links, and for their step solver (factorised, natural
+  // order).
   if (const LinearPhase::Bands* bands = phase.bands_for(solver)) {
-    switch (bands->width) {
-      case 0: step_banded<0>(phase, *bands, from, tau, ground_end, to); return;
-      case 1: step_banded<1>(phase, *bands, from, tau, ground_end, to); return;
-      case 2: step_banded<2>(phase, *bands, from, tau, ground_end, to); return;
-      case 3: step_banded<3>(phase, *bands, from, tau, ground_end, to); return;
-      case 4: step_banded<4>(phase, *bands, from, tau, ground_end, to); return;
-      default: break;
+    to.t = from.t + tau;
+    to.ground = ground_end;
+    if (phase.is_unreduced()) {
+      step_banded(phase, *bands, from.u.data(), from.v.data(), from.a.data(), tau, ground_end, to.u.data(),
+                  to.v.data(), to.a.data());
+      return;
     }
+    // Locked links: the same rows over the groups (q = u of each group's representative floor),
+    // then u = T q + o as finish() writes it — (w2 + τ²/4 q̈⁺) + o, the same sum.
+    const Eigen::Index nr = phase.reduced_size();
+    phase.gather(from.u, q_.head(nr));
+    phase.gather(from.v, qd_.head(nr));
+    phase.gather(from.a, qdd_.head(nr));
+    double *q_new = w1_.data(), *qd_new = w2_.data(), *qdd_new = qdd_new_.data();
+    step_banded(phase, *bands, q_.data(), qd_.data(), qdd_.data(), tau, ground_end, q_new, qd_new, qdd_new);
+    const std::span<const int> group = phase.group_of();
+    const double* offset = phase.offset().data();
+    double *u_new = to.u.data(), *v_new = to.v.data(), *a_new = to.a.data();
+    for (std::size_t i = 0; i < group.size(); ++i) {
+      const auto r = static_cast<std::size_t>(group[i]);
+      u_new[i] = q_new[r] + offset[i];
+      v_new[i] = qd_new[r];
+      a_new[i] = qdd_new[r];
+    }
+    return;
   }
   if (phase.is_unreduced() && solver.info() == Eigen::Success && solver.permutationP().size() == 0) {
     step_unreduced(phase, solver, from, tau, ground_end, to);
@@ -125,6 +145,19 @@ void NewmarkIntegrator::step(const LinearPhase& phase, const LinearPhase::Solver
   const Eigen::Index nr = phase.reduced_size();
   qdd_new_.head(nr) = solver.solve(rhs_.head(nr));
   finish(phase, from, tau, ground_end, to);
+}
+
+void NewmarkIntegrator::step_banded(const LinearPhase& phase, const LinearPhase::Bands& bands, const double* u,
+                                    const double* v, const double* a, double tau, double ground_end, double* u_new,
+                                    double* v_new, double* a_new) {
+  switch (bands.width) {
+    case 0: step_banded<0>(phase, bands, u, v, a, tau, ground_end, u_new, v_new, a_new); return;
+    case 1: step_banded<1>(phase, bands, u, v, a, tau, ground_end, u_new, v_new, a_new); return;
+    case 2: step_banded<2>(phase, bands, u, v, a, tau, ground_end, u_new, v_new, a_new); return;
+    case 3: step_banded<3>(phase, bands, u, v, a, tau, ground_end, u_new, v_new, a_new); return;
+    case 4: step_banded<4>(phase, bands, u, v, a, tau, ground_end, u_new, v_new, a_new); return;
+    default: throw std::logic_error("NewmarkIntegrator: a band wider than Bands::kMaxWidth");
+  }
 }
 
 void NewmarkIntegrator::step_unreduced(const LinearPhase& phase, const LinearPhase::Solver& solver,
@@ -156,15 +189,14 @@ void NewmarkIntegrator::step_unreduced(const LinearPhase& phase, const LinearPha
 
 template <int B>
 void NewmarkIntegrator::step_banded(const LinearPhase& phase, const LinearPhase::Bands& bands,
-                                    const KinematicState& from, double tau, double ground_end, KinematicState& to) {
+                                    const double* __restrict u, const double* __restrict v,
+                                    const double* __restrict a, double tau, double ground_end,
+                                    double* __restrict u_new, double* __restrict v_new, double* __restrict a_new) {
   static_assert(B >= 0 && B <= LinearPhase::Bands::kMaxWidth);
   constexpr int kRow = 2 * B + 1;
   constexpr int kPad = LinearPhase::Bands::kMaxWidth;
   const auto n = static_cast<int>(phase.reduced_size());
   const double half = 0.5 * tau, quarter_sq = 0.25 * tau * tau;
-  const double* __restrict u = from.u.data();
-  const double* __restrict v = from.v.data();
-  const double* __restrict a = from.a.data();
   const double* __restrict mass = phase.mass().data();
   const double* __restrict load = phase.constant_load().data();
   if constexpr (B == 0) {
@@ -173,11 +205,6 @@ void NewmarkIntegrator::step_banded(const LinearPhase& phase, const LinearPhase:
     const double* __restrict c = bands.damping.data();
     const double* __restrict k = bands.stiffness.data();
     const double* __restrict inverse_d = bands.inverse_diagonal.data();
-    to.t = from.t + tau;
-    to.ground = ground_end;
-    double* __restrict u_new = to.u.data();
-    double* __restrict v_new = to.v.data();
-    double* __restrict a_new = to.a.data();
     for (int r = 0; r < n; ++r) {
       const DiagonalRowStep end = newmark_diagonal_row(u[r], v[r], a[r], tau, half, quarter_sq, load[r], ground_end,
                                                        mass[r], c[r], k[r], inverse_d[r]);
@@ -211,11 +238,6 @@ void NewmarkIntegrator::step_banded(const LinearPhase& phase, const LinearPhase:
     x[r] = inverse_d[r] * y[r];
   }
   // Backward with Lᵀ; each DOF's end state as soon as its acceleration is final.
-  to.t = from.t + tau;
-  to.ground = ground_end;
-  double* __restrict u_new = to.u.data();
-  double* __restrict v_new = to.v.data();
-  double* __restrict a_new = to.a.data();
   for (int i = n - 1; i >= 0; --i) {
     x[i] = banded_backward_row<B, 1>(x, lower, i);
     const DiagonalRowStep end = newmark_end(w2[i], v[i], a[i], half, quarter_sq, x[i]);

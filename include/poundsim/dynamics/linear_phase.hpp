@@ -144,15 +144,16 @@ class LinearPhase {
     return step_solver_;
   }
 
-  /// C, K and the step solver's factors as dense bands, for the Newmark step of an unreduced
-  /// phase whose effective matrix is banded: F frames interleaved floor by floor have a
-  /// half-bandwidth F (a storey joins DOFs F apart; two one-storey frames apart: 0). Read by rows
+  /// C, K and the step solver's factors as dense bands, for the Newmark step of a phase whose
+  /// effective matrix is banded: F frames interleaved floor by floor have a half-bandwidth F (a
+  /// storey joins DOFs F apart; two one-storey frames apart: 0). With locked links they are the
+  /// reduced matrices', whose groups are contiguous: merging floors narrows no band. Read by rows
   /// with a bandwidth known at compile time, a step needs no index arrays and no loop per column
   /// (NewmarkIntegrator). Entries inside the band that the sparse matrices do not store are zeros.
   struct Bands {
     static constexpr int kMaxWidth = 4;
-    /// b, the largest |i − j| of a stored entry; −1 when the phase has no bands (locked links,
-    /// smooth links, or b > kMaxWidth: frame damping that couples distant floors, column strikes).
+    /// b, the largest |i − j| of a stored entry; −1 when the phase has no bands (smooth links, or
+    /// b > kMaxWidth: frame damping that couples distant floors, column strikes).
     int width = -1;
     /// Row r holds the entries (r, r − b) … (r, r + b): (2b + 1) n values each, zero outside.
     std::vector<double> damping, stiffness;

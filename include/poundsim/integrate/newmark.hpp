@@ -162,13 +162,17 @@ class NewmarkIntegrator {
   /// two one-storey frames took ≈ 980 instructions that way (docs/numerics.md).
   void step_unreduced(const LinearPhase& phase, const LinearPhase::Solver& solver, const KinematicState& from,
                       double tau, double ground_end, KinematicState& to);
-  /// step_unreduced() for a phase with bands of half-width B (LinearPhase::Bands), row by row:
-  /// each entry of the right-hand side and of the solve receives the same terms in the same order
-  /// as the column loops give it, plus zeros from the band's unstored entries (the same bits:
-  /// adding ±0 changes no sum, and none of these sums is −0; docs/numerics.md).
+  /// step_unreduced() for a phase with bands of half-width B (LinearPhase::Bands), row by row,
+  /// from (u, u̇, ü) to their ends in the phase's coordinates (the groups' for locked links): each
+  /// entry of the right-hand side and of the solve receives the same terms in the same order as
+  /// the column loops (or Eigen's expressions on the reduced matrices) give it, plus zeros from
+  /// the band's unstored entries (the same bits: adding ±0 changes no sum, and none of these sums
+  /// is −0; docs/numerics.md). The non-template one dispatches on the width.
+  void step_banded(const LinearPhase& phase, const LinearPhase::Bands& bands, const double* u, const double* v,
+                   const double* a, double tau, double ground_end, double* u_new, double* v_new, double* a_new);
   template <int B>
-  void step_banded(const LinearPhase& phase, const LinearPhase::Bands& bands, const KinematicState& from, double tau,
-                   double ground_end, KinematicState& to);
+  void step_banded(const LinearPhase& phase, const LinearPhase::Bands& bands, const double* u, const double* v,
+                   const double* a, double tau, double ground_end, double* u_new, double* v_new, double* a_new);
   /// `to` from q̈⁺ (the reduced accelerations in qdd_new_) and w1, w2.
   [[gnu::always_inline]] inline void finish(const LinearPhase& phase, const KinematicState& from, double tau,
                                             double ground_end, KinematicState& to);
