@@ -227,19 +227,21 @@ std::vector<FrfPoint> points_from_rest_in_lockstep(const Model& model, double om
     Lockstep batch;
     // A point ends with its result or its failure; the progress callback may throw (an
     // interrupt), which ends the whole response as it would from parallel_for's task.
-    const auto end_point = [&](Lane& l, std::optional<FrfPoint> point, std::exception_ptr error) {
+    const auto release = [](Lane& l) {
       const int index = l.index;
-      const auto i = static_cast<std::size_t>(index);
       l.run.reset();
       l.sim.reset();
       l.index = -1;
-      if (error) {
-        failures[i] = std::move(error);
-        for (int lowest = lowest_failure; index < lowest && !lowest_failure.compare_exchange_weak(lowest, index);) {
-        }
-        return;
+      return index;
+    };
+    const auto fail_point = [&](Lane& l, std::exception_ptr error) {
+      const int index = release(l);
+      failures[static_cast<std::size_t>(index)] = std::move(error);
+      for (int lowest = lowest_failure; index < lowest && !lowest_failure.compare_exchange_weak(lowest, index);) {
       }
-      results[i] = std::move(*point);
+    };
+    const auto finish_point = [&](Lane& l, FrfPoint&& point) {
+      results[static_cast<std::size_t>(release(l))] = std::move(point);
       const int finished = ++done;
       if (!options.progress) return;
       try {
@@ -261,7 +263,7 @@ std::vector<FrfPoint> points_from_rest_in_lockstep(const Model& model, double om
         } catch (...) {
           error = std::current_exception();
         }
-        if (error) end_point(l, std::nullopt, error);
+        if (error) fail_point(l, error);
       }
     };
     while (!stop) {
@@ -292,7 +294,11 @@ std::vector<FrfPoint> points_from_rest_in_lockstep(const Model& model, double om
             error = std::current_exception();
           }
         }
-        if (point || error) end_point(l, std::move(point), error);
+        if (error) {
+          fail_point(l, error);
+        } else if (point) {
+          finish_point(l, std::move(*point));
+        }
       }
     }
   });
