@@ -414,7 +414,7 @@ template <int B>
     for (std::size_t l = 0; l < kWidth; ++l) {
       const std::size_t d = static_cast<std::size_t>(first_dof_[o + l]) * kWidth + l;
       const LinearForm& storey = first_form_[o + l];
-      poison[l] += (storey.stiffness * u_end[d] + storey.damping * v_end[d] + storey.force_at_zero) * 0.0;
+      poison[l] += storey.force(u_end[d], v_end[d]) * 0.0;
     }
   }
   // The lean lanes whose step stands take it: its end becomes the start, and an element in

@@ -174,10 +174,12 @@ void ResponseMonitor::observe_step(const KinematicState& a, const KinematicState
   });
   for (std::size_t f = 0; f < first_storey_.size(); ++f) {
     const int d = layout_.dof(static_cast<int>(f), 0);
-    const double k = first_storey_[f].stiffness, c = first_storey_[f].damping, f0 = first_storey_[f].force_at_zero;
+    const LinearForm& storey = first_storey_[f];
+    const double k = storey.stiffness, c = storey.damping, f0 = storey.force_at_zero;
     refine(stats_.base_shear[f], k * a.u(d) + f0, k * a.v(d), k * b.u(d) + f0, k * b.v(d));
-    refine(stats_.storey_shear[f], k * a.u(d) + c * a.v(d) + f0, k * a.v(d) + c * a.a(d),
-           k * b.u(d) + c * b.v(d) + f0, k * b.v(d) + c * b.a(d));
+    // The shear's rate, k u̇ + c ü, has no f₀.
+    refine(stats_.storey_shear[f], storey.force(a.u(d), a.v(d)), k * a.v(d) + c * a.a(d), storey.force(b.u(d), b.v(d)),
+           k * b.v(d) + c * b.a(d));
   }
 }
 

@@ -150,8 +150,7 @@ class ResponseMonitor {
   /// k u₁ + c u̇₁ + f₀ of frame f at x [N].
   [[nodiscard]] double storey_shear(const KinematicState& x, int f) const {
     const auto d = static_cast<Eigen::Index>(first_storey_dofs_[static_cast<std::size_t>(f)]);
-    const LinearForm& storey = first_storey_[static_cast<std::size_t>(f)];
-    return storey.stiffness * x.u.data()[d] + storey.damping * x.v.data()[d] + storey.force_at_zero;
+    return first_storey_[static_cast<std::size_t>(f)].force(x.u.data()[d], x.v.data()[d]);
   }
   /// The floor DOF above frame f's first storey, and that storey's linear form: storey_shear's
   /// terms (the lockstep kernel computes the same shear over its lanes).

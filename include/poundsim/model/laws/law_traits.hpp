@@ -17,6 +17,9 @@ struct LinearForm {
   double damping = 0.0;        ///< ∂F/∂ḋ [N·s/m]
   double force_at_zero = 0.0;  ///< f₀ [N]: F at d = ḋ = 0
   bool rigid = false;          ///< The link holds d fixed (its floors move as one group).
+  /// F = k d + c ḋ + f₀ [N], summed in this order: the monitor's shears, their refinement between
+  /// samples and the lockstep kernel's finiteness check all take it, for the same bits.
+  [[nodiscard]] double force(double d, double rate) const { return stiffness * d + damping * rate + force_at_zero; }
 };
 
 /// Which term of the energy balance a law's stored and dissipated energy belongs to.
