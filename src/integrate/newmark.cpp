@@ -105,6 +105,39 @@ namespace {
 }
 }  // namespace
 
+void NewmarkIntegrator::step_banded(const LinearPhase& phase, const LinearPhase::Bands& bands, const double* u,
+                                    const double* v, const double* a, double tau, double ground_end, double* u_new,
+                                    double* v_new, double* a_new) {
+  switch (bands.width) {
+    case 0: step_banded<0>(phase, bands, u, v, a, tau, ground_end, u_new, v_new, a_new); return;
+    case 1: step_banded<1>(phase, bands, u, v, a, tau, ground_end, u_new, v_new, a_new); return;
+    case 2: step_banded<2>(phase, bands, u, v, a, tau, ground_end, u_new, v_new, a_new); return;
+    case 3: step_banded<3>(phase, bands, u, v, a, tau, ground_end, u_new, v_new, a_new); return;
+    case 4: step_banded<4>(phase, bands, u, v, a, tau, ground_end, u_new, v_new, a_new); return;
+    default: throw std::logic_error("NewmarkIntegrator: a band wider than Bands::kMaxWidth");
+  }
+}
+
+[[gnu::noinline]] void NewmarkIntegrator::step_groups_banded(const LinearPhase& phase, const LinearPhase::Bands& bands,
+                                                            const KinematicState& from, double tau, double ground_end,
+                                                            KinematicState& to) {
+  const Eigen::Index nr = phase.reduced_size();
+  phase.gather(from.u, q_.head(nr));
+  phase.gather(from.v, qd_.head(nr));
+  phase.gather(from.a, qdd_.head(nr));
+  double *q_new = w1_.data(), *qd_new = w2_.data(), *qdd_new = qdd_new_.data();
+  step_banded(phase, bands, q_.data(), qd_.data(), qdd_.data(), tau, ground_end, q_new, qd_new, qdd_new);
+  const std::span<const int> group = phase.group_of();
+  const double* offset = phase.offset().data();
+  double *u_new = to.u.data(), *v_new = to.v.data(), *a_new = to.a.data();
+  for (std::size_t i = 0; i < group.size(); ++i) {
+    const auto r = static_cast<std::size_t>(group[i]);
+    u_new[i] = q_new[r] + offset[i];
+    v_new[i] = qd_new[r];
+    a_new[i] = qdd_new[r];
+  }
+}
+
 void NewmarkIntegrator::step(const LinearPhase& phase, const LinearPhase::Solver& solver,
                              const KinematicState& from, double tau, double ground_end,
                              KinematicState& to) {
@@ -119,22 +152,9 @@ void NewmarkIntegrator::step(const LinearPhase& phase, const LinearPhase::Solver
       return;
     }
     // Locked links: the same rows over the groups (q = u of each group's representative floor),
-    // then u = T q + o as finish() writes it — (w2 + τ²/4 q̈⁺) + o, the same sum.
-    const Eigen::Index nr = phase.reduced_size();
-    phase.gather(from.u, q_.head(nr));
-    phase.gather(from.v, qd_.head(nr));
-    phase.gather(from.a, qdd_.head(nr));
-    double *q_new = w1_.data(), *qd_new = w2_.data(), *qdd_new = qdd_new_.data();
-    step_banded(phase, *bands, q_.data(), qd_.data(), qdd_.data(), tau, ground_end, q_new, qd_new, qdd_new);
-    const std::span<const int> group = phase.group_of();
-    const double* offset = phase.offset().data();
-    double *u_new = to.u.data(), *v_new = to.v.data(), *a_new = to.a.data();
-    for (std::size_t i = 0; i < group.size(); ++i) {
-      const auto r = static_cast<std::size_t>(group[i]);
-      u_new[i] = q_new[r] + offset[i];
-      v_new[i] = qd_new[r];
-      a_new[i] = qdd_new[r];
-    }
+    // then u = T q + o as finish() writes it — (w2 + τ²/4 q̈⁺) + o, the same sum. Out of line:
+    // one call site of the rows keeps them inlined into the common, unreduced step.
+    step_groups_banded(phase, *bands, from, tau, ground_end, to);
     return;
   }
   if (phase.is_unreduced() && solver.info() == Eigen::Success && solver.permutationP().size() == 0) {
@@ -145,19 +165,6 @@ void NewmarkIntegrator::step(const LinearPhase& phase, const LinearPhase::Solver
   const Eigen::Index nr = phase.reduced_size();
   qdd_new_.head(nr) = solver.solve(rhs_.head(nr));
   finish(phase, from, tau, ground_end, to);
-}
-
-void NewmarkIntegrator::step_banded(const LinearPhase& phase, const LinearPhase::Bands& bands, const double* u,
-                                    const double* v, const double* a, double tau, double ground_end, double* u_new,
-                                    double* v_new, double* a_new) {
-  switch (bands.width) {
-    case 0: step_banded<0>(phase, bands, u, v, a, tau, ground_end, u_new, v_new, a_new); return;
-    case 1: step_banded<1>(phase, bands, u, v, a, tau, ground_end, u_new, v_new, a_new); return;
-    case 2: step_banded<2>(phase, bands, u, v, a, tau, ground_end, u_new, v_new, a_new); return;
-    case 3: step_banded<3>(phase, bands, u, v, a, tau, ground_end, u_new, v_new, a_new); return;
-    case 4: step_banded<4>(phase, bands, u, v, a, tau, ground_end, u_new, v_new, a_new); return;
-    default: throw std::logic_error("NewmarkIntegrator: a band wider than Bands::kMaxWidth");
-  }
 }
 
 void NewmarkIntegrator::step_unreduced(const LinearPhase& phase, const LinearPhase::Solver& solver,
@@ -188,7 +195,7 @@ void NewmarkIntegrator::step_unreduced(const LinearPhase& phase, const LinearPha
 }
 
 template <int B>
-void NewmarkIntegrator::step_banded(const LinearPhase& phase, const LinearPhase::Bands& bands,
+inline void NewmarkIntegrator::step_banded(const LinearPhase& phase, const LinearPhase::Bands& bands,
                                     const double* __restrict u, const double* __restrict v,
                                     const double* __restrict a, double tau, double ground_end,
                                     double* __restrict u_new, double* __restrict v_new, double* __restrict a_new) {
@@ -216,11 +223,18 @@ void NewmarkIntegrator::step_banded(const LinearPhase& phase, const LinearPhase:
   }
   // −w1 and −w2 (the column loop's x_j = −1·w_j, negated once instead of at each of its uses; −(−w2)
   // is w2 exactly), and the solve's vector before and after the diagonal, padded: indices −B …
-  // n − 1 + B, the pads zero and never written.
+  // n − 1 + B. The pads before row 0 are never written. Those after row n − 1 are rows of a larger
+  // phase stepped earlier (a phase with locked links has fewer rows), so they are zeroed here: a
+  // stale ±∞ or NaN there would make 0·x a NaN.
   double* __restrict w1 = band_w1_.data() + kPad;
   double* __restrict w2 = band_w2_.data() + kPad;
   double* __restrict y = band_y_.data() + kPad;
   double* __restrict x = band_x_.data() + kPad;
+  for (int e = n; e < n + B; ++e) {
+    w1[e] = 0.0;
+    w2[e] = 0.0;
+    x[e] = 0.0;
+  }
   for (int i = 0; i < n; ++i) {
     const NewmarkPredictors w = newmark_predictors(u[i], v[i], a[i], tau, half, quarter_sq);
     w1[i] = w.minus_w1;

@@ -221,7 +221,8 @@ class LinearPhase {
   std::vector<TangentSlot> tangent_slots_;
   mutable Solver tangent_solver_;
 
-  /// Fills bands_ (sizes and C, K) for an unreduced phase whose bandwidth allows it.
+  /// Fills bands_ (sizes and C, K; the reduced ones with locked links) for a phase whose bandwidth
+  /// allows it.
   void make_bands();
 
   double step_ = 0.0;

@@ -168,11 +168,17 @@ class NewmarkIntegrator {
   /// the column loops (or Eigen's expressions on the reduced matrices) give it, plus zeros from
   /// the band's unstored entries (the same bits: adding ±0 changes no sum, and none of these sums
   /// is −0; docs/numerics.md). The non-template one dispatches on the width.
-  void step_banded(const LinearPhase& phase, const LinearPhase::Bands& bands, const double* u, const double* v,
-                   const double* a, double tau, double ground_end, double* u_new, double* v_new, double* a_new);
+  [[gnu::always_inline]] inline void step_banded(const LinearPhase& phase, const LinearPhase::Bands& bands,
+                                                 const double* u, const double* v, const double* a, double tau,
+                                                 double ground_end, double* u_new, double* v_new, double* a_new);
   template <int B>
-  void step_banded(const LinearPhase& phase, const LinearPhase::Bands& bands, const double* u, const double* v,
-                   const double* a, double tau, double ground_end, double* u_new, double* v_new, double* a_new);
+  [[gnu::always_inline]] inline void step_banded(const LinearPhase& phase, const LinearPhase::Bands& bands,
+                                                 const double* u, const double* v, const double* a, double tau,
+                                                 double ground_end, double* u_new, double* v_new, double* a_new);
+  /// step_banded() for a phase with locked links: over the groups' representative floors, then
+  /// u = T q + o, u̇ and ü of every floor, as finish() writes them.
+  void step_groups_banded(const LinearPhase& phase, const LinearPhase::Bands& bands, const KinematicState& from,
+                          double tau, double ground_end, KinematicState& to);
   /// `to` from q̈⁺ (the reduced accelerations in qdd_new_) and w1, w2.
   [[gnu::always_inline]] inline void finish(const LinearPhase& phase, const KinematicState& from, double tau,
                                             double ground_end, KinematicState& to);
