@@ -116,6 +116,7 @@ bool Lockstep::Batch::eligible(const Simulator& s) const {
     return false;
   }
   const LinearPhase& phase = *s.phase_;
+  // Locked links: their guards are the stop reactions, which the kernel does not compute.
   if (!phase.is_unreduced() || phase.has_smooth_links()) return false;
   try {
     if (phase.bands_for(phase.step_solver()) == nullptr) return false;  // wide bands

@@ -152,8 +152,9 @@ void NewmarkIntegrator::step(const LinearPhase& phase, const LinearPhase::Solver
       return;
     }
     // Locked links: the same rows over the groups (q = u of each group's representative floor),
-    // then u = T q + o as finish() writes it — (w2 + τ²/4 q̈⁺) + o, the same sum. Out of line:
-    // one call site of the rows keeps them inlined into the common, unreduced step.
+    // then u = T q + o as finish() writes it — (w2 + τ²/4 q̈⁺) + o, the same sum. Out of line, so
+    // that the common, unreduced step stays as small as it was (2 × 1: 29 instructions a step
+    // more with this path written in here; docs/numerics.md, "Session 27").
     step_groups_banded(phase, *bands, from, tau, ground_end, to);
     return;
   }
