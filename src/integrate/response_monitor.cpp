@@ -173,7 +173,7 @@ void ResponseMonitor::observe_step(const KinematicState& a, const KinematicState
     }
   });
   for (std::size_t f = 0; f < first_storey_.size(); ++f) {
-    const int d = layout_.dof(static_cast<int>(f), 0);
+    const int d = first_storey_dofs_[f];
     const LinearForm& storey = first_storey_[f];
     const double k = storey.stiffness, c = storey.damping, f0 = storey.force_at_zero;
     refine(stats_.base_shear[f], k * a.u(d) + f0, k * a.v(d), k * b.u(d) + f0, k * b.v(d));
