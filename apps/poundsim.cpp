@@ -1,5 +1,6 @@
 // poundsim command line: parses arguments, calls the library, reports. Exit codes: 0 success,
-// 1 failure during the run (numerical or file system), 2 bad input or usage; stopped by SIGINT,
+// 1 failure during the run (numerical or file system), 2 bad input or usage (an output folder
+// another run is writing into among them); stopped by SIGINT,
 // SIGTERM or SIGHUP, it ends by that signal (a shell reports 130, 143, 129).
 
 #include <pthread.h>
@@ -90,7 +91,9 @@ void stop_cleanly_on_signals() {
   sigset_t signals;
   sigemptyset(&signals);
   int count = 0;
-  for (const int s : {SIGINT, SIGTERM, SIGHUP}) {
+  // SIGXFSZ (a write beyond `ulimit -f`) is blocked too: the write then fails with EFBIG, and the
+  // run ends as on any write error, its temporaries removed, instead of being killed mid-write.
+  for (const int s : {SIGINT, SIGTERM, SIGHUP, SIGXFSZ}) {
     struct sigaction current {};
     if (sigaction(s, nullptr, &current) == 0 && current.sa_handler != SIG_IGN) {
       sigaddset(&signals, s);
@@ -212,6 +215,10 @@ int main(int argc, char** argv) {
       return 0;
     }
     if (worker && !study) return 0;
+    // One run at a time in a folder: a second one is refused before it computes anything.
+    // (Rank 0 writes; the workers of a study send it their points.)
+    std::optional<poundsim::io::OutputFolderLock> folder_lock;
+    if (!worker) folder_lock.emplace(out_dir);
     ProgressBar bar(!quiet && ::isatty(STDERR_FILENO) != 0);
     const auto progress = [&bar](int done, int total) { bar.update(done, total); };
     if (study) {
@@ -251,6 +258,8 @@ int main(int argc, char** argv) {
     // Rank 0 stopped the job: a worker ends quietly.
     return worker ? 0 : fail(kExitFailure, fmt::format("poundsim: error: {}", e.what()));
   } catch (const poundsim::InputError& e) {
+    return fail(kExitBadInput, fmt::format("poundsim: error: {}", e.what()));
+  } catch (const poundsim::io::FolderBusy& e) {
     return fail(kExitBadInput, fmt::format("poundsim: error: {}", e.what()));
   } catch (const poundsim::SimulationError& e) {
     return fail(kExitFailure, fmt::format("poundsim: simulation failed: {}", e.what()));

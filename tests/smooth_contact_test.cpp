@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -229,6 +230,40 @@ TEST(NewtonSteps, FailureNamesTheTimeAndTheElement) {
   EXPECT_NE(status.message.find("did not converge within 1 iterations in the step from t = 0.0066"), std::string::npos)
       << status.message;
   EXPECT_NE(status.message.find("the force of the Hertz contact between frames 1 and 2 at floor 1 changed most"), std::string::npos) << status.message;
+}
+
+/// Gives element 0 a NaN force at every iterate, as a law evaluated outside its range does.
+class NotFiniteForces final : public SmoothForces {
+ public:
+  void evaluate(const KinematicState& /*x*/, std::span<ForceTangent> by_element) override {
+    by_element[0] = ForceTangent{.force = std::numeric_limits<double>::quiet_NaN()};
+  }
+};
+
+TEST(NewtonSteps, ANotFiniteForceIsBlamedOnItsElement) {
+  // Every comparison with NaN is false: the element whose force "changed most" was never found
+  // and the failure message read the link before the first.
+  const Model model = make_model({make_uniform_frame(1, kLeftMass, 1e-6, 0.0), make_uniform_frame(1, kRightMass, 1e-6, 0.0)},
+                                 GapLaw(Hertz{.parameters = {.stiffness = 1e9, .gap = kGap}}));
+  PoundingSystem system(model, NoExcitation{}, EventRules{});
+  KinematicState x;
+  x.resize(2);
+  x.u << kGap + 2e-4, 0.0;
+  x.v << 1.0, -0.5;
+  ContactState contact = system.initial_contact(x);
+  system.refresh_flags(contact);
+  LinearPhase phase(model, system.layout(), contact.config, 1e-4);
+  ASSERT_TRUE(phase.has_smooth_links());
+  NewmarkIntegrator newmark(2);
+  NotFiniteForces forces;
+  std::vector<ForceTangent> by_element(1);
+  KinematicState end;
+  end.resize(2);
+  const NewtonOutcome outcome =
+      newmark.step_newton(phase, x, 1e-4, 0.0, forces, by_element, NewtonOptions{.max_iterations = 3}, end);
+  EXPECT_FALSE(outcome.converged);
+  EXPECT_EQ(outcome.worst_element, 0);
+  EXPECT_TRUE(outcome.worst_not_finite);
 }
 
 TEST(SmoothContactLaws, TheExactIntegratorRefusesThemNamingTheElement) {

@@ -103,6 +103,27 @@ namespace {
     x[i] = sum;
   }
 }
+
+/// Names the smooth link to blame for Newton's failure: the first whose force is not finite
+/// (a comparison with NaN is always false, so a NaN would otherwise never be "the largest
+/// change"), else the one whose force changed most in the last iteration.
+void blame_worst_element(std::span<const LinearPhase::SmoothLink> smooth, std::span<const ForceTangent> by_element,
+                         const std::vector<double>& previous_force, NewtonOutcome& outcome) {
+  double worst = -1.0;
+  for (const auto& link : smooth) {
+    const auto p = static_cast<std::size_t>(link.element);
+    if (!std::isfinite(by_element[p].force)) {
+      outcome.worst_element = link.element;
+      outcome.worst_not_finite = true;
+      return;
+    }
+    const double change = std::abs(by_element[p].force - previous_force[p]);
+    if (!(change <= worst)) {  // also takes a change that is not finite
+      worst = change;
+      outcome.worst_element = link.element;
+    }
+  }
+}
 }  // namespace
 
 void NewmarkIntegrator::step_banded(const LinearPhase& phase, const LinearPhase::Bands& bands, const double* u,
@@ -302,15 +323,7 @@ NewtonOutcome NewmarkIntegrator::step_newton(const LinearPhase& phase, const Kin
     qdd_new += correction;
   }
   outcome.converged = false;
-  double worst = -1.0;
-  for (const auto& link : smooth) {
-    const auto p = static_cast<std::size_t>(link.element);
-    const double change = std::abs(by_element[p].force - previous_force_[p]);
-    if (change > worst) {
-      worst = change;
-      outcome.worst_element = link.element;
-    }
-  }
+  blame_worst_element(smooth, by_element, previous_force_, outcome);
   return outcome;  // `to` holds the last iterate (finish() at the loop's top)
 }
 

@@ -65,6 +65,23 @@ GuardScan scan_guards(const Loop::Guards& g) {
   }
   return {fired, may_graze};
 }
+
+/// Why a Newton step failed, naming the element to blame when there is one.
+std::string newton_failure_message(const Loop& loop, double tau, const NewtonOutcome& outcome) {
+  const auto& links = loop.system().tracked_links();
+  const auto worst = static_cast<std::size_t>(outcome.worst_element);
+  std::string blame = "no smooth link was found to blame";
+  if (outcome.worst_element >= 0 && worst < links.size()) {
+    const std::string name = describe(links[worst], loop.system().layout());
+    blame = outcome.worst_not_finite ? fmt::format("the force of {} is not finite (NaN or infinite): its law's "
+                                                   "parameters or the state it reached are outside its range",
+                                                   name)
+                                     : fmt::format("the force of {} changed most in the last one", name);
+  }
+  return fmt::format("Newton's iterations did not converge within {} iterations in the step from t = {} s to {} s; "
+                     "{}. A smaller dt, or a larger newton_max_iterations or newton_tolerance, may help",
+                     outcome.iterations, loop.state().t, loop.state().t + tau, blame);
+}
 }  // namespace
 
 void NewmarkStepper::trial_step(Loop& loop, double tau, bool nominal, KinematicState& out) {
@@ -82,14 +99,7 @@ void NewmarkStepper::trial_step(Loop& loop, double tau, bool nominal, KinematicS
   ++counts.newton_steps;
   counts.newton_iterations += outcome.iterations;
   if (!outcome.converged) {
-    const Link& link = loop.system().tracked_links()[static_cast<std::size_t>(outcome.worst_element)];
-    throw SimulationError(
-        fmt::format("Newton's iterations did not converge within {} iterations in the step from t = {} s to {} s; "
-                    "the force of {} changed most in the last one. A smaller dt, or a larger "
-                    "newton_max_iterations or newton_tolerance, may help",
-                    outcome.iterations, loop.state().t, loop.state().t + tau,
-                    describe(link, loop.system().layout())),
-        StopReason::no_convergence);
+    throw SimulationError(newton_failure_message(loop, tau, outcome), StopReason::no_convergence);
   }
 }
 

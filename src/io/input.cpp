@@ -14,6 +14,7 @@
 #include <unordered_map>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
@@ -730,9 +731,16 @@ StoreyLawParameters read_storey_law(TableReader& f, int storeys, const Broadcast
       [&](auto& per_storey) {
         using Parameters = typename std::decay_t<decltype(per_storey)>::Law::Parameters;
         f.declare<Parameters>();
-        bool any = false;  // none given: the law's defaults, as an empty list (one form for both)
-        for_each_field<Parameters>([&](const auto& field) { any = any || f.has(field.key) || field.required; });
-        if (any) {
+        // None given: the law's defaults, as an empty list (one form for both) — refused when the
+        // defaults break the law's rules (a yielding storey has no default yield force).
+        bool given = false;
+        for_each_field<Parameters>([&](const auto& field) { given = given || f.has(field.key) || field.required; });
+        if (const std::optional<FieldRule> rule = Parameters{}.rule_violation(); rule && !given) {
+          f.fail("storey_law", fmt::format("\"{}\" needs {}, and the frame gives neither: {}",
+                                           std::decay_t<decltype(per_storey)>::Law::key,
+                                           fmt::join(rule->keys, " or "), rule->message));
+        }
+        if (given) {
           per_storey.values.assign(static_cast<std::size_t>(storeys), Parameters{});
           for_each_field<Parameters>([&](const auto& field) {
             static_assert(is_number_field<std::decay_t<decltype(field)>>, "storey parameters are numbers");

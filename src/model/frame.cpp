@@ -45,7 +45,15 @@ void validate(const Frame& frame) {
   }
   std::visit(
       [&](const auto& law) {
-        if (law.values.empty()) return;
+        using Parameters = typename std::decay_t<decltype(law)>::Law::Parameters;
+        if (law.values.empty()) {
+          // Every storey takes the law's defaults, which not every law can run with (a yielding
+          // storey has no default yield force).
+          if (const auto rule = Parameters{}.rule_violation()) {
+            throw std::invalid_argument(fmt::format("{}: {}", label, rule->message));
+          }
+          return;
+        }
         if (law.values.size() != frame.mass.size()) {
           throw std::invalid_argument(fmt::format("{}: the storey law's parameters are given for {} storeys, the frame has {}",
                                                   label, law.values.size(), frame.mass.size()));

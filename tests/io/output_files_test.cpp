@@ -6,12 +6,18 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <set>
 #include <sstream>
+#include <string>
 #include <vector>
+
+#include <unistd.h>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+
+#include "../test_files.hpp"
 
 namespace poundsim::io {
 namespace {
@@ -58,6 +64,43 @@ TEST(OutputTransaction, AbandonedRunLeavesNothing) {
   EXPECT_EQ(s.str(), "previous\n");
   EXPECT_EQ(entries(dir), 1u);  // no temporary left
   fs::remove_all(dir);
+}
+
+TEST(OutputTransaction, RemovesTheTemporariesOfProcessesNoLongerRunning) {
+  // A run that crashed left its hidden temporaries; the next run into the folder removes them,
+  // but never those of a process still running (pid 1) or its own.
+  const fs::path dir = poundsim::testing::fresh_folder("stale_temporaries");
+  const std::string own = fmt::format(".events.csv.{}.tmp", static_cast<long>(::getpid()));
+  for (const std::string name : {".history.csv.999999999.tmp", ".summary.json.999999998.tmp", ".x.1.tmp", own.c_str(),
+                                 "history.csv", ".hidden.tmp", ".a.12x.tmp"}) {
+    std::ofstream(dir / name) << "x";
+  }
+  {
+    OutputTransaction out(dir);
+    out.commit();
+  }
+  std::set<std::string> left;
+  for (const auto& e : fs::directory_iterator(dir)) left.insert(e.path().filename().string());
+  EXPECT_EQ(left, (std::set<std::string>{".x.1.tmp", own, "history.csv", ".hidden.tmp", ".a.12x.tmp"}));
+  fs::remove_all(dir);
+}
+
+TEST(OutputFolderLock, ATransactionOfTheSameProcessSharesItsLock) {
+  // A run holds its folder and opens transactions in it; another process could not take it.
+  const fs::path dir = poundsim::testing::fresh_folder("folder_lock") / "new";
+  {
+    const OutputFolderLock held(dir);
+    EXPECT_TRUE(fs::is_directory(dir));
+    OutputTransaction out(dir);
+    out.open("a.txt").text("a");
+    out.commit();
+  }
+  EXPECT_TRUE(fs::exists(dir / "a.txt"));
+  // A folder the lock created and nothing was written into is removed again.
+  const fs::path empty = dir.parent_path() / "empty";
+  { const OutputFolderLock held(empty); }
+  EXPECT_FALSE(fs::exists(empty));
+  fs::remove_all(dir.parent_path());
 }
 
 TEST(OutputTransaction, WritesJsonIndentedWithAFinalNewline) {

@@ -2,7 +2,9 @@
 // (a shell reports 143 / 130), leaves no temporary and no partial result, keeps what the folder
 // held before, and leaves a study's database whole, closed and resumable.
 
+#include <fcntl.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -54,6 +56,31 @@ pid_t start(const std::vector<std::string>& args, const std::vector<int>& ignore
     std::signal(SIGINT, SIG_DFL);
     std::signal(SIGTERM, SIG_DFL);
     for (const int s : ignored) std::signal(s, SIG_IGN);
+    execv(POUNDSIM_CLI, argv.data());
+    _exit(127);
+  }
+  return child;
+}
+
+/// start(), with stderr into `error_file` and files limited to `file_limit` bytes (ulimit -f) when > 0.
+pid_t start_limited(const std::vector<std::string>& args, const fs::path& error_file, long file_limit = 0) {
+  std::vector<std::string> all{POUNDSIM_CLI};
+  all.insert(all.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& a : all) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const std::string error_path = error_file.string();
+  const pid_t child = fork();
+  if (child == 0) {
+    std::signal(SIGINT, SIG_DFL);
+    std::signal(SIGTERM, SIG_DFL);
+    std::signal(SIGXFSZ, SIG_DFL);
+    const int fd = open(error_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) dup2(fd, STDERR_FILENO);
+    if (file_limit > 0) {
+      const rlimit limit{static_cast<rlim_t>(file_limit), static_cast<rlim_t>(file_limit)};
+      setrlimit(RLIMIT_FSIZE, &limit);
+    }
     execv(POUNDSIM_CLI, argv.data());
     _exit(127);
   }
@@ -190,6 +217,54 @@ TEST_P(Termination, AStudyClosesItsDatabaseAndResumes) {
   ASSERT_EQ(rows.size(), 9u);
   for (std::size_t i = 0; i < rows.size(); ++i) EXPECT_EQ(rows[i].id, static_cast<long>(i));
   EXPECT_EQ(names(dir / "out"), (std::set<std::string>{"input.toml", "study.csv", "study.sqlite", "summary.json"}));
+  fs::remove_all(dir);
+}
+
+TEST(Termination, ASecondRunIntoTheSameFolderIsRefusedNamingTheFirst) {
+  // Two runs into one folder at once: the second lost a race for the database with a raw SQLite
+  // error before. It is refused before it computes anything, naming the folder and the process.
+  const fs::path dir = fresh("two_writers");
+  std::ofstream(dir / "study.toml") << kStudy;
+  const fs::path out = dir / "out";
+  const pid_t first = start({"run", (dir / "study.toml").string(), "--quiet", "--out", out.string()});
+  ASSERT_GT(first, 0);
+  for (int i = 0; i < 6000 && !fs::exists(out / "study.sqlite"); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  ASSERT_TRUE(fs::exists(out / "study.sqlite"));
+  const std::string tiny = std::string(POUNDSIM_SOURCE_DIR) + "/tests/repro/tiny_study.toml";
+  for (const std::string& input : {tiny, (dir / "study.toml").string()}) {
+    const int second = finish(start_limited({"run", input, "--quiet", "--out", out.string()}, dir / "second.txt"), 60);
+    ASSERT_TRUE(WIFEXITED(second)) << "status " << second;
+    EXPECT_EQ(WEXITSTATUS(second), 2);
+    const std::string error = slurp(dir / "second.txt");
+    EXPECT_NE(error.find(out.string() + ": another run is writing into this output folder (poundsim process " +
+                         std::to_string(first) + ")"),
+              std::string::npos)
+        << error;
+    EXPECT_EQ(error.find("SQLite"), std::string::npos) << error;
+  }
+  kill(first, SIGTERM);
+  finish(first, 20);
+  // Once the first has ended the folder is free again: the run resumes and completes.
+  const int again = finish(start({"run", (dir / "study.toml").string(), "--quiet", "--out", out.string()}), 600);
+  EXPECT_TRUE(WIFEXITED(again) && WEXITSTATUS(again) == 0) << "status " << again;
+  fs::remove_all(dir);
+}
+
+TEST(Termination, AFileSizeLimitEndsTheRunWithAnErrorAndLeavesNoTemporary) {
+  // `ulimit -f`: a write beyond the limit raised SIGXFSZ, whose default action ended the process
+  // with its temporaries left behind. The write now fails, and the run ends as on a full disk.
+  const fs::path dir = fresh("file_size");
+  const fs::path out = dir / "out";
+  const int status = finish(start_limited({"run", std::string(POUNDSIM_SOURCE_DIR) + "/examples/fig2c_ratio0.8.toml",
+                                           "--quiet", "--out", out.string(), "--set", "analysis.duration=200",
+                                           "--set", "analysis.output_dt=0.001"},
+                                          dir / "error.txt", 1 << 20),
+                            120);
+  ASSERT_TRUE(WIFEXITED(status)) << "status " << status;
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  const std::string error = slurp(dir / "error.txt");
+  EXPECT_NE(error.find("write failed: File too large"), std::string::npos) << error;
+  EXPECT_FALSE(fs::exists(out) && !names(out).empty()) << "left behind in " << out;
   fs::remove_all(dir);
 }
 

@@ -130,8 +130,11 @@ struct NewtonOptions {
 struct NewtonOutcome {
   int iterations = 0;  ///< Corrections made (each one tangent factorisation and solve).
   bool converged = true;
-  /// The element whose force changed most in the last iteration (the one to blame), −1 if none.
+  /// The element to blame when not converged: the first whose force is not finite, else the one
+  /// whose force changed most in the last iteration; −1 when the phase has no smooth link.
   int worst_element = -1;
+  /// Whether `worst_element`'s force is not finite (NaN or ±∞) rather than merely changing.
+  bool worst_not_finite = false;
 };
 
 class NewmarkIntegrator {

@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <initializer_list>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -115,9 +116,37 @@ class CsvWriter {
 /// The folder that `file` is written in: its parent, or the current folder for a bare name.
 [[nodiscard]] std::filesystem::path folder_of(const std::filesystem::path& file);
 
+/// One run at a time in an output folder. Holds an exclusive advisory lock (flock) on the folder
+/// itself, so no lock file is ever left behind: the kernel releases the lock when the process
+/// ends, however it ends. Locks taken by one process on the same folder share one lock, so a run
+/// may open several transactions in its folder. Taking it also removes the hidden temporaries
+/// (`.NAME.PID.tmp`) that a crashed run of a process no longer alive left in the folder. A folder
+/// it created is removed again when the last lock on it ends and nothing was written there.
+class OutputFolderLock {
+ public:
+  /// Creates `folder` if needed and locks it. Throws FolderBusy naming the folder and the process
+  /// holding it when another process holds it, std::runtime_error when it cannot be created.
+  explicit OutputFolderLock(const std::filesystem::path& folder);
+  OutputFolderLock(const OutputFolderLock&) = delete;
+  OutputFolderLock& operator=(const OutputFolderLock&) = delete;
+  ~OutputFolderLock();
+
+ private:
+  std::filesystem::path folder_;
+  std::uint64_t device_ = 0, inode_ = 0;  ///< The folder's identity: its key among the process's locks.
+  bool created_ = false;                   ///< Whether the first lock of the process created it.
+};
+
+/// Another process is writing into the output folder a run asked for.
+class FolderBusy : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 class OutputTransaction {
  public:
-  /// Creates `folder` if needed. Throws std::runtime_error when it cannot.
+  /// Creates `folder` if needed and locks it (OutputFolderLock). Throws std::runtime_error when
+  /// it cannot be created, FolderBusy when another process writes into it.
   explicit OutputTransaction(std::filesystem::path folder);
   OutputTransaction(const OutputTransaction&) = delete;
   OutputTransaction& operator=(const OutputTransaction&) = delete;
@@ -138,6 +167,7 @@ class OutputTransaction {
     std::unique_ptr<OutputFile> file;
   };
   std::filesystem::path folder_;
+  OutputFolderLock lock_;
   std::vector<Entry> entries_;
   bool committed_ = false;
 };

@@ -44,7 +44,7 @@ struct BoucWenStorey {
     double yield_drift = 0.0;       ///< u_y [m]; 0 when the yield force is given instead.
     double post_yield_ratio = 0.0;  ///< α ∈ [0, 1).
     double a = 1.0;                 ///< A > 0: the initial slope of z against d/u_y.
-    double beta = 0.5;              ///< β: with γ, the shape of the loop.
+    double beta = 0.5;              ///< β ≥ 0: with γ, the shape of the loop.
     double gamma = 0.5;             ///< γ; β + γ > 0.
     double n = 2.0;                 ///< n ≥ 1: the sharpness of yielding (large: bilinear).
 
@@ -55,14 +55,28 @@ struct BoucWenStorey {
           NumberField{"yield_drift", &P::yield_drift, "m", non_negative, "u_y = F_y / K (instead of yield_force)"},
           NumberField{"post_yield_ratio", &P::post_yield_ratio, "", below_one, "α: the post-yield stiffness α K"},
           NumberField{"a", &P::a, "", positive, "A: z's initial slope against d/u_y"},
-          NumberField{"beta", &P::beta, "", any_finite, "β: the loop's shape, with γ"},
+          NumberField{"beta", &P::beta, "", any_finite, "β ≥ 0: the loop's shape, with γ"},
           NumberField{"gamma", &P::gamma, "", any_finite, "γ: the loop's shape, with β; β + γ > 0"},
           NumberField{"n", &P::n, "", Interval{.lo = 1.0, .hi = 1000.0}, "n: the sharpness of yielding"},
       };
     }
     [[nodiscard]] std::optional<FieldRule> rule_violation() const {
       if (auto rule = yielding_storey::yield_rule(yield_force, yield_drift)) return rule;
-      if (!(beta + gamma > 0)) return FieldRule{{"gamma", "beta"}, "β + γ must be > 0 (z saturates at (A/(β+γ))^(1/n))"};
+      // z stays bounded for every drift history if and only if β ≥ 0 and β + γ > 0 (with A > 0;
+      // Ikhouane, Mañosa & Rodellar 2007, classes I and II): with β < 0 unloading from the
+      // saturation z₀ = (A/(β+γ))^(1/n) makes |z| grow without bound, as γ − β > β + γ.
+      if (!(beta >= 0)) {
+        return FieldRule{{"beta", "gamma"},
+                         fmt::format("β must be ≥ 0 (got {}): with β < 0, z grows without bound on unloading from its "
+                                     "saturation (γ − β > β + γ); z is bounded for every drift history only when "
+                                     "β ≥ 0 and β + γ > 0 (Ikhouane, Mañosa & Rodellar 2007)",
+                                     beta)};
+      }
+      if (!(beta + gamma > 0)) {
+        return FieldRule{{"gamma", "beta"},
+                         "β + γ must be > 0 for z to stay bounded (z saturates at (A/(β+γ))^(1/n); Ikhouane, "
+                         "Mañosa & Rodellar 2007)"};
+      }
       return std::nullopt;
     }
     [[nodiscard]] bool operator==(const Parameters&) const = default;

@@ -40,7 +40,7 @@ struct HertzdampForce {
   struct Parameters {
     double stiffness = 0.0;    ///< k_h [N/mⁿ], > 0.
     double gap = 0.0;          ///< δ [m], ≥ 0.
-    double exponent = 1.5;     ///< n > 0 (3/2: Hertz).
+    double exponent = 1.5;     ///< n ≥ 1 (3/2: Hertz).
     double restitution = 1.0;  ///< e ∈ [0, 1] (> 0 for ye_li_zhu): the restitution ξ̄ is set for.
     HertzdampDamping damping_model = HertzdampDamping::lankarani_nikravesh;
     double minimum_closing_speed = 1e-3;  ///< [m/s] > 0: the least v₀ (grazing contacts).
@@ -50,7 +50,9 @@ struct HertzdampForce {
       return std::tuple{
           NumberField{"stiffness", &P::stiffness, "N/m^n", positive, "k_h of F = k_h sⁿ (1 + ξ̄ ṡ/v₀)", true},
           NumberField{"gap", &P::gap, "m", non_negative, "δ, the clear distance at rest", true},
-          NumberField{"exponent", &P::exponent, "", positive, "n (3/2: Hertz)"},
+          // n < 1 would give the spring an infinite tangent n k_h sⁿ⁻¹ at first touch, where
+          // Newton's iterations cannot converge; measured pounding exponents are 1 … 2.
+          NumberField{"exponent", &P::exponent, "", Interval{.lo = 1.0}, "n (3/2: Hertz)"},
           NumberField{"restitution", &P::restitution, "", unit_interval, "e, which sets ξ̄", true},
           ChoiceField{"damping_model", &P::damping_model,
                       std::array{std::pair<std::string_view, HertzdampDamping>{
