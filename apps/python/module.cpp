@@ -118,7 +118,7 @@ py::object events_array(const std::vector<EventRow>& rows) {
 /// The wall-clock interval between progress calls: finite and ≥ 0.
 double checked_interval(double seconds) {
   if (!(std::isfinite(seconds) && seconds >= 0)) {
-    throw py::value_error(fmt::format("progress_interval: {} s must be a finite number ≥ 0", seconds));
+    throw InputError(fmt::format("progress_interval: {} s must be a finite number ≥ 0", seconds));
   }
   return seconds;
 }
@@ -126,7 +126,7 @@ double checked_interval(double seconds) {
 /// Refuses an input whose analysis.kind is none of `kinds`, naming what the call runs.
 void require_kind(const io::RunInput& input, std::initializer_list<io::AnalysisKind> kinds, std::string_view what) {
   if (std::find(kinds.begin(), kinds.end(), input.analysis.kind) == kinds.end()) {
-    throw py::value_error(fmt::format("{}: analysis.kind: \"{}\" is not {}", input.source.string(),
+    throw InputError(fmt::format("{}: analysis.kind: \"{}\" is not {}", input.source.string(),
                                       to_string(input.analysis.kind), what));
   }
 }
@@ -207,25 +207,57 @@ TimeHistoryRun run_time_history(const io::RunInput& input, const std::optional<s
 
 /// A Python value of a model document as JSON: dicts (str keys), lists and tuples, NumPy arrays
 /// and scalars, bool, int, float, str and paths; `path` names it in messages.
-nlohmann::json to_document(const py::handle& value, const std::string& path, int depth = 0) {
-  const auto where = [&] { return path.empty() ? std::string("the model") : path; };
+/// Where a value of the document is, as a message names it: "frames[1].mass[3]". Built only for
+/// a message — formatting it for every value of a long array took most of the conversion's time.
+struct DocumentPath {
+  const DocumentPath* parent = nullptr;
+  std::string_view key;  ///< A table's key, or empty for an array's item
+  std::size_t index = 0; ///< 1-based item of an array
+  [[nodiscard]] std::string str() const {
+    if (parent == nullptr) return key.empty() ? std::string("the model") : std::string(key);
+    const std::string up = parent->parent == nullptr && parent->key.empty() ? std::string() : parent->str();
+    if (!key.empty()) return up.empty() ? std::string(key) : up + "." + std::string(key);
+    return fmt::format("{}[{}]", up.empty() ? std::string("the model") : up, index);
+  }
+};
+
+/// A Python str as UTF-8 text, refused with its place named when it holds a lone surrogate (no
+/// UTF-8 form) or a NUL (a model file's text cannot hold one, and a message would be cut at it).
+std::string document_text(const py::handle& value, const DocumentPath& path) {
+  PyObject* bytes = PyUnicode_AsEncodedString(value.ptr(), "utf-8", "strict");
+  if (bytes == nullptr) {
+    PyErr_Clear();
+    throw InputError(fmt::format("{}: the text {} is not valid Unicode (a lone surrogate has no UTF-8 form)",
+                                 path.str(), py::repr(value).cast<std::string>()));
+  }
+  std::string text(PyBytes_AsString(bytes), static_cast<std::size_t>(PyBytes_Size(bytes)));
+  Py_DECREF(bytes);
+  if (text.find('\0') != std::string::npos) {
+    throw InputError(fmt::format("{}: the text {} holds a NUL character, which a model file's text cannot",
+                                 path.str(), py::repr(value).cast<std::string>()));
+  }
+  return text;
+}
+
+nlohmann::json to_document(const py::handle& value, const DocumentPath& path, int depth = 0) {
   // A model file nests a few tables deep; deeper is a container that holds itself.
-  if (depth > 32) throw py::type_error(fmt::format("{}: nested more than 32 deep (a container that holds itself?)", where()));
+  if (depth > 32) throw InputError(fmt::format("{}: nested more than 32 deep (a container that holds itself?)", path.str()));
   if (py::isinstance<py::dict>(value)) {
     nlohmann::json object = nlohmann::json::object();
     for (const auto& [key, item] : py::reinterpret_borrow<py::dict>(value)) {
       if (!py::isinstance<py::str>(key)) {
-        throw py::type_error(fmt::format("{}: the key {} is not a str", where(), py::repr(key).cast<std::string>()));
+        throw InputError(fmt::format("{}: the key {} is not a str", path.str(), py::repr(key).cast<std::string>()));
       }
-      const auto name = key.cast<std::string>();
-      object[name] = to_document(item, path.empty() ? name : path + "." + name, depth + 1);
+      const std::string name = document_text(key, path);
+      object[name] = to_document(item, DocumentPath{&path, name}, depth + 1);
     }
     return object;
   }
   if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
     nlohmann::json items = nlohmann::json::array();
+    items.get_ref<nlohmann::json::array_t&>().reserve(py::len(value));
     std::size_t k = 0;
-    for (const py::handle item : value) items.push_back(to_document(item, fmt::format("{}[{}]", where(), ++k), depth + 1));
+    for (const py::handle item : value) items.push_back(to_document(item, DocumentPath{&path, {}, ++k}, depth + 1));
     return items;
   }
   if (py::isinstance<py::bool_>(value)) return value.cast<bool>();
@@ -233,25 +265,36 @@ nlohmann::json to_document(const py::handle& value, const std::string& path, int
     try {
       return value.cast<std::int64_t>();
     } catch (const py::cast_error&) {
-      throw py::value_error(fmt::format("{}: the integer {} does not fit in 64 bits", where(),
-                                        py::repr(value).cast<std::string>()));
+      throw InputError(fmt::format("{}: the integer {} does not fit in 64 bits", path.str(),
+                                   py::repr(value).cast<std::string>()));
     }
   }
   if (py::isinstance<py::float_>(value)) return value.cast<double>();
-  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  if (py::isinstance<py::str>(value)) return document_text(value, path);
   // NumPy arrays and numbers that are not Python's (np.float64 is a float, above): as Python's.
   const py::module_ np = py::module_::import("numpy");
+  if (py::isinstance(value, np.attr("ndarray")) && value.attr("ndim").cast<int>() == 1 &&
+      value.attr("dtype").attr("kind").cast<std::string>() == "f" && value.attr("dtype").attr("itemsize").cast<int>() <= 8) {
+    // A 1-D array of floats (a record's samples, a frame's storeys) straight from its buffer.
+    const auto numbers = py::array_t<double, py::array::forcecast>::ensure(value);
+    nlohmann::json items = nlohmann::json::array();
+    auto& array = items.get_ref<nlohmann::json::array_t&>();
+    array.reserve(static_cast<std::size_t>(numbers.size()));
+    for (py::ssize_t i = 0; i < numbers.size(); ++i) array.emplace_back(numbers.at(i));
+    return items;
+  }
   if (py::isinstance(value, np.attr("ndarray")) || py::isinstance(value, np.attr("generic"))) {
     const py::object plain = value.attr("tolist")();
     // A NumPy number with no Python equivalent (long double, complex) stays itself: refused below.
     if (!py::isinstance(plain, np.attr("generic"))) return to_document(plain, path, depth + 1);
   }
   if (py::hasattr(value, "__fspath__")) {
-    return py::module_::import("os").attr("fsdecode")(value).cast<std::string>();  // bytes paths decoded
+    const py::object text = py::module_::import("os").attr("fsdecode")(value);  // bytes paths decoded
+    return document_text(text, path);
   }
-  throw py::type_error(fmt::format("{}: {} ({}) is not a value of a model file (dict, list, number, bool or str)",
-                                   where(), py::repr(value).cast<std::string>(),
-                                   py::str(value.get_type().attr("__name__")).cast<std::string>()));
+  throw InputError(fmt::format("{}: {} ({}) is not a value of a model file (dict, list, number, bool or str)",
+                               path.str(), py::repr(value).cast<std::string>(),
+                               py::str(value.get_type().attr("__name__")).cast<std::string>()));
 }
 
 /// A 1-D NumPy array that owns `values`: no copy.
@@ -412,7 +455,7 @@ StudyRun run_study(const io::RunInput& input, const std::filesystem::path& out_d
   require_kind(input, {io::AnalysisKind::study, io::AnalysisKind::ensemble}, "a study or an ensemble");
   const io::AnalysisKind kind = input.analysis.kind;
   if (max_points < 0) {
-    throw py::value_error(fmt::format("max_points: {}: expected a whole number of points from 1 (0: all)", max_points));
+    throw InputError(fmt::format("max_points: {}: expected a whole number of points from 1 (0: all)", max_points));
   }
   io::StudyResult result = run_stoppable(
       [&](const std::function<void(int, int)>& report, const std::function<bool()>& stop_requested) {
@@ -480,10 +523,24 @@ PYBIND11_MODULE(_core, m) {
   using namespace poundsim::python;
   m.doc() = "poundsim's C++ core: inputs, runs and results (use the package poundsim, docs/python.md).";
   m.attr("__version__") = POUNDSIM_VERSION;
+  m.attr("max_storeys") = io::limits::storeys;  // checked in Python before a huge array is copied
 
-  // Bad input is a ValueError with the command line's message (file, key, rule); a failed
-  // integration a RuntimeError.
-  py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
+  // Bad input — a key, a value or an argument — is poundsim.InputError with the command line's
+  // message (file, key, rule): a ValueError and, for a value of the wrong type, a TypeError too,
+  // so that either `except` Python code writes catches it. A failed integration is a RuntimeError.
+  {
+    PyObject* bases = PyTuple_Pack(2, PyExc_ValueError, PyExc_TypeError);
+    static PyObject* const input_error = PyErr_NewException("poundsim._core.InputError", bases, nullptr);
+    Py_DECREF(bases);
+    m.attr("InputError") = py::handle(input_error);  // a new reference the module keeps, never released
+    py::register_exception_translator([](std::exception_ptr p) {
+      try {
+        if (p) std::rethrow_exception(p);
+      } catch (const InputError& e) {
+        PyErr_SetString(input_error, e.what());
+      }
+    });
+  }
   py::register_exception<SimulationError>(m, "SimulationError", PyExc_RuntimeError);
 
   py::class_<io::RunInput>(m, "Input", "A model file read and checked: the model, its excitation and its analysis.")
@@ -546,7 +603,7 @@ PYBIND11_MODULE(_core, m) {
       "from_dict",
       [](const py::dict& document, const std::string& name, const std::filesystem::path& base_dir,
          const std::vector<std::string>& settings) {
-        return io::read_input_document(to_document(document, ""), name, base_dir, settings);
+        return io::read_input_document(to_document(document, DocumentPath{}), name, base_dir, settings);
       },
       py::arg("document"), py::arg("name") = "model", py::arg("base_dir") = ".",
       py::arg("settings") = std::vector<std::string>{},

@@ -18,8 +18,8 @@ expects (docs/python.md)::
     model.frame(mass=4e5, stiffness=[3e8] * 10, damping_ratio=0.05, storey_height=3.2)
 
 Inputs are the command line's TOML (`load`, `loads`, `Model`, `Input.to_toml`, `Input.save`): one
-truth. Bad input raises ValueError (poundsim.InputError) with the command line's message, naming
-the file, the key and the rule; a failed integration raises poundsim.SimulationError (a
+truth. Bad input or a bad argument raises poundsim.InputError (a ValueError and a TypeError) with
+the command line's message, naming the file, the key or the argument and the rule; a failed integration raises poundsim.SimulationError (a
 RuntimeError). Runs release the GIL; Ctrl-C stops them and raises KeyboardInterrupt.
 
 `poundsim.results` and `poundsim.plot` import without the C++ extension: `poundsim.read(DIR)`
@@ -51,7 +51,7 @@ except ImportError as missing:  # the results and plots still work
     _missing = missing
     __version__ = "unknown"
 
-    class InputError(ValueError):  # type: ignore[no-redef]
+    class InputError(ValueError, TypeError):  # type: ignore[no-redef]
         """Bad input (the C++ extension raises its own; this one stands in when it is missing)."""
 
     class SimulationError(RuntimeError):  # type: ignore[no-redef]
@@ -143,10 +143,11 @@ def run(
     if isinstance(input, Model):
         input = input.build()
     if not isinstance(input, core.Input):
-        raise TypeError(f"poundsim.run takes an Input (poundsim.load, loads, from_dict) or a Model, "
-                        f"not {type(input).__name__}")
-    if not (isinstance(progress_interval, (int, float)) and math.isfinite(progress_interval) and progress_interval >= 0):
-        raise ValueError(f"progress_interval: {progress_interval!r} s must be a finite number ≥ 0")
+        raise InputError(f"poundsim.run takes an Input (poundsim.load, loads, from_dict) or a Model, "
+                         f"not {type(input).__name__}")
+    if isinstance(progress_interval, bool) or not (isinstance(progress_interval, (int, float))
+                                                   and math.isfinite(progress_interval) and progress_interval >= 0):
+        raise InputError(f"progress_interval: {progress_interval!r} s must be a finite number ≥ 0")
     kind = input.kind
     if progress is None:
         progress = sys.stderr.isatty()
@@ -155,16 +156,25 @@ def run(
                                       "ensemble": "records"}.get(kind, "points"))
     elif progress is False:
         progress = None
-    if channels is not None and kind != "time_history":
-        raise ValueError(f"{input.source}: channels are for time histories, not analysis.kind = {kind!r}")
+    elif not callable(progress):
+        raise InputError(f"progress: {progress!r} is neither True, False, None nor a callable progress(done, total)")
+    if channels is not None:
+        if kind != "time_history":
+            raise InputError(f"{input.source}: channels are for time histories, not analysis.kind = {kind!r}")
+        if isinstance(channels, str) or not all(isinstance(c, str) for c in _iterable(channels, "channels")):
+            raise InputError(f"channels: {channels!r}: expected a list of channel patterns (str), "
+                             f"e.g. [\"u_1_*\", \"drift_ratio_*\"]")
     if max_points is not None:
         if kind not in ("study", "ensemble"):
-            raise ValueError(f"max_points is for studies and ensembles, not analysis.kind = {kind!r}")
+            raise InputError(f"max_points is for studies and ensembles, not analysis.kind = {kind!r}")
         if isinstance(max_points, bool) or not isinstance(max_points, int) or max_points < 1:
-            raise ValueError(f"max_points: {max_points!r}: expected a whole number of points from 1")
-    if out is not None and kind in ("time_history", "frf", "continuation"):
-        raise ValueError(f"out is for studies, ensembles and optimisations (their databases and files), not "
-                         f"analysis.kind = {kind!r}: save the arrays, or run the command line for its files")
+            raise InputError(f"max_points: {max_points!r}: expected a whole number of points from 1")
+    if out is not None:
+        if kind in ("time_history", "frf", "continuation"):
+            raise InputError(f"out is for studies, ensembles and optimisations (their databases and files), not "
+                             f"analysis.kind = {kind!r}: save the arrays, or run the command line for its files")
+        if not isinstance(out, (str, os.PathLike)):
+            raise InputError(f"out: {out!r}: expected a folder (str or path)")
     if kind == "time_history":
         r = core.run_time_history(input, None if channels is None else list(channels), progress, progress_interval)
         return TimeHistory(r.data, r.channels, r.units, r.events, r.summary)
@@ -188,4 +198,12 @@ def run(
             frf = {name: Table(*getattr(r, name)) if getattr(r, name) is not None else None
                    for name in ("optimum_frf", "bare_frf", "pareto")}
             return Optimization(r.summary, Table(r.evaluations, r.evaluation_units), **frf)
-    raise ValueError(f"{input.source}: analysis.kind = {kind!r} cannot be run")
+    raise InputError(f"{input.source}: analysis.kind = {kind!r} cannot be run")
+
+
+def _iterable(value: Any, name: str) -> list:
+    """`value` as a list, or InputError naming the argument when it is not a sequence."""
+    try:
+        return list(value)
+    except TypeError:
+        raise InputError(f"{name}: {value!r}: expected a list") from None

@@ -25,6 +25,20 @@ import numpy as np
 __all__ = ["Model", "harmonic", "record"]
 
 
+def _max_storeys() -> int:
+    """A frame's storeys at most: the reader's limit (docs/input.md)."""
+    from . import _core
+
+    return _core.max_storeys if _core is not None else 1000
+
+
+def _input_error(message: str) -> Exception:
+    """poundsim.InputError (imported here: the package imports this module first)."""
+    from . import InputError
+
+    return InputError(message)
+
+
 def _plain(value: Any) -> Any:
     """NumPy arrays and scalars, tuples and paths as the TOML document's lists, numbers and text."""
     if isinstance(value, np.ndarray):
@@ -36,7 +50,7 @@ def _plain(value: Any) -> Any:
     if isinstance(value, dict):
         for key in value:
             if not isinstance(key, str):
-                raise TypeError(f"the key {key!r} is not a str: a model file's keys are text")
+                raise _input_error(f"the key {key!r} is not a str: a model file's keys are text")
         return {k: _plain(v) for k, v in value.items()}
     if isinstance(value, os.PathLike):
         return os.fspath(value)
@@ -74,6 +88,11 @@ class Model:
     """A model file built table by table (docs/input.md); `build()` reads and checks it."""
 
     def __init__(self, title: Optional[str] = None, document: Optional[dict] = None):
+        if document is not None and not isinstance(document, dict):
+            raise _input_error(f"Model(document=...): {type(document).__name__} is not a model file's document: "
+                               "expected a dict of its tables, as Input.to_dict() or Model.to_dict() gives")
+        if title is not None and not isinstance(title, str):
+            raise _input_error(f"Model(title=...): {title!r} is not text (str)")
         self.document: dict = _plain(copy.deepcopy(document)) if document else {}
         if title is not None:
             self.document["title"] = title
@@ -92,6 +111,12 @@ class Model:
     def frame(self, **keys: Any) -> "Model":
         """One [[frames]] table, left to right: mass, stiffness (a value, or one per storey),
         storeys, damping, damping_ratio, storey_height, storey_law and its parameters, …"""
+        # The storeys are bounded (as the reader says): a huge array is refused before it is copied.
+        for key, value in keys.items():
+            if isinstance(value, (np.ndarray, list, tuple)) and len(value) > _max_storeys():
+                number = len(self.document.get("frames", [])) + 1
+                raise _input_error(f"model: frames[{number}].{key}: has {len(value)} values: a frame has at most "
+                                   f"{_max_storeys()} storeys")
         return self._append(["frames"], keys)
 
     def dimensionless(self, storeys: Sequence[int], storey_height: Optional[float] = None,

@@ -410,6 +410,44 @@ def test_bad_arguments_are_refused(tmp_path):
         poundsim.Model(document={"frames": [{1: 2}]})
 
 
+def test_every_bad_argument_or_value_is_poundsims_input_error(tmp_path):
+    """Bad arguments of run(), Model() and values no model file can hold are poundsim.InputError
+    (a ValueError and a TypeError), naming the argument or the key — never a bare error of the
+    binding or a garbled message."""
+    th = fig2c_model()
+    study = poundsim.load(EXAMPLES / "study_eta_mu.toml")
+    assert issubclass(poundsim.InputError, ValueError) and issubclass(poundsim.InputError, TypeError)
+    cases = [
+        (lambda: th.analysis(max_steps=2 ** 70).build(), r"analysis\.max_steps: the integer 1180591620717411303424 does not fit in 64 bits"),
+        (lambda: poundsim.run(fig2c_model(), channels=5), r"channels: 5: expected a list"),
+        (lambda: poundsim.run(fig2c_model(), channels="u_*"), r"channels: 'u_\*': expected a list of channel patterns"),
+        (lambda: poundsim.run(fig2c_model(), channels=[1]), r"channels: \[1\]: expected a list of channel patterns"),
+        (lambda: poundsim.run(fig2c_model(), progress=5), r"progress: 5 is neither True, False, None nor a callable"),
+        (lambda: poundsim.run(fig2c_model(), progress_interval=True), r"progress_interval: True s must be"),
+        (lambda: poundsim.run(study, out=5), r"out: 5: expected a folder"),
+        (lambda: poundsim.run(str(EXAMPLES / "paper" / "fig2c.toml")), r"poundsim.run takes an Input"),
+        (lambda: poundsim.Model(document=5), r"Model\(document=\.\.\.\): int is not a model file's document"),
+        (lambda: poundsim.Model(document=[("a", 1)]), r"Model\(document=\.\.\.\): list is not"),
+        (lambda: poundsim.Model(title=3), r"Model\(title=\.\.\.\): 3 is not text"),
+        (lambda: poundsim.Model(title="\ud800").build(), r"^title: the text '\\ud800' is not valid Unicode"),
+        (lambda: fig2c_model().frame(name="a\x00b", mass=1.0, stiffness=1.0, damping=0.0).build(),
+         r"^frames\[1\]\.name: the text 'a\\x00b' holds a NUL character"),
+        (lambda: poundsim.from_dict({"title": "x", "zz\udcff": 1}), r"the text 'zz\\udcff' is not valid Unicode"),
+    ]
+    for call, message in cases:
+        with pytest.raises(poundsim.InputError, match=message):
+            call()
+
+
+def test_a_frame_with_too_many_storeys_is_refused_before_it_is_copied():
+    # 10⁷ per-storey values took 27 s before the "at most 1 000 storeys" rejection.
+    m = poundsim.Model()
+    with pytest.raises(poundsim.InputError, match=r"^model: frames\[1\]\.mass: has 10000000 values: a frame has at most 1000 storeys"):
+        m.frame(mass=np.ones(10 ** 7), stiffness=1.0, damping=0.0)
+    with pytest.raises(poundsim.InputError, match=r"^model: frames\[1\]\.stiffness: has 1001 values"):
+        poundsim.from_dict({"frames": [{"mass": 1.0, "stiffness": np.ones(1001), "damping": 0.0}]})
+
+
 def test_the_units_of_the_extensions_tables_are_those_of_the_files_reader(tmp_path):
     settings = ["frf.points=5", "study.parameter[1].values=[0.0, 0.125]", "study.parameter[2].values=[0.5]"]
     study = poundsim.run(poundsim.load(EXAMPLES / "study_eta_mu.toml", settings=settings), progress=False)

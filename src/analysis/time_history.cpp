@@ -247,4 +247,17 @@ TimeHistoryAnalysis analyse_time_history(const TimeHistoryProblem& problem, cons
   return result;
 }
 
+std::optional<std::string> energy_balance_warning(double max_relative_residual, Integrator integrator,
+                                                  bool smooth_laws, const EnergyBalanceCheck& check) {
+  if (!(max_relative_residual > check.warn_above)) return std::nullopt;
+  const std::string advice =
+      integrator == Integrator::newmark && smooth_laws
+          ? "a smooth law's balance closes as dt²: halve analysis.dt until the peaks stop moving"
+          : "this model's balance should close to round-off: a smaller analysis.dt or analysis.event_tolerance may "
+            "help; if not, the run is worth reporting";
+  return fmt::format("the energy balance's relative residual reached {:.2e}, above {:.0e}: the response may not be "
+                     "accurate; {}",
+                     max_relative_residual, check.warn_above, advice);
+}
+
 }  // namespace poundsim

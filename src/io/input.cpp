@@ -512,6 +512,7 @@ Model read_dimensionless(TableReader& model_table, RunInput& run) {
   d.declare<DimensionlessParameters, keys::DimensionlessJoint>();
   DimensionlessParameters p;
   read_fields(d, p);
+  if (const std::optional<FieldRule> rule = p.rule_violation()) d.fail(d.first_given(rule->keys, rule->keys.front()), rule->message);
   if (p.epsilon == 0 && (p.eta > 0 || p.mu > 0)) {
     d.fail("epsilon",
            "is 0 but eta or mu is not: an element without stroke is a rigid stop whose spring and "
@@ -2440,11 +2441,31 @@ RunInput read_input_string(std::string_view text, const std::string& name,
   return read_parsed(std::move(parsed), text, name, base_dir, std::move(settings));
 }
 
+namespace {
+/// A frame's per-storey arrays are bounded by limits::storeys: refused before the document is
+/// converted and printed for its fingerprint, which for 10⁷ values took half a minute.
+void check_frame_array_sizes(const nlohmann::json& document, const std::string& name) {
+  const auto frames = document.find("frames");
+  if (frames == document.end() || !frames->is_array()) return;
+  for (std::size_t i = 0; i < frames->size(); ++i) {
+    const nlohmann::json& frame = (*frames)[i];
+    if (!frame.is_object()) continue;
+    for (const auto& [key, value] : frame.items()) {
+      if (value.is_array() && value.size() > static_cast<std::size_t>(limits::storeys)) {
+        throw InputError(fmt::format("{}: frames[{}].{}: has {} values: a frame has at most {} storeys", name, i + 1,
+                                     key, value.size(), limits::storeys));
+      }
+    }
+  }
+}
+}  // namespace
+
 RunInput read_input_document(const nlohmann::json& document, const std::string& name,
                              const std::filesystem::path& base_dir, std::span<const std::string> overrides) {
   if (!document.is_object()) {
     throw InputError(fmt::format("{}: a model is a table of tables (a dict), not {}", name, document.type_name()));
   }
+  check_frame_array_sizes(document, name);
   auto parsed = std::make_shared<ParsedInput>();
   parsed->root = std::move(*to_toml_node(document, name, "")->as_table());
   // Its TOML text identifies the run in a study database (fingerprint), as a file's does.

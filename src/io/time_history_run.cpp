@@ -144,6 +144,13 @@ double TimeHistoryResult::max_impact_impulse() const {
   return m;
 }
 
+std::optional<std::string> energy_warning(const TimeHistoryResult& r) {
+  const DofLayout layout(r.model);
+  bool smooth = false;
+  for (const Link& link : make_links(r.model, layout)) smooth = smooth || link.traits().newton;
+  return energy_balance_warning(r.max_relative_residual, r.options.integrator, smooth);
+}
+
 std::string report(const TimeHistoryResult& r, const std::filesystem::path& out_dir) {
   std::string text = fmt::format("poundsim {}: {} ({} s simulated, {} steps, {} events, {:.3f} s)\n",
                                  POUNDSIM_VERSION, r.input.source.string(), r.end_time, r.statistics.steps,
@@ -158,6 +165,7 @@ std::string report(const TimeHistoryResult& r, const std::filesystem::path& out_
                       r.max_gap_force(), r.max_impact_impulse());
   text += fmt::format("  energy: input {:.6g} J, relative balance residual {:.2e}\n", r.energy.input,
                       r.max_relative_residual);
+  if (const std::optional<std::string> warning = energy_warning(r)) text += fmt::format("  warning: {}\n", *warning);
   text += fmt::format("  wrote {}/history.csv, events.csv, summary.json, input.toml\n", out_dir.string());
   return text;
 }
@@ -346,7 +354,10 @@ json to_json(const TimeHistoryResult& result) {
               {"impact_loss_J", e.impact_loss},
               {"residual_J", e.residual()},
               {"relative_residual", result.relative_residual},
-              {"max_relative_residual", result.max_relative_residual}};
+              {"max_relative_residual", result.max_relative_residual},
+              {"warn_above", EnergyBalanceCheck{}.warn_above}};
+  const std::optional<std::string> warning = energy_warning(result);
+  energy["warning"] = warning ? json(*warning) : json();
   if (has_inelastic_storeys(model)) energy["storey_hysteretic_J"] = e.storey_hysteretic;
   const TimeHistoryOptions& o = result.options;
   json analysis{{"kind", to_string(input.analysis.kind)},

@@ -2,13 +2,41 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string_view>
+#include <vector>
+
+#include <fmt/format.h>
 
 #include "poundsim/units.hpp"
 
 namespace poundsim {
 
+std::optional<FieldRule> DimensionlessParameters::rule_violation() const {
+  const double lambda = std::sqrt(lambda2), k1 = lambda2 * mass1, c1 = 2.0 * xi * mass1 * lambda;
+  struct Product {
+    double value;
+    std::vector<std::string_view> keys;
+    const char* what;
+  };
+  for (const Product& q : {Product{k1, {"lambda2", "mass1"}, "K₁ = λ² M₁"},
+                           Product{alpha * k1, {"alpha", "lambda2", "mass1"}, "K₂ = α K₁"},
+                           Product{beta * mass1, {"beta", "mass1"}, "M₂ = β M₁"},
+                           Product{c1, {"xi", "lambda2", "mass1"}, "C₁ = 2 ξ̄ M₁ λ"},
+                           Product{gamma * c1, {"gamma", "xi", "lambda2", "mass1"}, "C₂ = γ C₁"},
+                           Product{eta * k1, {"eta", "lambda2", "mass1"}, "k = η K₁"},
+                           Product{mu * mass1 * lambda, {"mu", "lambda2", "mass1"}, "c = μ M₁ λ"}}) {
+    if (!std::isfinite(q.value)) {
+      return FieldRule{q.keys, fmt::format("{} overflows the range of double precision (λ² = {}, M₁ = {} kg): give "
+                                           "smaller values",
+                                           q.what, lambda2, mass1)};
+    }
+  }
+  return std::nullopt;
+}
+
 PhysicalParameters to_physical(const DimensionlessParameters& p) {
   if (const auto violation = first_violation(p)) throw std::invalid_argument(*violation);
+  if (const auto rule = p.rule_violation()) throw std::invalid_argument(rule->message);
 
   const double lambda = std::sqrt(p.lambda2);
   PhysicalParameters out{};

@@ -13,6 +13,7 @@
 #include <fmt/format.h>
 
 #include "poundsim/analysis/response_metrics.hpp"
+#include "../test_files.hpp"
 #include "../test_models.hpp"
 
 #include <gtest/gtest.h>
@@ -119,6 +120,36 @@ TEST(TimeHistoryResult, SummaryAndReportAreWrittenFromIt) {
   EXPECT_NE(text.find(fmt::format("impacts 14, max gap force 0 N, max impact impulse {:.6g} N·s",
                                   r.max_impact_impulse())), std::string::npos) << text;
   EXPECT_NE(text.find(fmt::format("wrote {}/history.csv", out.string())), std::string::npos) << text;
+  fs::remove_all(out);
+}
+
+// A smooth law stepped too coarsely: its balance residual (O(dt²)) passes the documented bound,
+// and the run says so, with the advice for Newmark and smooth laws, in summary.json and the
+// console report; at the example's own dt it closes and says nothing.
+TEST(TimeHistoryResult, AnEnergyBalanceThatDoesNotCloseIsAWarningWithAdvice) {
+  const fs::path example = fs::path(POUNDSIM_SOURCE_DIR) / "examples" / "contact_laws" / "hertzdamp.toml";
+  const fs::path out = poundsim::testing::fresh_folder("energy_warning");
+  const TimeHistoryResult coarse =
+      run_time_history(read_input(example, std::vector<std::string>{"analysis.dt=0.005", "analysis.duration=10"}), out);
+  EXPECT_GT(coarse.max_relative_residual, 1e-2);  // (seen: 2.5e-2)
+  const nlohmann::json energy = to_json(coarse).at("energy");
+  EXPECT_EQ(energy.at("warn_above"), 1e-3);
+  const std::string warning = energy.at("warning").get<std::string>();
+  EXPECT_NE(warning.find(fmt::format("relative residual reached {:.2e}, above 1e-03", coarse.max_relative_residual)),
+            std::string::npos)
+      << warning;
+  EXPECT_NE(warning.find("halve analysis.dt"), std::string::npos) << warning;
+  EXPECT_NE(report(coarse, out).find("  warning: " + warning), std::string::npos);
+
+  const TimeHistoryResult fine = run_time_history(read_input(example, std::vector<std::string>{"analysis.duration=10"}), out);
+  EXPECT_LT(fine.max_relative_residual, 1e-3);
+  EXPECT_TRUE(to_json(fine).at("energy").at("warning").is_null());
+  EXPECT_EQ(report(fine, out).find("  warning:"), std::string::npos);
+  // Piecewise-linear laws close to round-off: the advice then says so.
+  const std::optional<std::string> linear = energy_balance_warning(2e-3, Integrator::newmark, false);
+  ASSERT_TRUE(linear.has_value());
+  EXPECT_NE(linear->find("should close to round-off"), std::string::npos) << *linear;
+  EXPECT_FALSE(energy_balance_warning(1e-3, Integrator::newmark, true).has_value());
   fs::remove_all(out);
 }
 

@@ -11,6 +11,7 @@
 #include <functional>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "poundsim/dynamics/energy.hpp"
@@ -73,6 +74,23 @@ struct TimeHistoryAnalysis {
   double max_relative_residual = 0; ///< The largest over the run.
   double end_time = 0;              ///< [s]
 };
+
+/// When a run's energy balance is too far from closing to trust its response.
+///
+/// Newmark closes the balance of piecewise-linear laws to round-off (≈ 1e-14 of the largest
+/// energy) and that of smooth laws (Hertz, Hertzdamp, Jankowski, Bouc–Wen) to O(dt²); the exact
+/// integrator closes it to round-off. A larger residual says the steps are too long for the
+/// contact or yielding they resolve.
+struct EnergyBalanceCheck {
+  /// The largest relative residual over the run above which a run warns [-].
+  double warn_above = 1e-3;
+};
+
+/// The warning for a run whose largest relative energy residual exceeds `check.warn_above`,
+/// with the advice that fits `integrator` and whether the model has smooth (Newton) laws;
+/// nothing when the balance closes well enough.
+[[nodiscard]] std::optional<std::string> energy_balance_warning(double max_relative_residual, Integrator integrator,
+                                                                bool smooth_laws, const EnergyBalanceCheck& check = {});
 
 /// What a free run depends on: the frames and the floors that face each other (not the gap
 /// elements), the excitation, the options, the initial conditions and the end [s].

@@ -46,6 +46,10 @@ TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem:
 /// summary.json (docs/output.md).
 nlohmann::json to_json(const TimeHistoryResult& result);
 
+/// The warning when the run's energy balance does not close well enough to trust it
+/// (energy_balance_warning), in summary.json and the console report; nothing otherwise.
+std::optional<std::string> energy_warning(const TimeHistoryResult& result);
+
 /// The console report: peaks, impacts, energy balance, the files written into `out_dir`.
 std::string report(const TimeHistoryResult& result, const std::filesystem::path& out_dir);
 

@@ -18,6 +18,7 @@
 /// @endcode
 
 #include <array>
+#include <optional>
 
 #include "poundsim/fields.hpp"
 #include "poundsim/model/model.hpp"
@@ -54,6 +55,9 @@ struct DimensionlessParameters {
         NumberField{"mass1", &P::mass1, "kg", positive, "M1, the scale of masses, forces and energies"},
     };
   }
+  /// The physical values to_physical makes must be finite: each product that overflows is
+  /// named with the keys it is made of.
+  [[nodiscard]] std::optional<FieldRule> rule_violation() const;
 };
 
 /// Physical values of the dimensionless description.
