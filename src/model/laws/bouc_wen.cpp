@@ -38,15 +38,18 @@ BoucWenStorey::Trial BoucWenStorey::trial(double d, const State& state) const {
     derivative = az > 0 ? -n * power / az * (z > 0 ? 1.0 : -1.0) * shape : 0.0;
     return a - power * shape;
   };
-  // g(z) = z − z₀ − step Φ(z) = 0 by Newton from the explicit (forward-Euler) guess, each
-  // iterate kept within the bracket that g's sign changes have established.
+  // The trapezoidal rule in the drift, g(z) = z − z₀ − (step/2)(Φ(z₀) + Φ(z)) = 0, by Newton
+  // from the explicit (forward-Euler) guess, each iterate kept within the bracket that g's sign
+  // changes have established.
   double derivative = 0.0;
-  double z = state.z + step * phi(state.z, derivative);
+  const double phi0 = phi(state.z, derivative);
+  const double half = 0.5 * step;
+  double z = state.z + step * phi0;
   double lo = -HUGE_VAL, hi = HUGE_VAL;
   for (int i = 0; i < 60; ++i) {
-    const double g = z - state.z - step * phi(z, derivative);
+    const double g = z - state.z - half * (phi0 + phi(z, derivative));
     if (g == 0.0) break;
-    const double dg = 1.0 - step * derivative;
+    const double dg = 1.0 - half * derivative;
     if (g > 0) {
       hi = std::min(hi, z);
     } else {
@@ -67,8 +70,9 @@ BoucWenStorey::Trial BoucWenStorey::trial(double d, const State& state) const {
   }
   double d_phi = 0.0;
   const double value = phi(z, d_phi);
-  // dz/dd from g(z(d), d) = 0: (1 − step Φ′) dz = (Φ/u_y) dd.
-  return {.z = z, .slope = value / uy / (1.0 - step * d_phi)};
+  // dz/dd from g(z(d), d) = 0 (Φ(z₀) is fixed for the step's direction):
+  // (1 − (step/2) Φ′) dz = ((Φ(z₀) + Φ(z))/(2 u_y)) dd.
+  return {.z = z, .slope = 0.5 * (phi0 + value) / uy / (1.0 - half * d_phi)};
 }
 
 }  // namespace poundsim

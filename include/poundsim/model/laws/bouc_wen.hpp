@@ -13,13 +13,18 @@
 /// same K, F_y and α (β + γ = A = 1).
 ///
 /// Trial and commit (OpenSees' material state): a trial drift d₁ gives the trial z₁ by the
-/// backward-Euler rule in the drift, z₁ = z₀ + (Δd/u_y) Φ(z₁), Φ(z) = A − |z|ⁿ(β sgn(Δd z) + γ),
-/// Δd = d₁ − d₀ from the committed (d₀, z₀) — a pure function of the committed state, solved by a
-/// safeguarded Newton iteration — and its consistent tangent dz₁/dd₁ = Φ/(u_y − Δd Φ′(z₁)). The
-/// loop commits (d₁, z₁) at every accepted state (commit). Backward Euler is what keeps z on its
-/// saturation |z| → (A/(β+γ))^{1/n} for large n (a stiff ODE) without overshoot; it is first
-/// order in Δd, so the loop converges at first order where the storey yields (the elastic parts
-/// keep Newmark's second order).
+/// trapezoidal rule in the drift, z₁ = z₀ + (Δd/2u_y)(Φ(z₀) + Φ(z₁)), Φ(z) = A − |z|ⁿ(β sgn(Δd z)
+/// + γ), Δd = d₁ − d₀ from the committed (d₀, z₀) — a pure function of the committed state,
+/// solved by a safeguarded Newton iteration — and its consistent tangent dz₁/dd₁ =
+/// (Φ(z₀) + Φ(z₁))/(2u_y − Δd Φ′(z₁)). The loop commits (d₁, z₁) at every accepted state
+/// (commit). The trapezoidal rule is second order in Δd, as Newmark's average acceleration is in
+/// dt, so the whole run converges at second order where the storey yields; it is A-stable, so
+/// z stays bounded near its saturation |z| → (A/(β+γ))^{1/n} for large n (a stiff ODE), where
+/// backward Euler (first order) would only damp the approach faster.
+///
+/// The admissible parameters: z is bounded for every drift history if and only if β ≥ 0 and
+/// β + γ > 0 (with A > 0): Ikhouane, Mañosa & Rodellar (2007), "Dynamic properties of the
+/// hysteretic Bouc–Wen model", Systems & Control Letters 56(3), 197–205, classes I and II.
 ///
 /// Energy: ½ α K d² + ½ (1 − α) F_y u_y z²/A is stored; the hysteretic part's work beyond it,
 /// ½((1 − α)F_y)(z₀ + z₁)Δd − Δ(½(1 − α)F_y u_y z²/A) per step (the trapezoidal work Newmark's
