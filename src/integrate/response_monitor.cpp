@@ -63,6 +63,7 @@ ResponseMonitor::ResponseMonitor(const Model& model, const DofLayout& layout, st
   contact_start_.assign(static_cast<std::size_t>(model.gap_count()), std::numeric_limits<double>::quiet_NaN());
   contact_closing_.assign(static_cast<std::size_t>(model.gap_count()), 0.0);
   node_.resize(layout_.size());
+  plastic_at_yield_.assign(static_cast<std::size_t>(layout_.size()), std::numeric_limits<double>::quiet_NaN());
 }
 
 void ResponseMonitor::reset() {

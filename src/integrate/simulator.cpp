@@ -552,7 +552,20 @@ void Loop::emit(int gap, EventKind kind, double left_before, double right_before
         StopReason::event_limit);
   }
   if (storey) {
-    monitor_.observe_storey_event(link.a, kind);
+    // Its plastic drift, and the round-off level of a drift of its size.
+    double plastic = std::numeric_limits<double>::quiet_NaN(), round_off = 0.0;
+    std::visit(
+        [&](const auto& law) {
+          using L = std::decay_t<decltype(law)>;
+          if constexpr (requires(const typename L::State& s) { s.plastic_drift; law.yield_drift(); }) {
+            const LinkKinematics k = detail::kinematics(state_, link);
+            plastic = contact_.states.at(law, link.slot).plastic_drift;
+            round_off = 64 * std::numeric_limits<double>::epsilon() *
+                        (std::abs(k.ua) + std::abs(k.ub) + std::abs(plastic) + law.yield_drift());
+          }
+        },
+        link.law);
+    monitor_.observe_storey_event(link.a, kind, plastic, round_off);
     return;
   }
   const LinkKinematics after_event = detail::kinematics(state_, link);  // at a column point, its velocity

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cmath>
 #include <limits>
 #include <optional>
 #include <vector>
@@ -172,9 +173,19 @@ class ResponseMonitor {
     stats_.base_shear[static_cast<std::size_t>(f)].update(base_shear, t);
     stats_.storey_shear[static_cast<std::size_t>(f)].update(storey_shear, t);
   }
-  /// The storey below floor DOF `dof` yielded or unloaded.
-  void observe_storey_event(int dof, EventKind kind) {
-    if (kind == EventKind::yield) ++stats_.floors[static_cast<std::size_t>(dof)].yield_excursions;
+  /// The storey below floor DOF `dof` yielded or unloaded, its plastic drift now `plastic_drift`
+  /// [m] (NaN for a law without one). An excursion that unloads with its plastic drift changed by
+  /// no more than `round_off` [m] was a graze of the yield surface — the trajectory touched it
+  /// within round-off, as Newmark's can where the exact solution only reaches it — and is not
+  /// counted.
+  void observe_storey_event(int dof, EventKind kind, double plastic_drift, double round_off) {
+    const auto i = static_cast<std::size_t>(dof);
+    if (kind == EventKind::yield) {
+      ++stats_.floors[i].yield_excursions;
+      plastic_at_yield_[i] = plastic_drift;
+    } else if (kind == EventKind::unload && std::abs(plastic_drift - plastic_at_yield_[i]) <= round_off) {
+      --stats_.floors[i].yield_excursions;
+    }
   }
 
   /// The floors, shears and approaches at the accepted state x.
@@ -215,6 +226,7 @@ class ResponseMonitor {
   std::vector<int> first_storey_dofs_;                 ///< The floor above each frame's first storey.
   std::vector<double> contact_start_;    ///< When each element's current contact began (NaN: none)
   std::vector<double> contact_closing_;  ///< ṡ at that contact's onset [m/s]
+  std::vector<double> plastic_at_yield_; ///< Each storey's plastic drift when it last began to yield [m]
   mutable ResponseStatistics stats_;  ///< Mutable: statistics() copies the first storeys' drifts.
   KinematicState node_;  ///< Scratch for states on a trajectory.
 };
