@@ -986,7 +986,8 @@ def optimization(opt: Optimization, ax: Any = None, *, size: SizeArg = "column",
     """An optimisation's outcome. With a frequency-response objective (opt.optimum_frf and
     opt.bare_frf): V/W against ω̄/ω₁ of every frame for the optimum gap elements (solid), for
     bare pounding at the joint width (dotted) and free (dashed). Otherwise the objective of every
-    evaluation (○, coloured by stage; rejected and failed ones left out), those that break a
+    evaluation (○, coloured by stage; rejected and failed ones left out; in `metric_label`'s unit,
+    drift ratios in %), those that break a
     constraint (evaluations.csv's feasible = 0) as grey × labelled "infeasible", the best
     feasible so far (line, from the first feasible evaluation) and the optimum, the best feasible
     evaluation (★); when none is feasible, no optimum and the legend says so. Returns the Figure."""
@@ -1008,6 +1009,8 @@ def optimization(opt: Optimization, ax: Any = None, *, size: SizeArg = "column",
     # candidate, however low its objective (the optimiser's optimum is feasible too).
     feasible = ok & (np.asarray(ev["feasible"]) == 1) if "feasible" in ev else ok
     infeasible = ok & ~feasible
+    factor, ylabel = _metric(metric, obj[ok])
+    obj = obj * factor
     with _axes(ax, size) as (a,):
         stages = np.asarray(ev["stage"]).astype(str) if "stage" in ev else np.full(len(ev), "")
         for k, stage in enumerate(dict.fromkeys(stages)):
@@ -1025,7 +1028,7 @@ def optimization(opt: Optimization, ax: Any = None, *, size: SizeArg = "column",
             k = int(np.flatnonzero(feasible)[np.argmin(obj[feasible])])
             a.plot([n[k]], [obj[k]], "*", color="black", ms=7, label="optimum", gid="optimum")
         a.set_xlabel("evaluation")
-        a.set_ylabel(metric)
+        a.set_ylabel(ylabel)
         a.grid(True)
         a.legend(title=None if feasible.any() else "no feasible evaluation: no optimum")
         _finish(a, title)
@@ -1037,18 +1040,21 @@ def pareto(opt: Optimization, ax: Any = None, *, size: SizeArg = "column", title
     """The Pareto front of an optimisation with [optimize.pareto] (opt.pareto, pareto.csv): the
     objective against the second figure at each point, the non-dominated ones joined (●), the
     dominated ones apart (○), the infeasible ones grey (×), and each point's limit on the second
-    figure as a dotted vertical. `reference`: other designs to mark, label → (second figure,
-    objective), e.g. bare pounding and the free frames. Returns the Figure."""
+    figure as a dotted vertical, both figures named and scaled by `metric_label` (drift ratios in
+    %). `reference`: other designs to mark, label → (second figure, objective) as pareto.csv has
+    them, e.g. bare pounding and the free frames. Returns the Figure."""
     if opt.pareto is None:
         raise ValueError("the optimisation has no Pareto front (no [optimize.pareto])")
     t = opt.pareto
     names = [n for n in t.names if n not in ("point", "limit", "feasible", "dominated")]
     objective, metric = names[0], names[1]
-    x = np.asarray(t[metric], dtype=float)
-    y = np.asarray(t[objective], dtype=float)
+    fx, xlabel = _metric(metric, t[metric])
+    fy, ylabel = _metric(objective, t[objective])
+    x = np.asarray(t[metric], dtype=float) * fx
+    y = np.asarray(t[objective], dtype=float) * fy
     feasible = np.asarray(t["feasible"]) == 1
     front = (np.asarray(t["dominated"]) == 0) & feasible
-    limit = np.asarray(t["limit"], dtype=float)
+    limit = np.asarray(t["limit"], dtype=float) * fx
     with _axes(ax, size) as (a,):
         order = np.argsort(x[front])
         a.plot(x[front][order], y[front][order], "o-", color=colour(0), ms=4, lw=1.2, label="Pareto front", gid="front")
@@ -1062,9 +1068,10 @@ def pareto(opt: Optimization, ax: Any = None, *, size: SizeArg = "column", title
         for e in limit[np.isfinite(limit)]:
             a.axvline(e, color="0.6", lw=0.5, ls=":", zorder=0)
         for k, (label, (rx, ry)) in enumerate((reference or {}).items()):
-            a.plot([rx], [ry], "sD^v"[k % 4], color=colour(k + 1), ms=5, ls="none", label=label, gid=f"reference_{k}")
-        a.set_xlabel(metric)
-        a.set_ylabel(objective)
+            a.plot([rx * fx], [ry * fy], "sD^v"[k % 4], color=colour(k + 1), ms=5, ls="none", label=label,
+                   gid=f"reference_{k}")
+        a.set_xlabel(xlabel)
+        a.set_ylabel(ylabel)
         a.grid(True, lw=0.3)
         a.legend()
         _finish(a, title)

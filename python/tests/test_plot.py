@@ -518,7 +518,7 @@ def test_optimization_against_bare_pounding(optimum, tmp_path):
     assert np.array_equal(xy(line(ax, "stage_global"))[1], [o for o, s in zip(objective, stage) if s == "global"])
     assert xy(line(ax, "optimum"))[1][0] == summary["objective"] == min(objective)
     assert xy(line(ax, "best"))[1][-1] == min(objective)
-    assert ax.get_ylabel() == "max_peak_V_W"
+    assert ax.get_ylabel() == "peak V/W, worse frame"
     save(fig, tmp_path, "evaluations")
 
 
@@ -527,15 +527,17 @@ def test_the_optimum_and_the_best_so_far_are_of_feasible_evaluations():
     objective = [0.020, 0.012, 0.018, 0.009, 0.015, 0.011, 0.0]
     opt = evaluations(objective, [0, 0, 1, 0, 1, 1, 0], status=["done"] * 6 + ["rejected"])
     ax = pp.optimization(opt).axes[0]
+    percent = np.array(objective) * 100  # a drift ratio, drawn in %
+    assert ax.get_ylabel() == "peak drift ratio, worse frame [%]"
     x, y = xy(line(ax, "optimum"))
-    assert (x.tolist(), y.tolist()) == ([6.0], [0.011])
+    assert (x.tolist(), y.tolist()) == ([6.0], [percent[5]])
     # The best so far starts at the first feasible evaluation and holds feasible values only.
     x, y = xy(line(ax, "best"))
-    assert x.tolist() == [3, 4, 5, 6, 7] and y.tolist() == [0.018, 0.018, 0.015, 0.011, 0.011]
-    assert not set(y.tolist()) & {0.020, 0.012, 0.009}
+    assert x.tolist() == [3, 4, 5, 6, 7] and y.tolist() == percent[[2, 2, 4, 5, 5]].tolist()
+    assert not set(y.tolist()) & set(percent[[0, 1, 3]].tolist())
     # The infeasible ones apart, grey, labelled; the feasible ones by stage.
     infeasible = line(ax, "infeasible")
-    assert xy(infeasible)[0].tolist() == [1, 2, 4] and xy(infeasible)[1].tolist() == [0.020, 0.012, 0.009]
+    assert xy(infeasible)[0].tolist() == [1, 2, 4] and xy(infeasible)[1].tolist() == percent[[0, 1, 3]].tolist()
     assert infeasible.get_label() == "infeasible" and infeasible.get_color() == "0.6"
     assert infeasible.get_marker() != line(ax, "stage_global").get_marker()
     assert xy(line(ax, "stage_global"))[0].tolist() == [3, 5, 6]
@@ -626,13 +628,13 @@ def test_a_pareto_front_is_drawn_as_written(tmp_path):
     fig = pp.pareto(opt, reference={"bare pounding": (0.02, 0.01)})
     ax = fig.axes[0]
     front = next(line for line in ax.lines if line.get_gid() == "front")
-    keep = np.asarray(opt.pareto["dominated"]) == 0
-    x = np.asarray(opt.pareto["peak_drift_ratio_2"])[keep]
+    keep = (np.asarray(opt.pareto["dominated"]) == 0) & (np.asarray(opt.pareto["feasible"]) == 1)
+    x = np.asarray(opt.pareto["peak_drift_ratio_2"])[keep] * 100  # drift ratios in %
     order = np.argsort(x)
     assert np.array_equal(front.get_xdata(), x[order])
-    assert np.array_equal(front.get_ydata(), np.asarray(opt.pareto["peak_drift_ratio_1"])[keep][order])
-    assert ax.get_xlabel() == "peak_drift_ratio_2" and ax.get_ylabel() == "peak_drift_ratio_1"
-    assert any(line.get_gid() == "reference_0" for line in ax.lines)
+    assert np.array_equal(front.get_ydata(), (np.asarray(opt.pareto["peak_drift_ratio_1"])[keep] * 100)[order])
+    assert ax.get_xlabel() == "peak drift ratio, frame 2 [%]" and ax.get_ylabel() == "peak drift ratio, frame 1 [%]"
+    assert [v.tolist() for v in xy(line(ax, "reference_0"))] == [[2.0], [1.0]]
     plt.close(fig)
     script("plot_pareto.py", out)
     png_size(out / "pareto.png")
@@ -642,9 +644,10 @@ def test_a_pareto_front_is_drawn_as_written(tmp_path):
     feasible = np.flatnonzero((np.asarray(ev["feasible"]) == 1) & (np.asarray(ev["status"]) == "done"))
     best = feasible[np.argmin(ev["objective"][feasible])]
     x, y = xy(line(ax, "optimum"))
-    assert (x[0], y[0]) == (ev["evaluation"][best], ev["objective"][best]) == (x[0], opt.summary.objective)
+    assert x[0] == ev["evaluation"][best] and y[0] == ev["objective"][best] * 100
+    assert ev["objective"][best] == opt.summary.objective
     assert opt.summary.feasible
-    assert not set(xy(line(ax, "best"))[1]) & set(ev["objective"][np.asarray(ev["feasible"]) == 0])
+    assert not set(xy(line(ax, "best"))[1]) & set(ev["objective"][np.asarray(ev["feasible"]) == 0] * 100)
     with pytest.raises(ValueError, match="no Pareto front"):
         pp.pareto(poundsim.Optimization({}, opt.evaluations))
 
