@@ -6,7 +6,8 @@ bare pounding over the gap-element spring η and dashpot μ.
     plot_study.py study.sqlite X_KEY Y_KEY METRIC OUT.png [--fix KEY=VALUE ...] [--title TEXT]
 
 Points must lie on a grid in X and Y; other varied parameters must be fixed with --fix. Each cell
-shows its value; the lowest is outlined. Drawn by poundsim.plot.study_map from the study as
+shows its value to 3 significant digits (drift ratios in %); the lowest is outlined; the title is
+the metric in words unless --title gives one. Drawn by poundsim.plot.study_map from the study as
 poundsim.read reads its folder (study.csv), or from the database's finished points when the CSV
 beside it is missing or holds another count of them (a study stopped before it wrote the CSV).
 """
@@ -76,7 +77,8 @@ def main():
     if args.metric not in study.table:
         sys.exit(f"{args.database}: no finished point with metric {args.metric}")
     try:
-        fig = plot.study_map(study, args.x, args.y, args.metric, fix=fixed, title=args.title or args.metric,
+        fig = plot.study_map(study, args.x, args.y, args.metric, fix=fixed,
+                             title=args.title or plot.metric_label(args.metric, study[args.metric]),
                              size=(plot.COLUMN_WIDTH * 1.4, 3.6))
     except ValueError as e:
         sys.exit(f"{args.database}: {e}")

@@ -8,7 +8,9 @@
 - DIR/profiles.png   peak displacement [mm] and interstorey drift ratio [%] over the height of
                      every frame, with (solid) and without (dashed) pounding.
 
-Drawn by poundsim.plot (time_history, gap_forces, energy, envelopes) from poundsim.read(DIR).
+Drawn by poundsim.plot (time_history, gap_forces, energy, envelopes) from poundsim.read(DIR). A
+panel whose channels were not recorded is left out, and a figure with none is not written; stderr
+says which and how to record them.
 
     plot_time_history.py DIR [--title TEXT]
 """
@@ -25,9 +27,9 @@ import poundsim  # noqa: E402
 from poundsim import plot  # noqa: E402
 
 
-def note(ax, text):
-    """A message in place of a panel whose channels were not recorded."""
-    ax.text(0.5, 0.5, text, ha="center", va="center", transform=ax.transAxes, wrap=True)
+def left_out(what):
+    """What a figure leaves out and why, on stderr: a picture is never the message."""
+    sys.stderr.write(f"{os.path.basename(sys.argv[0])}: {what}\n")
 
 
 def main():
@@ -41,21 +43,32 @@ def main():
     tops = [c for c in tops if c in th]
 
     with plot.journal_style():
-        # Response and gap forces.
+        # Response and gap forces, each panel whose channels were recorded.
         fig, (top, forces) = plt.subplots(2, 1, figsize=(plot.PAGE_WIDTH, 4.8), dpi=plot.DPI, sharex=True,
                                           layout="constrained")
+        drawn = []
         if tops:
             plot.time_history(th, tops, ax=top)
             top.set_ylabel("top-floor displacement [mm]")
             top.set_xlabel("")
+            drawn.append(top)
         else:
-            note(top, "no top-floor displacement u_<frame>_<top> was recorded")
+            left_out("response.png: no top-floor displacement u_<frame>_<top> was recorded: that panel is left out")
         try:
             plot.gap_forces(th, ax=forces)
+            drawn.append(forces)
         except KeyError as missing:
-            note(forces, str(missing).strip("'\""))
-        top.set_title(title)
-        fig.savefig(os.path.join(args.dir, "response.png"))
+            left_out(f"response.png: {missing.args[0]}: that panel is left out")
+        if len(drawn) == 1:
+            fig.delaxes(forces if drawn[0] is top else top)
+            drawn[0].set_subplotspec(fig.add_gridspec(1, 1)[0])
+            drawn[0].tick_params(labelbottom=True)
+            drawn[0].set_xlabel("t [s]")
+        if drawn:
+            drawn[0].set_title(title)
+            fig.savefig(os.path.join(args.dir, "response.png"))
+        else:
+            left_out("response.png not written: neither of its panels has its channels")
         plt.close(fig)
 
         # Energy balance.
@@ -63,9 +76,9 @@ def main():
         residual = th.summary.energy.max_relative_residual
         try:
             plot.energy(th, ax=ax, title=f"{title}\nenergy balance (largest relative residual {residual:.1e})")
+            fig.savefig(os.path.join(args.dir, "energy.png"))
         except KeyError as missing:
-            note(ax, str(missing).strip("'\""))
-        fig.savefig(os.path.join(args.dir, "energy.png"))
+            left_out(f"energy.png not written: {missing.args[0]}")
         plt.close(fig)
 
     # Peak profiles over height.

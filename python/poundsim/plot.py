@@ -41,12 +41,13 @@ from typing import Any, Iterator, Optional, Sequence, Union
 
 import matplotlib
 import numpy as np
+from matplotlib.ticker import FuncFormatter
 
-from .results import Continuation, FrequencyResponse, Optimization, Study, Table, TimeHistory
+from .results import Continuation, FrequencyResponse, Optimization, Study, Table, TimeHistory, column_unit
 
 __all__ = ["COLUMN_WIDTH", "PAGE_WIDTH", "SIZES", "DPI", "STANDARD_GRAVITY", "JOURNAL_RC", "COLOURS", "colour",
-           "journal_style", "to_engineering", "frame_names", "channel_label", "parameter_label", "time_history",
-           "gap_forces", "hysteresis", "gap_hysteresis", "envelopes", "energy", "frf", "study_map",
+           "journal_style", "to_engineering", "frame_names", "channel_label", "parameter_label", "metric_label",
+           "time_history", "gap_forces", "hysteresis", "gap_hysteresis", "envelopes", "energy", "frf", "study_map",
            "ensemble_amplification", "ensemble_floor_amplification", "optimization", "pareto", "compare_runs"]
 
 COLUMN_WIDTH = 3.5
@@ -651,13 +652,105 @@ _PARAMETER_LABELS = {
     "model.dimensionless.restitution": "e", "model.dimensionless.alpha": "α = K₂ / K₁",
     "model.dimensionless.beta": "β = M₂ / M₁", "model.dimensionless.gamma": "γ = C₂ / C₁",
     "model.dimensionless.xi": "ξ", "excitation.ratio": "ω̄ / ω₁", "excitation.amplitude_g": "amplitude [g]",
+    # The unit of a stiffness depends on the law (N/m, N/m^1.5 for Hertz's): left out.
+    "gap_elements.stiffness": "gap-element stiffness k", "gap_elements.damping": "gap-element damping c [N·s/m]",
+    "gap_elements.gap": "gap δ [m]", "gap_elements.shortening": "gap-element shortening ε [m]",
+    "gap_elements.restitution": "e", "gap_elements.joint_width": "joint width w [m]",
+    "excitation.scale": "record scale", "excitation.file": "record",
 }
 
 
 def parameter_label(key: str) -> str:
     """An axis label for a study's parameter key: the paper's symbol for the dimensionless ones
-    ("η = k / K₁"), the key itself otherwise."""
-    return _PARAMETER_LABELS.get(key, key)
+    ("η = k / K₁"), a name with its unit for the usual physical ones ("gap-element damping c
+    [N·s/m]"), else the key's last part in words and where it is ("storey height (frames[2])")."""
+    if key in _PARAMETER_LABELS:
+        return _PARAMETER_LABELS[key]
+    where, _, last = key.rpartition(".")
+    return f"{last.replace('_', ' ')} ({where.replace('_', ' ')})" if where else key.replace("_", " ")
+
+
+# The figures of merit (docs/studies.md) in words, longer stems before the stems they begin with;
+# around a stem the prefixes max_ (the worse frame, the largest element; twice: the worst record
+# of an ensemble), free_ and bare_, and after it the frame, floor or element's numbers and the
+# unit's suffix (results.column_unit's).
+_METRIC_WORDS = [
+    ("peak_drift_ratio", "peak drift ratio"), ("residual_drift_ratio", "residual drift ratio"),
+    ("peak_drift", "peak drift"), ("residual_drift", "residual drift"),
+    ("peak_abs_acc", "peak absolute acceleration"), ("peak_u", "peak floor displacement"),
+    ("peak_V_W", "peak V/W"), ("peak_V_at", "ω̄ / ω₁ of the peak V/W"),
+    ("ratio_to_free", "peak V/W ÷ free frame's"), ("ratio_to_bare", "peak V/W ÷ bare pounding's"),
+    ("amp_u", "peak displacement ÷ free frame's"), ("amp_drift", "peak drift ÷ free frame's"),
+    ("amp_acc", "peak absolute acceleration ÷ free frame's"), ("min_gap", "free frames' largest approach"),
+    ("gap_force", "gap-element force"), ("stroke_use", "stroke use"), ("hysteretic_energy", "hysteretic energy"),
+    ("impact_impulse", "impulse of an impact"), ("impacts", "impacts"), ("energy_residual", "energy residual"),
+    ("pga", "PGA"), ("non_periodic", "non-periodic responses"), ("points", "frequencies"),
+]
+_ELEMENT_METRICS = ("min_gap", "gap_force", "stroke_use")
+_STOREY_METRICS = ("peak_drift_ratio", "peak_drift", "amp_drift")
+
+
+def _metric(name: str, values: Any = ()) -> tuple[float, str]:
+    """(factor, axis label) of a figure of merit: its values times factor are drawn in the label's
+    unit, drift ratios in % and the SI units as `to_engineering` converts them (chosen by the
+    values' peak); other ratios as they are."""
+    unit = column_unit(name)
+    v = np.asarray(values).ravel()
+    v = v[np.isfinite(v)] if _numeric(v) else np.zeros(0)
+    if "drift_ratio" in name:
+        factor, shown = 100.0, "%"
+    elif unit in ("", "1"):
+        factor, shown = 1.0, ""
+    else:
+        factor, shown = _scale(unit, float(np.abs(v).max()) if v.size else 0.0)
+    stem = re.sub(r"V(\d+)_(W|at)$", r"V_\2_\1", name)
+    stem = re.sub(r"_(rad_s|m_s2|m_s|m|s|Ns|N|J|g)$", "", stem)
+    m = re.fullmatch(r"((?:max_)*)(free_|bare_)?(.*?)((?:_\d+)*)", stem)
+    worse, variant, stem, numbers = m.group(1).count("max_"), m.group(2), m.group(3), m.group(4)
+    words = dict(_METRIC_WORDS).get(stem, stem.replace("_", " "))
+    n = [int(k) for k in numbers.split("_")[1:]]
+    if stem in _ELEMENT_METRICS and len(n) >= 2:
+        words += ", " + _gap_label((), n[0], n[1], n[2] if len(n) > 2 else None)
+    elif len(n) == 2:
+        words += f", frame {n[0]}, {'storey' if stem in _STOREY_METRICS else 'floor'} {n[1]}"
+    elif len(n) == 1:
+        words += f", frame {n[0]}"
+    if variant:
+        words += ", without gap elements" if variant == "free_" else ", bare pounding"
+    if worse:
+        words += ", largest element" if stem in _ELEMENT_METRICS else ", largest" if stem == "impact_impulse" \
+            else ", worse frame"
+    if worse > 1:
+        words += ", worst record"
+    return factor, f"{words} [{shown}]" if shown else words
+
+
+def metric_label(name: str, values: Any = ()) -> str:
+    """An axis label for a figure of merit (a column of a study's table): its name in words with
+    its unit, "max_peak_drift_ratio" → "peak drift ratio, worse frame [%]", "peak_abs_acc_2_g" →
+    "peak absolute acceleration, frame 2 [g]"; `values` choose among kN, MN… as `to_engineering`
+    does."""
+    return _metric(name, values)[1]
+
+
+def _short(v: float, digits: int = 3) -> str:
+    """A number to `digits` significant digits, an exponent without its + and leading 0s:
+    "0.0123", "3.16e6" (not "3.16228e+06")."""
+    if v == 0:
+        return "0"
+    mantissa, e, exponent = f"{v:.{digits}g}".partition("e")
+    return f"{mantissa}e{int(exponent)}" if e else mantissa
+
+
+def _tick_labels(values: np.ndarray) -> list[str]:
+    """The labels of a parameter's values: numbers as short as they stay distinct, text as it is."""
+    if not _numeric(values):
+        return [str(v) for v in values]
+    for digits in range(3, 17):
+        labels = [_short(float(v), digits) for v in values]
+        if len(set(labels)) == len(set(values.tolist())):
+            break
+    return labels
 
 
 def _done(study: Study) -> np.ndarray:
@@ -694,9 +787,11 @@ def study_map(study: Study, x: str, y: str, metric: str, ax: Any = None, *, fix:
     that value. One pcolormesh cell per grid point: evenly spaced, ticked with the parameter's
     values (`spacing="even"`, readable for any grid), or for numeric parameters centred on their
     values (`spacing="value"`; a log-spaced axis on a log scale); a missing or failed point is
-    blank. Each cell shows its value (`annotate`), the lowest is outlined red; the colour bar is
-    labelled with the metric. The mesh's array (`fig.axes[0].collections[0].get_array()`) is the
-    metric on the grid, rows y and columns x, both ascending. ValueError when the points are not
+    blank. The axes are named by `parameter_label`, the colour bar by `metric_label` (drift
+    ratios in %, SI figures as `to_engineering` converts them, other ratios as they are). Each
+    cell shows its value to 3 significant digits (`annotate`), the lowest is outlined red. The
+    mesh's array (`fig.axes[0].collections[0].get_array()`) is the metric on the grid in the
+    colour bar's unit, rows y and columns x, both ascending. ValueError when the points are not
     one per (x, y). Returns the Figure."""
     if spacing not in ("even", "value"):
         raise ValueError(f"spacing={spacing!r}: 'even' or 'value'")
@@ -724,6 +819,8 @@ def study_map(study: Study, x: str, y: str, metric: str, ax: Any = None, *, fix:
         if np.isfinite(grid[j, i]):
             raise ValueError(f"several points at {x} = {xv}, {y} = {yv}; fix the other parameters (fix=…, --fix)")
         grid[j, i] = float(t[metric][r])
+    factor, label = _metric(metric, grid)
+    grid = grid * factor
     with _axes(ax, size if size != "column" else (COLUMN_WIDTH, 2.9)) as (a,):
         centres = []
         for axis, values in (("x", xs), ("y", ys)):
@@ -737,7 +834,9 @@ def study_map(study: Study, x: str, y: str, metric: str, ax: Any = None, *, fix:
                 centres.append((np.arange(len(values), dtype=float), np.arange(len(values) + 1) - 0.5))
             if spacing != "value" or not _numeric(values) or len(values) <= 12:
                 step = max(1, len(values) // 12)
-                set_ticks(centres[-1][0][::step], [f"{v:g}" if _numeric(values) else str(v) for v in values][::step])
+                set_ticks(centres[-1][0][::step], _tick_labels(values)[::step])
+            elif not log:  # Matplotlib's ticks, short (a log axis has its own: 10⁶)
+                (a.xaxis if axis == "x" else a.yaxis).set_major_formatter(FuncFormatter(lambda v, _: _short(v)))
         a.minorticks_off()
         (cx, ex), (cy, ey) = centres
         mesh = a.pcolormesh(ex, ey, np.ma.masked_invalid(grid), cmap=cmap, shading="flat")
@@ -748,7 +847,7 @@ def study_map(study: Study, x: str, y: str, metric: str, ax: Any = None, *, fix:
                 for ii in range(len(xs)):
                     v = grid[jj, ii]
                     if np.isfinite(v):
-                        a.text(cx[ii], cy[jj], f"{v:.2f}", ha="center", va="center", fontsize=5.5,
+                        a.text(cx[ii], cy[jj], _short(v), ha="center", va="center", fontsize=5.5,
                                color="white" if v > (lo + hi) / 2 else "black",
                                fontweight="bold" if (jj, ii) == (j, i) else "normal")
         from matplotlib.patches import Rectangle
@@ -757,7 +856,7 @@ def study_map(study: Study, x: str, y: str, metric: str, ax: Any = None, *, fix:
                               gid="lowest"))
         a.set_xlabel(parameter_label(x))
         a.set_ylabel(parameter_label(y))
-        a.figure.colorbar(mesh, ax=a, label=metric)
+        a.figure.colorbar(mesh, ax=a, label=label, format=FuncFormatter(lambda v, _: _short(v)))
         _finish(a, title)
     return a.figure
 
@@ -887,8 +986,11 @@ def optimization(opt: Optimization, ax: Any = None, *, size: SizeArg = "column",
     """An optimisation's outcome. With a frequency-response objective (opt.optimum_frf and
     opt.bare_frf): V/W against ω̄/ω₁ of every frame for the optimum gap elements (solid), for
     bare pounding at the joint width (dotted) and free (dashed). Otherwise the objective of every
-    evaluation (○, coloured by stage; rejected and failed ones left out) with the best so far
-    (line) and the optimum (★). Returns the Figure."""
+    evaluation (○, coloured by stage; rejected and failed ones left out; in `metric_label`'s unit,
+    drift ratios in %), those that break a
+    constraint (evaluations.csv's feasible = 0) as grey × labelled "infeasible", the best
+    feasible so far (line, from the first feasible evaluation) and the optimum, the best feasible
+    evaluation (★); when none is feasible, no optimum and the legend says so. Returns the Figure."""
     if opt.optimum_frf is not None:
         optimum = FrequencyResponse(opt.optimum_frf, {})
         bare = FrequencyResponse(opt.bare_frf, {}) if opt.bare_frf is not None else None
@@ -903,22 +1005,32 @@ def optimization(opt: Optimization, ax: Any = None, *, size: SizeArg = "column",
     ok = np.isfinite(obj) & (obj < 1e29)
     if "status" in ev:
         ok &= np.asarray(ev["status"]).astype(str) == "done"
+    # With constraints the table says which evaluations meet them; one that does not is no
+    # candidate, however low its objective (the optimiser's optimum is feasible too).
+    feasible = ok & (np.asarray(ev["feasible"]) == 1) if "feasible" in ev else ok
+    infeasible = ok & ~feasible
+    factor, ylabel = _metric(metric, obj[ok])
+    obj = obj * factor
     with _axes(ax, size) as (a,):
         stages = np.asarray(ev["stage"]).astype(str) if "stage" in ev else np.full(len(ev), "")
         for k, stage in enumerate(dict.fromkeys(stages)):
-            sel = ok & (stages == stage)
-            a.plot(n[sel], obj[sel], "o", color=colour(k), mfc="none", ms=3, ls="none", label=stage or None,
-                   gid=f"stage_{stage}")
-        best = np.minimum.accumulate(np.where(ok, obj, np.inf))
+            sel = feasible & (stages == stage)
+            if sel.any():
+                a.plot(n[sel], obj[sel], "o", color=colour(k), mfc="none", ms=3, ls="none", label=stage or None,
+                       gid=f"stage_{stage}")
+        if infeasible.any():
+            a.plot(n[infeasible], obj[infeasible], "x", color="0.6", ms=3, mew=0.6, ls="none", label="infeasible",
+                   gid="infeasible")
+        best = np.minimum.accumulate(np.where(feasible, obj, np.inf))
         shown = np.isfinite(best)
-        a.step(n[shown], best[shown], where="post", color="black", lw=0.8, label="best so far", gid="best")
-        if ok.any():
-            k = int(np.flatnonzero(ok)[np.argmin(obj[ok])])
+        if shown.any():
+            a.step(n[shown], best[shown], where="post", color="black", lw=0.8, label="best so far", gid="best")
+            k = int(np.flatnonzero(feasible)[np.argmin(obj[feasible])])
             a.plot([n[k]], [obj[k]], "*", color="black", ms=7, label="optimum", gid="optimum")
         a.set_xlabel("evaluation")
-        a.set_ylabel(metric)
+        a.set_ylabel(ylabel)
         a.grid(True)
-        a.legend()
+        a.legend(title=None if feasible.any() else "no feasible evaluation: no optimum")
         _finish(a, title)
     return a.figure
 
@@ -927,30 +1039,39 @@ def pareto(opt: Optimization, ax: Any = None, *, size: SizeArg = "column", title
            reference: Optional[dict[str, tuple[float, float]]] = None):
     """The Pareto front of an optimisation with [optimize.pareto] (opt.pareto, pareto.csv): the
     objective against the second figure at each point, the non-dominated ones joined (●), the
-    dominated or infeasible ones apart (○), and each point's limit on the second figure as a
-    dotted vertical. `reference`: other designs to mark, label → (second figure, objective), e.g.
-    bare pounding and the free frames. Returns the Figure."""
+    dominated ones apart (○), the infeasible ones grey (×), and each point's limit on the second
+    figure as a dotted vertical, both figures named and scaled by `metric_label` (drift ratios in
+    %). `reference`: other designs to mark, label → (second figure, objective) as pareto.csv has
+    them, e.g. bare pounding and the free frames. Returns the Figure."""
     if opt.pareto is None:
         raise ValueError("the optimisation has no Pareto front (no [optimize.pareto])")
     t = opt.pareto
     names = [n for n in t.names if n not in ("point", "limit", "feasible", "dominated")]
     objective, metric = names[0], names[1]
-    x = np.asarray(t[metric], dtype=float)
-    y = np.asarray(t[objective], dtype=float)
-    front = (np.asarray(t["dominated"]) == 0) & (np.asarray(t["feasible"]) == 1)
-    limit = np.asarray(t["limit"], dtype=float)
+    fx, xlabel = _metric(metric, t[metric])
+    fy, ylabel = _metric(objective, t[objective])
+    x = np.asarray(t[metric], dtype=float) * fx
+    y = np.asarray(t[objective], dtype=float) * fy
+    feasible = np.asarray(t["feasible"]) == 1
+    front = (np.asarray(t["dominated"]) == 0) & feasible
+    limit = np.asarray(t["limit"], dtype=float) * fx
     with _axes(ax, size) as (a,):
         order = np.argsort(x[front])
         a.plot(x[front][order], y[front][order], "o-", color=colour(0), ms=4, lw=1.2, label="Pareto front", gid="front")
-        if (~front).any():
-            a.plot(x[~front], y[~front], "o", color=colour(0), mfc="none", ms=4, ls="none",
-                   label="dominated or infeasible", gid="dominated")
+        dominated = ~front & feasible
+        if dominated.any():
+            a.plot(x[dominated], y[dominated], "o", color=colour(0), mfc="none", ms=4, ls="none", label="dominated",
+                   gid="dominated")
+        if (~feasible).any():
+            a.plot(x[~feasible], y[~feasible], "x", color="0.6", ms=4, mew=0.7, ls="none", label="infeasible",
+                   gid="infeasible")
         for e in limit[np.isfinite(limit)]:
             a.axvline(e, color="0.6", lw=0.5, ls=":", zorder=0)
         for k, (label, (rx, ry)) in enumerate((reference or {}).items()):
-            a.plot([rx], [ry], "sD^v"[k % 4], color=colour(k + 1), ms=5, ls="none", label=label, gid=f"reference_{k}")
-        a.set_xlabel(metric)
-        a.set_ylabel(objective)
+            a.plot([rx * fx], [ry * fy], "sD^v"[k % 4], color=colour(k + 1), ms=5, ls="none", label=label,
+                   gid=f"reference_{k}")
+        a.set_xlabel(xlabel)
+        a.set_ylabel(ylabel)
         a.grid(True, lw=0.3)
         a.legend()
         _finish(a, title)

@@ -7,6 +7,7 @@ import json
 import os
 import pathlib
 import re
+import runpy
 import struct
 import subprocess
 import sys
@@ -57,6 +58,42 @@ def line(ax, gid):
 
 def xy(ln):
     return np.asarray(ln.get_xdata(), dtype=float), np.asarray(ln.get_ydata(), dtype=float)
+
+
+def evaluations(objective, feasible, status=None):
+    """An optimisation of one variable with constraints, as evaluations.csv would hold it: one
+    evaluation per objective, `feasible` 1 or 0, all `done` unless `status` says otherwise."""
+    n = len(objective)
+    status = status or ["done"] * n
+    table = poundsim.Table({
+        "evaluation": np.arange(1, n + 1), "stage": np.array(["start"] + ["global"] * (n - 1)),
+        "gap_elements.damping": np.linspace(0.0, 1e7, n),
+        "objective": np.array([o if s == "done" else np.nan for o, s in zip(objective, status)], dtype=float),
+        "feasible": np.array(feasible, dtype=np.int64), "status": np.array(status),
+        "error": np.array(["" if s == "done" else "refused" for s in status])})
+    return poundsim.Optimization({"analysis": {"objective": "max_peak_drift_ratio"}}, table)
+
+
+def grid_study(x_key, xs, y_key, ys, metric, values):
+    """A finished grid study of one metric, `values` rows y and columns x, as study.csv holds it."""
+    gx, gy = np.meshgrid(np.asarray(xs, dtype=float), np.asarray(ys, dtype=float))
+    n = gx.size
+    table = poundsim.Table({"id": np.arange(1, n + 1), "status": np.array(["done"] * n), x_key: gx.ravel(),
+                            y_key: gy.ravel(), metric: np.asarray(values, dtype=float).ravel()})
+    return poundsim.Study(table, {"analysis": {"kind": "study"}, "parameters": [x_key, y_key]})
+
+
+def texts(fig) -> list[str]:
+    """Every text a figure draws: titles, axis and tick labels, legends, annotations."""
+    from matplotlib.text import Text
+
+    fig.canvas.draw()  # tick labels are set when the figure is drawn (not written anywhere)
+    return [t.get_text() for t in fig.findobj(Text) if t.get_text() and t.get_visible()]
+
+
+def tick_labels(fig) -> list[str]:
+    fig.canvas.draw()
+    return [t.get_text() for a in fig.axes for t in a.get_xticklabels() + a.get_yticklabels() if t.get_text()]
 
 
 @pytest.fixture(autouse=True)
@@ -374,14 +411,14 @@ def test_study_map_is_the_metric_on_the_grid(study, tmp_path):
     ax, colorbar = fig.axes
     grid = np.asarray(ax.collections[0].get_array()).reshape(expected.shape)
     assert np.array_equal(grid, expected)
-    assert colorbar.get_ylabel() == "max_ratio_to_bare"
+    assert colorbar.get_ylabel() == "peak V/W ÷ bare pounding's, worse frame"
     assert [t.get_text() for t in ax.get_xticklabels()] == [f"{v:g}" for v in etas]
     assert ax.get_xlabel() == "η = k / K₁"
     # The lowest cell is outlined, and its value printed among the cells'.
     j, i = np.unravel_index(np.argmin(expected), expected.shape)
     lowest = next(p for p in ax.patches if p.get_gid() == "lowest")
     assert lowest.get_xy() == (i - 0.5, j - 0.5)
-    assert f"{expected.min():.2f}" in [t.get_text() for t in ax.texts]
+    assert f"{expected.min():.3g}" in [t.get_text() for t in ax.texts]
     save(fig, tmp_path, "study")
     # On the parameters' values; fixed to one μ; not one point per cell.
     fig = pp.study_map(result, "model.dimensionless.eta", "model.dimensionless.mu", "max_ratio_to_bare",
@@ -397,6 +434,34 @@ def test_study_map_is_the_metric_on_the_grid(study, tmp_path):
         pp.study_map(result, "model.dimensionless.eta", "model.dimensionless.eta", "max_ratio_to_bare")
     with pytest.raises(ValueError, match="no column 'peak'"):
         pp.study_map(result, "model.dimensionless.eta", "model.dimensionless.mu", "peak")
+
+
+def test_a_study_map_of_drift_ratios_reads_in_percent_with_named_axes():
+    damping, eta = [1e6, 10 ** 6.5, 1e7], [0.0625, 0.125, 0.25]
+    drift = np.array([[0.0123, 0.0118, 0.0131], [0.0109, 0.0104, 0.0127], [0.0146, 0.0099, 0.0112]])
+    study = grid_study("gap_elements.damping", damping, "model.dimensionless.eta", eta, "max_peak_drift_ratio", drift)
+    for spacing in ("even", "value"):
+        fig = pp.study_map(study, "gap_elements.damping", "model.dimensionless.eta", "max_peak_drift_ratio",
+                           spacing=spacing)
+        ax, colorbar = fig.axes
+        np.testing.assert_allclose(np.asarray(ax.collections[0].get_array()).reshape(drift.shape), drift * 100,
+                                   rtol=1e-15)
+        # Three significant digits of the % (every cell was "0.01").
+        cells = [t.get_text() for t in ax.texts]
+        assert sorted(cells) == sorted(f"{v:.3g}" for v in (drift * 100).ravel()) and "1.23" in cells
+        assert colorbar.get_ylabel() == "peak drift ratio, worse frame [%]"
+        assert ax.get_xlabel() == "gap-element damping c [N·s/m]" and ax.get_ylabel() == "η = k / K₁"
+        for label in (ax.get_xlabel(), ax.get_ylabel(), colorbar.get_ylabel()):
+            assert "_" not in label and "dimensionless" not in label
+        labels = tick_labels(fig)
+        assert labels and not [t for t in labels if re.search(r"e[+-]0|\d{5}", t)], labels
+        assert [t.get_text() for t in ax.get_xticklabels()] == ["1e6", "3.16e6", "1e7"]
+        assert ax.get_xscale() == ("log" if spacing == "value" else "linear")
+    # Ratios that are no drifts stay as they are; larger values keep three digits, without an exponent.
+    fig = pp.study_map(grid_study("a", [1, 2], "b", [1, 2], "max_ratio_to_free", [[0.4666, 1.0], [12.345, 123.4]]),
+                       "a", "b", "max_ratio_to_free")
+    assert sorted(t.get_text() for t in fig.axes[0].texts) == ["0.467", "1", "12.3", "123"]
+    assert fig.axes[1].get_ylabel() == "peak V/W ÷ free frame's, worse frame"
 
 
 def test_ensemble_amplification_per_record_and_mean(ensemble, tmp_path):
@@ -453,8 +518,37 @@ def test_optimization_against_bare_pounding(optimum, tmp_path):
     assert np.array_equal(xy(line(ax, "stage_global"))[1], [o for o, s in zip(objective, stage) if s == "global"])
     assert xy(line(ax, "optimum"))[1][0] == summary["objective"] == min(objective)
     assert xy(line(ax, "best"))[1][-1] == min(objective)
-    assert ax.get_ylabel() == "max_peak_V_W"
+    assert ax.get_ylabel() == "peak V/W, worse frame"
     save(fig, tmp_path, "evaluations")
+
+
+def test_the_optimum_and_the_best_so_far_are_of_feasible_evaluations():
+    # The lowest objectives break a constraint (evaluations 2 and 4); the input refused the 7th.
+    objective = [0.020, 0.012, 0.018, 0.009, 0.015, 0.011, 0.0]
+    opt = evaluations(objective, [0, 0, 1, 0, 1, 1, 0], status=["done"] * 6 + ["rejected"])
+    ax = pp.optimization(opt).axes[0]
+    percent = np.array(objective) * 100  # a drift ratio, drawn in %
+    assert ax.get_ylabel() == "peak drift ratio, worse frame [%]"
+    x, y = xy(line(ax, "optimum"))
+    assert (x.tolist(), y.tolist()) == ([6.0], [percent[5]])
+    # The best so far starts at the first feasible evaluation and holds feasible values only.
+    x, y = xy(line(ax, "best"))
+    assert x.tolist() == [3, 4, 5, 6, 7] and y.tolist() == percent[[2, 2, 4, 5, 5]].tolist()
+    assert not set(y.tolist()) & set(percent[[0, 1, 3]].tolist())
+    # The infeasible ones apart, grey, labelled; the feasible ones by stage.
+    infeasible = line(ax, "infeasible")
+    assert xy(infeasible)[0].tolist() == [1, 2, 4] and xy(infeasible)[1].tolist() == percent[[0, 1, 3]].tolist()
+    assert infeasible.get_label() == "infeasible" and infeasible.get_color() == "0.6"
+    assert infeasible.get_marker() != line(ax, "stage_global").get_marker()
+    assert xy(line(ax, "stage_global"))[0].tolist() == [3, 5, 6]
+    assert "stage_start" not in [ln.get_gid() for ln in ax.get_lines()]  # its one evaluation is infeasible
+    labels = [t.get_text() for t in ax.get_legend().get_texts()]
+    assert {"infeasible", "best so far", "optimum"} <= set(labels)
+    # None feasible: no optimum and no best so far, and the legend says why.
+    ax = pp.optimization(evaluations([0.02, 0.01, 0.015], [0, 0, 0])).axes[0]
+    gids = [ln.get_gid() for ln in ax.get_lines()]
+    assert "optimum" not in gids and "best" not in gids and "infeasible" in gids
+    assert ax.get_legend().get_title().get_text() == "no feasible evaluation: no optimum"
 
 
 def test_compare_runs_from_the_summaries(el_centro, bilinear, tmp_path):
@@ -534,16 +628,26 @@ def test_a_pareto_front_is_drawn_as_written(tmp_path):
     fig = pp.pareto(opt, reference={"bare pounding": (0.02, 0.01)})
     ax = fig.axes[0]
     front = next(line for line in ax.lines if line.get_gid() == "front")
-    keep = np.asarray(opt.pareto["dominated"]) == 0
-    x = np.asarray(opt.pareto["peak_drift_ratio_2"])[keep]
+    keep = (np.asarray(opt.pareto["dominated"]) == 0) & (np.asarray(opt.pareto["feasible"]) == 1)
+    x = np.asarray(opt.pareto["peak_drift_ratio_2"])[keep] * 100  # drift ratios in %
     order = np.argsort(x)
     assert np.array_equal(front.get_xdata(), x[order])
-    assert np.array_equal(front.get_ydata(), np.asarray(opt.pareto["peak_drift_ratio_1"])[keep][order])
-    assert ax.get_xlabel() == "peak_drift_ratio_2" and ax.get_ylabel() == "peak_drift_ratio_1"
-    assert any(line.get_gid() == "reference_0" for line in ax.lines)
+    assert np.array_equal(front.get_ydata(), (np.asarray(opt.pareto["peak_drift_ratio_1"])[keep] * 100)[order])
+    assert ax.get_xlabel() == "peak drift ratio, frame 2 [%]" and ax.get_ylabel() == "peak drift ratio, frame 1 [%]"
+    assert [v.tolist() for v in xy(line(ax, "reference_0"))] == [[2.0], [1.0]]
     plt.close(fig)
     script("plot_pareto.py", out)
     png_size(out / "pareto.png")
+    # Its evaluations: the optimum marked is the best feasible one, optimize.json's.
+    ax = pp.optimization(opt).axes[0]
+    ev = opt.evaluations
+    feasible = np.flatnonzero((np.asarray(ev["feasible"]) == 1) & (np.asarray(ev["status"]) == "done"))
+    best = feasible[np.argmin(ev["objective"][feasible])]
+    x, y = xy(line(ax, "optimum"))
+    assert x[0] == ev["evaluation"][best] and y[0] == ev["objective"][best] * 100
+    assert ev["objective"][best] == opt.summary.objective
+    assert opt.summary.feasible
+    assert not set(xy(line(ax, "best"))[1]) & set(ev["objective"][np.asarray(ev["feasible"]) == 0] * 100)
     with pytest.raises(ValueError, match="no Pareto front"):
         pp.pareto(poundsim.Optimization({}, opt.evaluations))
 
@@ -602,6 +706,54 @@ def test_the_scripts_draw_through_the_module(el_centro, bilinear, responses, stu
     force = el_centro[1].summary.max_gap_force_N
     assert f"| paper | {force:.4g} | " in r.stdout and "| hertzdamp | " in r.stdout
     png_size(tmp_path / "laws.png")
+
+
+def drawn(monkeypatch, name: str, *args) -> list:
+    """The figures a script saves, run in this process: their artists, to read what they show
+    (the files are written as well)."""
+    import matplotlib.figure
+
+    figures = []
+    savefig = matplotlib.figure.Figure.savefig
+
+    def keep(fig, *a, **k):
+        figures.append(fig)
+        return savefig(fig, *a, **k)
+
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", keep)
+    monkeypatch.setattr(sys, "argv", [str(SCRIPTS / name), *map(str, args)])
+    monkeypatch.syspath_prepend(str(SCRIPTS))
+    runpy.run_path(str(SCRIPTS / name), run_name="__main__")
+    return figures
+
+
+def test_the_study_script_labels_its_map(study, tmp_path, monkeypatch):
+    out, result = study
+    figures = drawn(monkeypatch, "plot_study.py", out / "study.sqlite", "model.dimensionless.eta",
+                    "model.dimensionless.mu", "max_ratio_to_bare", tmp_path / "map.png")
+    assert len(figures) == 1
+    ax, colorbar = figures[0].axes
+    assert sorted(t.get_text() for t in ax.texts) == sorted(f"{v:.3g}" for v in result["max_ratio_to_bare"])
+    shown = texts(figures[0])
+    assert not [t for t in shown if "_" in t or "dimensionless" in t], shown
+    assert ax.get_title() == "peak V/W ÷ bare pounding's, worse frame"
+
+
+def test_a_missing_panel_is_left_out_not_drawn_as_its_error(tmp_path, monkeypatch, capsys):
+    # Displacements alone: no gap-element forces for response.png's lower panel, no energy.png.
+    out = cli_run(EXAMPLES / "fig2c_ratio0.8.toml", tmp_path / "u", "analysis.duration=0.5",
+                  'output.channels=["u_*"]')
+    figures = drawn(monkeypatch, "plot_time_history.py", out)
+    err = capsys.readouterr().err
+    assert "energy.png not written: the energy channels were not recorded" in err
+    assert "response.png: no gap-element force was recorded" in err
+    assert not (out / "energy.png").exists() and (out / "response.png").exists() and (out / "profiles.png").exists()
+    assert len(figures) == 2
+    for fig in figures:
+        shown = texts(fig)
+        assert not [t for t in shown if "recorded" in t or "channels" in t or "no " in t], shown
+    response = figures[0]
+    assert len(response.axes) == 1 and [ln.get_gid() for ln in response.axes[0].get_lines()] == ["u_1_1", "u_2_1"]
 
 
 def assert_stretches_are_branch_rows(ax, t, x: str):
