@@ -395,6 +395,39 @@ TEST(ImpactOscillator, ContinuationFindsTheAnalyticPeriodDoubling) {
 }
 
 
+// A period-1 orbit shot as a fixed point of P² is labelled by its minimal period, 1; the
+// period-2 branch born at the doubling keeps 2 away from it, where P(w) is far from w.
+TEST(ImpactOscillator, ContinuedOrbitsAreLabelledWithTheirMinimalPeriod) {
+  const ImpactOscillator osc;
+  const Model model = osc.model();
+  StroboscopicMap map(model, osc.amplitude, 1.8 * osc.omega0, exact_options(), 32);
+  const ImpactOscillator::Orbit analytic = osc.orbit(1.8 * osc.omega0);
+  Eigen::VectorXd start = Eigen::VectorXd::Zero(4);
+  start(0) = analytic.at_zero(0);
+  start(2) = analytic.at_zero(1);
+  const ShootingResult twice = shoot(map, start, 2, ShootingOptions{});
+  ASSERT_TRUE(twice.converged) << twice.failure;
+  EXPECT_EQ(twice.orbit.periodicity, 2);
+  EXPECT_EQ(minimal_period(map, twice.orbit, 1e-7), 1);
+
+  FrequencyFamily family(model, osc.amplitude, exact_options(), 32);
+  const ImpactOscillator::Orbit before = osc.orbit(2.4 * osc.omega0);
+  start.setZero();
+  start(0) = before.at_zero(0);
+  start(2) = before.at_zero(1);
+  ShootingResult r = shoot(family.at(2.4), start, 1, ShootingOptions{});
+  ASSERT_TRUE(r.converged) << r.failure;
+  r.orbit.parameter = 2.4;
+  ContinuationOptions co;
+  co.max_parameter_step = 5e-3;
+  co.max_points = 30;
+  const ContinuationResult traced = continue_orbits(family, r.orbit, 2.4, 2.5, +1, ShootingOptions{}, co);
+  ASSERT_GE(traced.branches.size(), 2u);
+  const PeriodicOrbit& doubled = traced.branches[1].points.back();  // the farthest from the doubling
+  ASSERT_EQ(doubled.periodicity, 2);
+  EXPECT_EQ(minimal_period(family.at(doubled.parameter), doubled, 1e-7), 2) << doubled.parameter;
+}
+
 TEST(ImpactOscillator, ContinuationInTheGapFollowsTheAnalyticOrbitsToTheirDoubling) {
   // At ω̄ = 2.4ω₀ the period-1 orbit is stable for σ = δω₀²/A = 0.1 (its doubling in ω̄ is at
   // 2.4567ω₀) and doubles its period as the gap widens: where 1 + tr M + det M = 0 in σ, bisected

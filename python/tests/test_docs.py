@@ -63,3 +63,25 @@ def test_the_design_task(tmp_path):
     assert out[1] == "bare pounding [0.0111  0.00796] 216 impacts"
     assert out[2] == "best element k, c = (100000000.0, 1000000.0) [0.01062 0.00687] 7 impacts"
     assert min(pngs(tmp_path).values()) > 10_000
+
+
+def test_the_readmes_sample_output_is_what_the_run_prints(tmp_path):
+    """README.md's worked example prints what its text shows (the run time and the folder aside)
+    and events.csv starts with the rows it shows: the figures come from a run."""
+    import subprocess
+
+    from support import CLI
+
+    readme = (SOURCE / "README.md").read_text()
+    command, shown = re.search(r"`(\./build/release/poundsim run examples/fig2c_ratio0\.8\.toml --out (\S+))` prints\n\n```\n(.*?)```",
+                               readme, re.S).group(1, 3)
+    out = tmp_path / "out"
+    printed = subprocess.run([CLI, "run", str(SOURCE / "examples" / "fig2c_ratio0.8.toml"), "--out", str(out)],
+                             check=True, capture_output=True, text=True).stdout
+    normalise = lambda text: re.sub(r", [0-9.]+ s\)$", ", T s)", text, flags=re.M)
+    printed = normalise(printed).replace(str(SOURCE / "examples") + "/", "examples/").replace(str(out), "DIR")
+    shown = normalise(shown).replace(command.split("--out ")[1], "DIR")
+    assert printed == shown
+    rows = re.search(r"`results/fig2c_ratio0\.8/events\.csv` starts\n\n```\n(.*?)```", readme, re.S).group(1)
+    written = (out / "events.csv").read_text().splitlines()
+    assert rows.splitlines() == written[: len(rows.splitlines())]

@@ -256,6 +256,30 @@ double state_length(const Model& model, double amplitude) {
 
 }  // namespace
 
+// A branch followed as period k — a doubled branch that met its parent again, a seed detected
+// at a multiple — may hold orbits that repeat sooner: their values and stability are right,
+// their label is the least j.
+int minimal_period(StroboscopicMap& map, const PeriodicOrbit& orbit, double tolerance) {
+  const int k = orbit.periodicity;
+  if (k < 2 || orbit.u.size() == 0) return k;
+  Eigen::VectorXd x(orbit.u.size() + orbit.v.size());
+  x << orbit.u, orbit.v;
+  const Scaling s{state_length(map.model(), map.amplitude()), map.omega()};
+  const Eigen::VectorXd w = s.to_scaled(x);
+  const double bound = tolerance * std::max(1.0, w.cwiseAbs().maxCoeff());
+  for (int j = 1; j < k; ++j) {
+    if (k % j != 0) continue;
+    Eigen::VectorXd image;
+    try {
+      image = map.evaluate(x, j);
+    } catch (const std::exception&) {
+      continue;  // a run that cannot be made says nothing against period k
+    }
+    if ((s.to_scaled(image) - w).cwiseAbs().maxCoeff() <= bound) return j;
+  }
+  return k;
+}
+
 ShootingResult shoot(StroboscopicMap& map, const Eigen::VectorXd& x0, int k, const ShootingOptions& options) {
   ShootingResult result;
   PeriodicOrbit& orbit = result.orbit;
@@ -969,13 +993,15 @@ std::optional<PeriodicOrbit> orbit_from_rest(StroboscopicMap& map, const SteadyS
   return std::nullopt;
 }
 
-FrfPoint frf_point(const Model& model, double amplitude, const PeriodicOrbit& orbit, int branch, int parent) {
+FrfPoint frf_point(StroboscopicMap& map, double amplitude, const PeriodicOrbit& orbit, int branch, int parent,
+                   double period_tolerance) {
+  const Model& model = map.model();
   FrfPoint p;
   p.ratio = orbit.parameter;
   p.omega = orbit.omega;
   p.interacting = orbit.amplitudes;
   p.free = free_response(model, amplitude, orbit.omega);
-  p.periodicity = orbit.periodicity;
+  p.periodicity = minimal_period(map, orbit, period_tolerance);
   p.transient_periods = 0;
   p.events = orbit.events;
   p.impacts = orbit.impacts;
@@ -1044,8 +1070,8 @@ std::vector<FrfPoint> continued_segment(const Model& model, const FrequencyRespo
     for (const Branch& b : traced.branches) {
       for (const PeriodicOrbit& orbit : b.points) {
         if (orbit.parameter < segment.lo || orbit.parameter > segment.hi) continue;
-        out.push_back(frf_point(model, options.amplitude, orbit, next_branch + b.id,
-                                b.parent >= 0 ? next_branch + b.parent : -1));
+        out.push_back(frf_point(family.at(orbit.parameter), options.amplitude, orbit, next_branch + b.id,
+                                b.parent >= 0 ? next_branch + b.parent : -1, options.continuation.period_tolerance));
       }
     }
     double reached = r;
@@ -1152,8 +1178,8 @@ std::vector<ParameterPoint> parameter_response_by_continuation(const std::functi
     for (const Branch& b : traced.branches) {
       for (const PeriodicOrbit& orbit : b.points) {
         if (orbit.parameter < p_min || orbit.parameter > p_max) continue;
-        FrfPoint point = frf_point(family.at(orbit.parameter).model(), options.amplitude, orbit, offset + b.id,
-                                   b.parent >= 0 ? offset + b.parent : -1);
+        FrfPoint point = frf_point(family.at(orbit.parameter), options.amplitude, orbit, offset + b.id,
+                                   b.parent >= 0 ? offset + b.parent : -1, options.continuation.period_tolerance);
         point.ratio = ratio;
         out.push_back({orbit.parameter, std::move(point)});
       }

@@ -151,6 +151,49 @@ std::optional<std::string> energy_warning(const TimeHistoryResult& r) {
   return energy_balance_warning(r.max_relative_residual, r.options.integrator, smooth);
 }
 
+namespace {
+/// Each frame's largest interstorey drift (by drift ratio when the frame has storey heights):
+/// its storey, its ratio to the height, and the free frame's drift there.
+std::string drift_lines(const TimeHistoryResult& r) {
+  std::string text;
+  for (int f = 0; f < r.model.frame_count(); ++f) {
+    const Frame& frame = r.model.frames[static_cast<std::size_t>(f)];
+    const auto height = [&](int i) { return frame.storey_height.empty() ? 1.0 : frame.storey_height[static_cast<std::size_t>(i)]; };
+    const auto drift = [&](int i) { return r.statistics.floors[static_cast<std::size_t>(r.layout.dof(f, i))].drift.value; };
+    int worst = 0;
+    for (int i = 1; i < frame.storeys(); ++i) {
+      if (drift(i) / height(i) > drift(worst) / height(worst)) worst = i;
+    }
+    text += fmt::format("  frame {}: peak interstorey drift {:.4g} mm at storey {}", f + 1, 1e3 * drift(worst), worst + 1);
+    if (!frame.storey_height.empty()) text += fmt::format(" ({:.3g} % of its height)", 100 * drift(worst) / height(worst));
+    if (r.free) {
+      text += fmt::format(", free {:.4g} mm", 1e3 * r.free->floors[static_cast<std::size_t>(r.layout.dof(f, worst))].drift.value);
+    }
+    text += "\n";
+  }
+  return text;
+}
+
+/// At each joint, the widest separation its floors need to avoid contact (from the free
+/// responses), with the code rules at that floor.
+std::string separation_lines(const TimeHistoryResult& r) {
+  std::string text;
+  const std::vector<FloorSeparation> all = separations(r);
+  for (int f = 0; f + 1 < r.model.frame_count(); ++f) {
+    const FloorSeparation* widest = nullptr;
+    for (const FloorSeparation& s : all) {
+      if (s.neighbour->left_frame == f && (widest == nullptr || s.min_gap > widest->min_gap)) widest = &s;
+    }
+    if (widest == nullptr) continue;
+    text += fmt::format("  joint {}–{}: separation to avoid contact {:.4g} mm (floor {}); absolute sum {:.4g}, SRSS "
+                        "{:.4g}, DDC {:.4g} mm\n",
+                        f + 1, f + 2, 1e3 * widest->min_gap, widest->neighbour->floor + 1, 1e3 * widest->absolute_sum,
+                        1e3 * widest->srss, 1e3 * widest->ddc);
+  }
+  return text;
+}
+}  // namespace
+
 std::string report(const TimeHistoryResult& r, const std::filesystem::path& out_dir) {
   std::string text = fmt::format("poundsim {}: {} ({} s simulated, {} steps, {} events, {:.3f} s)\n",
                                  POUNDSIM_VERSION, r.input.source.string(), r.end_time, r.statistics.steps,
@@ -161,6 +204,8 @@ std::string report(const TimeHistoryResult& r, const std::filesystem::path& out_
     text += fmt::format("  frame {}: peak base shear {:.6g} N (V/W1 = {:.4f}) at t = {:.4f} s\n", f + 1, v.value,
                         v.value / weight1, v.time);
   }
+  text += drift_lines(r);
+  text += separation_lines(r);
   text += fmt::format("  impacts {}, max gap force {:.6g} N, max impact impulse {:.6g} N·s\n", r.impacts(),
                       r.max_gap_force(), r.max_impact_impulse());
   text += fmt::format("  energy: input {:.6g} J, relative balance residual {:.2e}\n", r.energy.input,
@@ -194,6 +239,43 @@ json storey_response(const TimeHistoryResult& result, const std::vector<Link>& l
               {"yield_excursions", r.yield_excursions}};
 }
 }  // namespace
+
+std::vector<FloorSeparation> separations(const TimeHistoryResult& result) {
+  std::vector<FloorSeparation> out;
+  if (!result.free) return out;
+  const ResponseStatistics& free = *result.free;
+  const DofLayout& layout = result.layout;
+  std::vector<FundamentalMode> modes;
+  for (const Frame& fr : result.model.frames) modes.push_back(fundamental_mode(fr));
+  for (std::size_t k = 0; k < free.neighbours.size(); ++k) {
+    const NeighbourResponse& nb = free.neighbours[k];
+    const int f = nb.left_frame, i = nb.floor;
+    // A column point's peak is bounded by its floors' peaks interpolated to its height (the
+    // codes interpolate displacements over a storey likewise).
+    const auto peak_at = [&](int frame, int floor, bool column) {
+      const double above = free.floors[static_cast<std::size_t>(layout.dof(frame, floor))].displacement.value;
+      if (!column) return above;
+      const double w = nb.column->weight;
+      const double below = floor == 0 ? 0.0 : free.floors[static_cast<std::size_t>(layout.dof(frame, floor - 1))].displacement.value;
+      return w * above + (1 - w) * below;
+    };
+    FloorSeparation sep;
+    sep.index = k;
+    sep.neighbour = &nb;
+    sep.min_gap = std::max(0.0, nb.max_approach);
+    sep.left_peak = peak_at(f, i, nb.column && nb.column->struck == Side::left);
+    sep.right_peak = peak_at(f + 1, nb.right_floor, nb.column && nb.column->struck == Side::right);
+    const FundamentalMode& a = modes[static_cast<std::size_t>(f)];
+    const FundamentalMode& b = modes[static_cast<std::size_t>(f + 1)];
+    sep.correlation = modal_correlation(a.omega, a.damping_ratio, b.omega, b.damping_ratio);
+    const double u1 = sep.left_peak, u2 = sep.right_peak;
+    sep.absolute_sum = u1 + u2;
+    sep.srss = std::hypot(u1, u2);
+    sep.ddc = std::sqrt(std::max(0.0, u1 * u1 + u2 * u2 - 2 * sep.correlation * u1 * u2));
+    out.push_back(sep);
+  }
+  return out;
+}
 
 json to_json(const TimeHistoryResult& result) {
   const RunInput& input = result.input;
@@ -247,60 +329,38 @@ json to_json(const TimeHistoryResult& result) {
     }
     shears.push_back(std::move(entry));
   }
-  // Separation distances: the smallest gap that avoids contact (from the free frames, exact for
-  // linear frames up to the integrator) next to the code rules built from the free peaks.
+  // Separation distances: the smallest gap that avoids contact next to the code rules.
   json separation = json::array();
   std::vector<double> min_gap(st.neighbours.size(), 0.0);
-  if (free != nullptr) {
-    std::vector<FundamentalMode> modes;
-    for (const Frame& fr : model.frames) modes.push_back(fundamental_mode(fr));
-    for (std::size_t k = 0; k < free->neighbours.size(); ++k) {
-      const NeighbourResponse& nb = free->neighbours[k];
-      const int f = nb.left_frame, i = nb.floor;
-      min_gap[k] = std::max(0.0, nb.max_approach);
-      // A column point's peak is bounded by its floors' peaks interpolated to its height (the
-      // codes interpolate displacements over a storey likewise).
-      const auto peak_at = [&](int frame, int floor, bool column) {
-        const double above = free->floors[static_cast<std::size_t>(layout.dof(frame, floor))].displacement.value;
-        if (!column) return above;
-        const double w = nb.column->weight;
-        const double below = floor == 0 ? 0.0 : free->floors[static_cast<std::size_t>(layout.dof(frame, floor - 1))].displacement.value;
-        return w * above + (1 - w) * below;
-      };
-      const bool left_struck = nb.column && nb.column->struck == Side::left;
-      const bool right_struck = nb.column && nb.column->struck == Side::right;
-      const double u1 = peak_at(f, i, left_struck);
-      const double u2 = peak_at(f + 1, nb.right_floor, right_struck);
-      const FundamentalMode& a = modes[static_cast<std::size_t>(f)];
-      const FundamentalMode& b = modes[static_cast<std::size_t>(f + 1)];
-      const double rho = modal_correlation(a.omega, a.damping_ratio, b.omega, b.damping_ratio);
-      const double abs_sum = u1 + u2, srss = std::hypot(u1, u2);
-      const double ddc = std::sqrt(std::max(0.0, u1 * u1 + u2 * u2 - 2 * rho * u1 * u2));
-      // The 0.7 SRSS of floors at the same levels does not apply to a slab facing a column.
-      const json same_levels = nb.column ? json(nullptr) : json(0.7 * srss);
-      json rules{{"absolute_sum_m", abs_sum}, {"srss_m", srss}, {"srss_same_floor_levels_m", same_levels}, {"ddc_m", ddc}};
-      json over{{"absolute_sum", ratio(abs_sum, min_gap[k])}, {"srss", ratio(srss, min_gap[k])},
-                {"srss_same_floor_levels", nb.column ? json(nullptr) : ratio(0.7 * srss, min_gap[k])},
-                {"ddc", ratio(ddc, min_gap[k])}};
-      json entry{{"frames", {f + 1, f + 2}}, {"floor", i + 1},
-                 {"min_gap_m", min_gap[k]}, {"min_gap_time_s", nb.max_approach_time},
-                 {"free_peak_displacement_m", {u1, u2}},
-                 {"ddc_correlation", rho},
-                 {"rules", rules},
-                 {"rule_over_min_gap", over}};
-      if (nb.right_floor != i) entry["right_floor"] = nb.right_floor + 1;
-      if (nb.column) entry["struck_column"] = struck_column_json(*nb.column, f, i, nb.right_floor);
-      for (int p = 0; p < model.gap_count(); ++p) {
-        const GapElement& g = model.gaps[static_cast<std::size_t>(p)];
-        if (g.facing() == FloorPair{f, i, nb.right_floor, nb.column}) {
-          const GapResponse& gr = st.gaps[static_cast<std::size_t>(p)];
-          entry["gap_m"] = g.gap();
-          entry["gap_over_min_gap"] = ratio(g.gap(), min_gap[k]);
-          entry["contact"] = gr.contacts + gr.impacts + gr.locks > 0;
-        }
+  for (const FloorSeparation& sep : separations(result)) {
+    const NeighbourResponse& nb = *sep.neighbour;
+    const int f = nb.left_frame, i = nb.floor;
+    min_gap[sep.index] = sep.min_gap;
+    // The 0.7 SRSS of floors at the same levels does not apply to a slab facing a column.
+    const json same_levels = nb.column ? json(nullptr) : json(0.7 * sep.srss);
+    json rules{{"absolute_sum_m", sep.absolute_sum}, {"srss_m", sep.srss}, {"srss_same_floor_levels_m", same_levels},
+               {"ddc_m", sep.ddc}};
+    json over{{"absolute_sum", ratio(sep.absolute_sum, sep.min_gap)}, {"srss", ratio(sep.srss, sep.min_gap)},
+              {"srss_same_floor_levels", nb.column ? json(nullptr) : ratio(0.7 * sep.srss, sep.min_gap)},
+              {"ddc", ratio(sep.ddc, sep.min_gap)}};
+    json entry{{"frames", {f + 1, f + 2}}, {"floor", i + 1},
+               {"min_gap_m", sep.min_gap}, {"min_gap_time_s", nb.max_approach_time},
+               {"free_peak_displacement_m", {sep.left_peak, sep.right_peak}},
+               {"ddc_correlation", sep.correlation},
+               {"rules", rules},
+               {"rule_over_min_gap", over}};
+    if (nb.right_floor != i) entry["right_floor"] = nb.right_floor + 1;
+    if (nb.column) entry["struck_column"] = struck_column_json(*nb.column, f, i, nb.right_floor);
+    for (int p = 0; p < model.gap_count(); ++p) {
+      const GapElement& g = model.gaps[static_cast<std::size_t>(p)];
+      if (g.facing() == FloorPair{f, i, nb.right_floor, nb.column}) {
+        const GapResponse& gr = st.gaps[static_cast<std::size_t>(p)];
+        entry["gap_m"] = g.gap();
+        entry["gap_over_min_gap"] = ratio(g.gap(), sep.min_gap);
+        entry["contact"] = gr.contacts + gr.impacts + gr.locks > 0;
       }
-      separation.push_back(std::move(entry));
     }
+    separation.push_back(std::move(entry));
   }
   json gaps = json::array();
   double max_impact_velocity = 0;

@@ -83,6 +83,10 @@ struct ContinuationOptions {
   /// The events one continue_orbits call's runs may cross (the frequency response sets it from
   /// events_per_ratio).
   long max_events = 1'000'000'000'000;
+  /// A continued period-k orbit is labelled with the least j dividing k for which P^j returns
+  /// its state to within this (scaled as the shooting residual, 10³ × its default tolerance): a
+  /// period-2 orbit closer than that to repeating every period is at its period doubling.
+  double period_tolerance = 1e-7;
 
   static constexpr auto fields() {
     using O = ContinuationOptions;

@@ -139,6 +139,12 @@ struct ShootingResult {
 };
 [[nodiscard]] ShootingResult shoot(StroboscopicMap& map, const Eigen::VectorXd& x0, int k, const ShootingOptions& options);
 
+/// The orbit's minimal period: the least j dividing orbit.periodicity (k) for which P^j returns
+/// its state on the Poincaré section to within `tolerance`, scaled as shooting's residual (a
+/// fixed point of P^k may be one of P^j: a period-1 orbit shot as period 2, a doubled branch
+/// back at its parent). Runs j periods for each divisor tried.
+[[nodiscard]] int minimal_period(StroboscopicMap& map, const PeriodicOrbit& orbit, double tolerance);
+
 /// One continued branch.
 struct Branch {
   int id = 0;

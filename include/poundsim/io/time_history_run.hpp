@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -45,6 +46,17 @@ TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem:
 
 /// summary.json (docs/output.md).
 nlohmann::json to_json(const TimeHistoryResult& result);
+
+/// The separation at one pair of facing floors, from the frames' free responses: the smallest
+/// gap that avoids contact (exact for linear frames up to the integrator) and the code rules
+/// built from the free peaks (absolute sum, SRSS, the double difference combination with the
+/// fundamental modes' correlation) [m]. Empty without a free run.
+struct FloorSeparation {
+  std::size_t index = 0;                       ///< In ResponseStatistics::neighbours
+  const NeighbourResponse* neighbour = nullptr; ///< The free run's, in `result.free`
+  double min_gap = 0, left_peak = 0, right_peak = 0, correlation = 0, absolute_sum = 0, srss = 0, ddc = 0;
+};
+[[nodiscard]] std::vector<FloorSeparation> separations(const TimeHistoryResult& result);
 
 /// The warning when the run's energy balance does not close well enough to trust it
 /// (energy_balance_warning), in summary.json and the console report; nothing otherwise.
