@@ -1,5 +1,6 @@
 #include "poundsim/integrate/exact_phase.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Eigenvalues>
@@ -45,7 +46,7 @@ bool symmetric(const Eigen::MatrixXd& m) {
   return (m - m.transpose()).cwiseAbs().maxCoeff() <= 16 * std::numeric_limits<double>::epsilon() * m.cwiseAbs().maxCoeff();
 }
 
-RigidModes find_rigid_modes(const LinearPhase& phase, const RigidModeTolerances& tolerances) {
+RigidModes find_rigid_modes(const LinearPhase& phase, const ExactPhaseTolerances& tolerances) {
   const Eigen::VectorXd root = phase.mass().cwiseSqrt().cwiseInverse();  // M^{-1/2}
   const Eigen::MatrixXd k = root.asDiagonal() * Eigen::MatrixXd(phase.stiffness()) * root.asDiagonal();
   const Eigen::MatrixXd c = root.asDiagonal() * Eigen::MatrixXd(phase.damping()) * root.asDiagonal();
@@ -54,14 +55,14 @@ RigidModes find_rigid_modes(const LinearPhase& phase, const RigidModeTolerances&
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> stiffness(k);  // ascending
   const double largest = std::max(stiffness.eigenvalues().maxCoeff(), 0.0);
   Eigen::Index free = 0;
-  while (free < k.rows() && stiffness.eigenvalues()(free) <= tolerances.stiffness * largest) ++free;
+  while (free < k.rows() && stiffness.eigenvalues()(free) <= tolerances.rigid_stiffness * largest) ++free;
   if (free == 0) return out;
   const Eigen::MatrixXd null_space = stiffness.eigenvectors().leftCols(free);
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> damping(null_space.transpose() * c * null_space);
   // Rates of the phase: √ω²_max, and C's largest (its ∞-norm bounds it).
   const double rate = std::max(std::sqrt(largest), c.cwiseAbs().rowwise().sum().maxCoeff());
   Eigen::Index undamped = 0;
-  while (undamped < free && damping.eigenvalues()(undamped) <= tolerances.damping * rate) ++undamped;
+  while (undamped < free && damping.eigenvalues()(undamped) <= tolerances.rigid_damping * rate) ++undamped;
   const Eigen::MatrixXd modes = root.asDiagonal() * (null_space * damping.eigenvectors());
   out.undamped = modes.leftCols(undamped);
   out.damped = modes.rightCols(free - undamped);
@@ -106,6 +107,33 @@ bool set_exact_kernel(const RigidModes& rigid, const Eigen::VectorXd& scale, dou
   jordan.assign(zero.begin(), zero.begin() + 2 * r);
   return true;
 }
+
+/// `slow`[k]: |λ_k| h ≤ limit (a conjugate pair shares |λ|, so both or neither); left empty when
+/// no mode is.
+void mark_slow_modes(const Eigen::VectorXcd& lambda, double step, double limit, std::vector<bool>& slow) {
+  slow.assign(static_cast<std::size_t>(lambda.size()), false);
+  bool any = false;
+  for (Eigen::Index k = 0; k < lambda.size(); ++k) {
+    const bool is_slow = std::abs(lambda(k)) * step <= limit;
+    slow[static_cast<std::size_t>(k)] = is_slow;
+    any = any || is_slow;
+  }
+  if (!any) slow.clear();
+}
+
+/// The velocity rows of a slow mode's balanced eigenvector set to what A's first block row
+/// imposes, λ times its displacement rows over D: the eigen-solver gives them to ε of the
+/// vector's norm, while they are |λ|/ω_i of it — a relative error ε ω_i/|λ| (8e-11 for a floor of
+/// 1e-6 N/m in contact at 1e5 N/m), which the energy integrals' velocities V c carried into the
+/// balance. Not the Jordan columns (generalised eigenvectors).
+void tie_slow_velocities(const Eigen::VectorXcd& lambda, const Eigen::VectorXd& scale, const std::vector<bool>& slow,
+                         const std::vector<Eigen::Index>& jordan, Eigen::MatrixXcd& vectors) {
+  const Eigen::Index n = vectors.rows() / 2;
+  for (Eigen::Index k = 0; k < vectors.cols(); ++k) {
+    if (!slow[static_cast<std::size_t>(k)] || std::find(jordan.begin(), jordan.end(), k) != jordan.end()) continue;
+    vectors.col(k).tail(n) = lambda(k) * vectors.col(k).head(n).cwiseQuotient(scale.tail(n).cast<std::complex<double>>());
+  }
+}
 }  // namespace
 
 void ExactPhase::polynomial_particular(const Eigen::VectorXd& c0, const Eigen::VectorXd& c1,
@@ -136,7 +164,7 @@ void ExactPhase::polynomial_particular(const Eigen::VectorXd& c0, const Eigen::V
   for (Eigen::Index k = 0; k < 4; ++k) p[static_cast<std::size_t>(k)] = z.segment(k * m, m);
 }
 
-ExactPhase::ExactPhase(const LinearPhase& phase, const RigidModeTolerances& tolerances) : n_(phase.reduced_size()) {
+ExactPhase::ExactPhase(const LinearPhase& phase, const ExactPhaseTolerances& tolerances) : n_(phase.reduced_size()) {
   const Eigen::VectorXd inv_m = phase.mass().cwiseInverse();
   a_ = Eigen::MatrixXd::Zero(2 * n_, 2 * n_);
   a_.topRightCorner(n_, n_).setIdentity();
@@ -174,6 +202,8 @@ ExactPhase::ExactPhase(const LinearPhase& phase, const RigidModeTolerances& tole
     Eigen::MatrixXcd vectors = eig.eigenvectors();
     const bool exact_kernel =
         rigid.found && set_exact_kernel(rigid, scale_, tolerances.kernel, values, vectors, jordan_columns_);
+    mark_slow_modes(values, phase.step(), tolerances.slow_mode, slow_);
+    if (!slow_.empty()) tie_slow_velocities(values, scale_, slow_, jordan_columns_, vectors);
     lambda_ = values;
     v_lu_.compute(vectors);
     v_ = scale_.cast<std::complex<double>>().asDiagonal() * vectors;
@@ -186,6 +216,7 @@ ExactPhase::ExactPhase(const LinearPhase& phase, const RigidModeTolerances& tole
     } else {
       jordan_columns_.clear();
     }
+    if (!modal_) slow_.clear();
     spectral_radius_ = lambda_.cwiseAbs().maxCoeff();
     conjugate_of_previous_.assign(static_cast<std::size_t>(lambda_.size()), false);
     for (Eigen::Index k = 1; k < lambda_.size(); ++k) {
@@ -334,9 +365,47 @@ void ExactTrajectory::start(const ExactPhase& phase, const Eigen::VectorXd& mass
     phase.modal_coordinates(r0_, scaled_start_, c_);
     for (const Eigen::Index k : phase.jordan_columns()) c_(k) = 0.0;  // (I − P) r₀ = 0
   }
+  slow_constant_.resize(0);
+  if (phase.modal() && !phase.slow_modes().empty()) {
+    work_ = c_;
+    for (Eigen::Index k = 0; k < c_.size(); ++k) {
+      if (phase.slow_modes()[static_cast<std::size_t>(k)]) work_(k) = 0.0;
+    }
+    product_.noalias() = phase.modes() * work_;
+    slow_constant_ = r0_ - product_.real();
+  }
+  increments_at_ = std::numeric_limits<double>::quiet_NaN();
   exponentials_at_ = std::numeric_limits<double>::quiet_NaN();
   work_.resize(2 * n);
   product_.resize(2 * n);
+}
+
+const Eigen::VectorXcd& ExactTrajectory::increments(double s) const {
+  if (s != increments_at_) {
+    const Eigen::VectorXcd& lambda = phase_->eigenvalues();
+    const std::vector<bool>& slow = phase_->slow_modes();
+    increments_.resize(lambda.size());
+    for (Eigen::Index k = 0; k < lambda.size(); ++k) {
+      increments_(k) = slow[static_cast<std::size_t>(k)] ? complex_expm1(lambda(k) * s) : 0.0;
+    }
+    increments_at_ = s;
+  }
+  return increments_;
+}
+
+void ExactTrajectory::add_slow_modal(double s, Eigen::VectorXd& x, Eigen::VectorXd* x_rate) const {
+  const ExactPhase& ph = *phase_;
+  const Eigen::VectorXcd& e = exponentials(s);
+  const Eigen::VectorXcd& d = increments(s);
+  for (Eigen::Index k = 0; k < c_.size(); ++k) work_(k) = (ph.slow_modes()[static_cast<std::size_t>(k)] ? d(k) : e(k)) * c_(k);
+  product_.noalias() = ph.modes() * work_;
+  x += slow_constant_;
+  x += product_.real();
+  if (x_rate != nullptr) {
+    work_ = e.cwiseProduct(c_).cwiseProduct(ph.eigenvalues());
+    product_.noalias() = ph.modes() * work_;
+    *x_rate += product_.real();
+  }
 }
 
 const Eigen::VectorXcd& ExactTrajectory::exponentials(double s) const {
@@ -442,7 +511,9 @@ void ExactTrajectory::evaluate(double s, Eigen::VectorXd& x, Eigen::VectorXd* x_
     x += sine * harmonic_.real() + cosine * harmonic_.imag();
     if (x_rate != nullptr) *x_rate += (w * cosine) * harmonic_.real() - (w * sine) * harmonic_.imag();
   }
-  if (ph.modal()) {
+  if (ph.modal() && !ph.slow_modes().empty()) {
+    add_slow_modal(s, x, x_rate);
+  } else if (ph.modal()) {
     work_ = exponentials(s).cwiseProduct(c_);
     product_.noalias() = ph.modes() * work_;
     x += product_.real();

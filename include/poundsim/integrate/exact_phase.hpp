@@ -51,7 +51,7 @@
 /// with λ = 0; the coefficients of the columns in J are zero. The guards, the energy integrals
 /// and the propagator then take the phase as any modal one, with the polynomial part (degree ≤ 3
 /// in q, ≤ 2 in q̇; the propagator gains s A(I − P)). A singular phase whose rigid modes cannot be
-/// told apart (RigidModeTolerances), or whose remaining modes are ill-conditioned, uses the matrix
+/// told apart (ExactPhaseTolerances), or whose remaining modes are ill-conditioned, uses the matrix
 /// exponential with the same polynomial.
 
 #include <array>
@@ -70,6 +70,13 @@
 
 namespace poundsim {
 
+/// e^z − 1 without the cancellation of e^z − 1 for small |z|: Re = expm1(x) cos y − 2 sin²(y/2),
+/// Im = e^x sin y.
+[[nodiscard]] inline std::complex<double> complex_expm1(std::complex<double> z) {
+  const double x = z.real(), y = z.imag(), half = std::sin(0.5 * y);
+  return {std::expm1(x) * std::cos(y) - 2 * half * half, std::exp(x) * std::sin(y)};
+}
+
 /// e^z for finite z with z.real() ≤ 709, bit for bit what std::exp(std::complex<double>) returns
 /// (glibc's cexp: e^x cos y + i e^x sin y through sincos), without its classification of every
 /// special case — a third of the guard search's time went there. Other z go to std::exp.
@@ -86,26 +93,31 @@ namespace poundsim {
   return {magnitude * cosine, magnitude * sine};
 }
 
-/// How a singular phase's rigid-body modes are told from its slow ones (see the file comment).
-/// K and C are taken mass-normalised, M^{-1/2} K M^{-1/2} and M^{-1/2} C M^{-1/2}.
-struct RigidModeTolerances {
+/// The thresholds of ExactPhase's decomposition (see the file comment). K and C are taken
+/// mass-normalised, M^{-1/2} K M^{-1/2} and M^{-1/2} C M^{-1/2}.
+struct ExactPhaseTolerances {
   /// An eigenvalue ω² of K at most this times its largest is a rigid-body mode. A zero stiffness
   /// is computed as a few ε of the largest ω² (the sums of storey stiffnesses round), so the
   /// threshold sits well above round-off: ω ≤ 1e-6 ω_max.
-  double stiffness = 1e-12;
+  double rigid_stiffness = 1e-12;
   /// A rigid-body mode whose damping rate (an eigenvalue of C on those modes) is at most this
   /// times the phase's largest rate (ω_max or C's largest) is undamped: a Jordan pair.
-  double damping = 1e-12;
+  double rigid_damping = 1e-12;
   /// The kernel of PA is computed as eigenvalues within a few ε of its spectral radius; those up
   /// to this fraction of it are taken as that kernel, and must be as many as its exact basis.
   double kernel = 1e-8;
+  /// A mode with |λ| h at most this (h the phase's step, LinearPhase::step) is slow: its
+  /// coefficient |c| ~ |ċ|/|λ| dwarfs its motion over a step, ε|c| in absolute terms, so it is
+  /// summed as c (e^{λs} − 1) with the constant c apart (see slow_modes()). Above it the loss,
+  /// ε/(|λ| h) of a step's motion, is below 2e-13.
+  double slow_mode = 1e-3;
 };
 
 class ExactPhase {
  public:
   /// Builds A and its eigen-decomposition; when that fails or its modes are ill-conditioned, the
   /// phase uses the matrix exponential instead (modal() is false).
-  explicit ExactPhase(const LinearPhase& phase, const RigidModeTolerances& rigid = {});
+  explicit ExactPhase(const LinearPhase& phase, const ExactPhaseTolerances& tolerances = {});
 
   [[nodiscard]] Eigen::Index groups() const { return n_; }
   [[nodiscard]] const Eigen::MatrixXd& matrix() const { return a_; }
@@ -140,6 +152,12 @@ class ExactPhase {
   void absorb_rigid_motion(Eigen::VectorXd& r, Eigen::VectorXd& p0, Eigen::VectorXd& p1) const;
   /// The modes whose coefficients are zero by construction (the columns of V in J).
   [[nodiscard]] const std::vector<Eigen::Index>& jordan_columns() const { return jordan_columns_; }
+  /// slow_modes()[k]: mode k is slow (ExactPhaseTolerances::slow_mode; a floor on a storey of
+  /// 1e-12 N/m: |λ| = 1e-6 rad/s). Its term V c e^{λs} would carry ε|V c| ~ ε|q̇|/|λ| of
+  /// round-off, far more than its motion: it is taken as V c + V c (e^{λs} − 1), the constant
+  /// with the segment's (ExactTrajectory::slow_constant) and the increment from expm1. Empty
+  /// when no mode is slow (modal path only).
+  [[nodiscard]] const std::vector<bool>& slow_modes() const { return slow_; }
   /// A⁻¹ e.
   [[nodiscard]] const Eigen::VectorXd& ground_response() const { return a_inv_e_; }
   /// Φ(s) = e^{As} = ∂x(t₀+s)/∂x(t₀): the forcing enters only the particular solution, so the
@@ -194,6 +212,7 @@ class ExactPhase {
   Eigen::MatrixXd rigid_;          ///< N, the undamped rigid-body modes (modal path)
   Eigen::MatrixXd rigid_weights_;  ///< NᵀM: (I − P) x = [N NᵀM q; N NᵀM q̇]
   std::vector<Eigen::Index> jordan_columns_;
+  std::vector<bool> slow_;
   mutable Eigen::VectorXd rigid_work_, rigid_part_;  // absorb_rigid_motion's, sized once
   /// A(I − P) r for the columns r.
   [[nodiscard]] Eigen::MatrixXd rigid_rate(const Eigen::MatrixXd& r) const;
@@ -255,6 +274,13 @@ class ExactTrajectory {
   [[nodiscard]] double omega() const { return piece_.kind == ForcingPiece::Kind::harmonic ? piece_.omega : 0.0; }
   /// Modal coordinates c (modal path).
   [[nodiscard]] const Eigen::VectorXcd& modal_coefficients() const { return c_; }
+  /// The slow modes' part of x(t₀) − x_p(0), Σ_slow V_k c_k, as r₀ less the other modes' (so
+  /// without the slow ones' round-off): a constant of x(s) (ExactPhase::slow_modes). Empty when
+  /// the phase has no slow modes.
+  [[nodiscard]] const Eigen::VectorXd& slow_constant() const { return slow_constant_; }
+  /// e^{λ_k s} − 1 of the slow modes (0 for the others), accurate for small |λs|; kept for the
+  /// last s like exponentials().
+  [[nodiscard]] const Eigen::VectorXcd& increments(double s) const;
   /// x(t₀) − x_p(0) (both paths).
   [[nodiscard]] const Eigen::VectorXd& homogeneous_start() const { return r0_; }
 
@@ -262,15 +288,18 @@ class ExactTrajectory {
   const ExactPhase* phase_ = nullptr;
   double t0_ = 0.0;
   ForcingPiece piece_;
-  Eigen::VectorXd xc_, beta_, quadratic_, cubic_, r0_;
+  Eigen::VectorXd xc_, beta_, quadratic_, cubic_, r0_, slow_constant_;
   Eigen::VectorXd load_, particular_start_, solved_;  // start()'s work vectors
   Eigen::VectorXcd scaled_start_;                     // D⁻¹ r₀, for the modal coordinates
   std::array<Eigen::VectorXd, 4> polynomial_work_;
   Eigen::VectorXcd harmonic_, c_;
   void evaluate(double s, Eigen::VectorXd& x, Eigen::VectorXd* x_rate) const;
 
-  mutable Eigen::VectorXcd work_, product_, exponentials_;
+  mutable Eigen::VectorXcd work_, product_, exponentials_, increments_;
   mutable double exponentials_at_ = std::numeric_limits<double>::quiet_NaN();
+  mutable double increments_at_ = std::numeric_limits<double>::quiet_NaN();
+  /// The modal part of x(s) (and of its rate) with the slow modes apart.
+  void add_slow_modal(double s, Eigen::VectorXd& x, Eigen::VectorXd* x_rate) const;
 };
 
 }  // namespace poundsim
