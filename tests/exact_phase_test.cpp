@@ -220,6 +220,83 @@ TEST(ExactPhase, PiecewiseLinearRecordRestartsAtEverySample) {
   EXPECT_LT(worst, 1e-12 * scale);
 }
 
+// A floor held by nothing (no storey spring; no dashpot, or one) beside a damped 2-storey frame,
+// the gap between them open. Undamped, the floor is a defective zero eigenvalue of A (a Jordan
+// pair, [0; N] ↦ [N; 0]), which no sum of exponentials represents and which the eigen-solver's
+// modes cannot span; the modal path splits it off into the particular polynomial. Damped, it is a
+// simple zero eigenvalue. Either way the phase stays modal: the floor follows its closed form, the
+// frame moves as it does alone, and the propagator (with its s A(I − P) term) is e^{As}.
+TEST(ExactPhase, AFloorHeldByNothingStaysOnTheModalPath) {
+  Frame frame = make_uniform_frame(2, 1.5, 900.0, 2.0, "frame");
+  frame.damping[1] = 0.3;
+  const Model alone = make_model({frame}, GapProperties{});
+  const DofLayout alone_layout(alone);
+  const LinearPhase alone_phase(alone, alone_layout, {}, 1e-3);
+  const ExactPhase frame_only(alone_phase);
+  ASSERT_TRUE(frame_only.modal());
+  ASSERT_FALSE(frame_only.singular());
+  for (const double damping : {0.0, 0.8}) {
+    const double mass = 2.0, rate = damping / mass;  // γ = c/m of the floor
+    const Model model = make_model({frame, make_uniform_frame(1, mass, 0.0, damping, "free")},
+                                   GapProperties{.gap = 1.0, .restitution = 0.5});
+    const DofLayout layout(model);
+    const LinearPhase phase(model, layout, ContactConfiguration(1, PaperGap::link_mode(GapMode::open)), 1e-3);
+    ASSERT_TRUE(phase.is_unreduced());
+    const ExactPhase exact(phase);
+    EXPECT_TRUE(exact.singular());
+    ASSERT_TRUE(exact.modal()) << damping;
+    EXPECT_EQ(exact.rigid_modes().cols(), damping == 0.0 ? 1 : 0);
+    EXPECT_EQ(exact.jordan_columns().size(), damping == 0.0 ? 2u : 0u);
+    for (const double s : {0.05, 0.37, 1.9}) {
+      // (e^{As} itself, by scaling and squaring, is good to a few 1e-12 here.)
+      const Eigen::MatrixXd reference = (exact.matrix() * s).exp();
+      EXPECT_LT((exact.propagator(s) - reference).norm(), 1e-11 * reference.norm()) << damping << ' ' << s;
+      const Eigen::MatrixXd r = Eigen::MatrixXd::Random(6, 3);
+      ExactPhase::Projection projected;
+      exact.project_modes(r, projected);
+      Eigen::MatrixXd out;
+      exact.propagate_projected(s, projected, out);
+      EXPECT_LT((out - reference * r).norm(), 1e-11 * (reference * r).norm()) << damping << ' ' << s;
+    }
+    // Floors level by level (DofLayout): frame's first, free, frame's second; then velocities.
+    Eigen::VectorXd x0(6), frame_x0(4);
+    x0 << 0.004, -0.02, 0.012, 0.2, 0.7, -0.3;
+    frame_x0 << x0(0), x0(2), x0(3), x0(5);
+    const double t0 = 0.7, q0 = x0(1), v0 = x0(4);
+    const ForcingPiece linear{.kind = ForcingPiece::Kind::linear, .start = 0.2, .end = 5.0, .value = 1.1, .slope = -3.0};
+    const ForcingPiece harmonic{.kind = ForcingPiece::Kind::harmonic, .start = 0.0, .end = 1e9, .amplitude = 2.0, .omega = 17.0};
+    // The floor under a_g: q̈ = −γq̇ − a_g, in closed form.
+    const auto floor = [&](const ForcingPiece& piece, double s) -> std::pair<double, double> {
+      if (piece.kind == ForcingPiece::Kind::linear) {
+        const double a0 = piece.at(t0), a1 = piece.slope;
+        if (rate == 0.0) return {q0 + v0 * s - a0 * s * s / 2 - a1 * s * s * s / 6, v0 - a0 * s - a1 * s * s / 2};
+        const double b = -a1 / rate, c = (-a0 - b) / rate, decay = std::exp(-rate * s);
+        return {q0 + c * s + b * s * s / 2 + (v0 - c) * (1 - decay) / rate, c + b * s + (v0 - c) * decay};
+      }
+      if (rate != 0.0) return {std::nan(""), std::nan("")};  // (the damped floor: linear piece only)
+      const double w = piece.omega, a = piece.amplitude, start = w * t0, now = w * (t0 + s);
+      return {q0 + v0 * s + a / w * ((std::sin(now) - std::sin(start)) / w - std::cos(start) * s),
+              v0 + a / w * (std::cos(now) - std::cos(start))};
+    };
+    for (const ForcingPiece* piece : {&linear, &harmonic}) {
+      if (rate != 0.0 && piece == &harmonic) continue;
+      ExactTrajectory trajectory, reference;
+      trajectory.start(exact, phase.mass(), phase.constant_load(), t0, x0, *piece);
+      reference.start(frame_only, alone_phase.mass(), alone_phase.constant_load(), t0, frame_x0, *piece);
+      Eigen::VectorXd x, x_rate, y, y_rate;
+      for (const double s : {0.0, 0.013, 0.37, 2.5}) {
+        trajectory.evaluate(s, x, x_rate);
+        reference.evaluate(s, y, y_rate);
+        const auto [q, v] = floor(*piece, s);
+        EXPECT_NEAR(x(1), q, 1e-13 * (1 + std::abs(q))) << damping << ' ' << s;
+        EXPECT_NEAR(x(4), v, 1e-13 * (1 + std::abs(v))) << damping << ' ' << s;
+        const Eigen::Vector4d frame_x(x(0), x(2), x(3), x(5));
+        EXPECT_LT((frame_x - y).norm(), 1e-12 * (1 + y.norm())) << damping << ' ' << s;
+      }
+    }
+  }
+}
+
 // The steady state under harmonic forcing with complex modes is checked against the closed form
 // by Verification.ExactSteadyStateMatchesTheClosedForm (the same check `poundsim verify` prints).
 

@@ -36,6 +36,24 @@ Complex phi1(Complex z, Complex exp_z) {
   return sum;
 }
 
+/// φ₁(z) … φ₄(z) from e^z, by the same rule (for the cubic moments alone: phi's φ₁ … φ₃ keep
+/// their own operations).
+std::array<Complex, 4> phi_to_4(Complex z, Complex exp_z) {
+  const double r2 = std::norm(z);
+  if (r2 >= 4.0) {
+    const Complex p1 = (exp_z - 1.0) / z;
+    const Complex p2 = (p1 - 1.0) / z;
+    const Complex p3 = (p2 - 0.5) / z;
+    return {p1, p2, p3, (p3 - 1.0 / 6.0) / z};
+  }
+  const int terms = series_terms(r2);
+  Complex p4 = inverse_factorials[static_cast<std::size_t>(terms + 4)];
+  for (int j = terms - 1; j >= 0; --j) p4 = p4 * z + inverse_factorials[static_cast<std::size_t>(j + 4)];
+  const Complex p3 = 1.0 / 6.0 + z * p4;
+  const Complex p2 = 0.5 + z * p3;
+  return {1.0 + z * p2, p2, p3, p4};
+}
+
 /// φ₁(z), φ₂(z), φ₃(z) from e^z, by the same rule.
 std::array<Complex, 3> phi(Complex z, Complex exp_z) {
   const double r2 = std::norm(z);
@@ -56,6 +74,11 @@ std::array<Complex, 3> phi(Complex z, Complex exp_z) {
 ///     ∫_a^b s^d e^{μs} ds = e^{μa} Σ_{l≤d} C(d,l) (−1)^l b^{d−l} l! h^{l+1} φ_{l+1}(μh).
 Complex moment(int degree, Complex mu, double a, double h, Complex exp_mu_a, Complex exp_mu_h) {
   if (degree == 0) return exp_mu_a * (h * phi1(mu * h, exp_mu_h));
+  if (degree == 3) {
+    const auto [p1, p2, p3, p4] = phi_to_4(mu * h, exp_mu_h);
+    const double b = a + h;
+    return exp_mu_a * (b * b * b * h * p1 - 3 * b * b * h * h * p2 + 6 * b * h * h * h * p3 - 6 * h * h * h * h * p4);
+  }
   const auto [p1, p2, p3] = phi(mu * h, exp_mu_h);
   const double b = a + h;
   if (degree == 1) return exp_mu_a * (b * h * p1 - h * h * p2);
@@ -87,9 +110,12 @@ void ExactPowerIntegrals::start(const ExactTrajectory& trajectory) {
   const double omega = harmonic ? piece.omega : 0.0;
   c_ = trajectory.modal_coefficients();
 
-  // The terms of q̇ that are not modes: u₀, s u₁ and, on a harmonic piece, Im(z e^{iω̄s}) =
-  // (z e^{iω̄s} − z̄ e^{−iω̄s}) / 2i with z = h_v e^{iω̄t₀}.
-  const Eigen::Index extras = harmonic ? 4 : 2;
+  // The terms of q̇ that are not modes: u₀, s u₁, on a singular phase s² u₂ and, on a harmonic
+  // piece, Im(z e^{iω̄s}) = (z e^{iω̄s} − z̄ e^{−iω̄s}) / 2i with z = h_v e^{iω̄t₀}. u₂ lies in the
+  // undamped rigid modes (exact_phase.hpp: p₂ is in the generalised kernel of A, whose velocities
+  // are N), so C u₂ = 0: it enters the input alone. q̇'s s³ term is zero (p₃ is in A's kernel).
+  const Eigen::Index polynomial = phase_->singular() ? 3 : 2;
+  const Eigen::Index extras = polynomial + (harmonic ? 2 : 0);
   const int one = static_cast<int>(modes), plus = one + 1, minus = one + 2;  // factor ids
   Eigen::MatrixXcd& x = extra_terms_;
   x.resize(n, extras);
@@ -99,15 +125,22 @@ void ExactPowerIntegrals::start(const ExactTrajectory& trajectory) {
   extra_degree_.assign(static_cast<std::size_t>(extras), 0);
   extra_factor_.assign(static_cast<std::size_t>(extras), one);
   extra_degree_[1] = 1;
-  if (harmonic) {
-    const Complex rotation = std::exp(Complex(0.0, omega * trajectory.start_time()));
-    x.col(2) = trajectory.harmonic_part().tail(n) * (rotation / Complex(0.0, 2.0));
-    x.col(3) = x.col(2).conjugate();
-    extra_mu_[2] = Complex(0.0, omega);
-    extra_mu_[3] = Complex(0.0, -omega);
-    extra_factor_[2] = plus;
-    extra_factor_[3] = minus;
+  if (polynomial == 3) {
+    x.col(2) = trajectory.quadratic_part().tail(n).cast<Complex>();
+    extra_degree_[2] = 2;
   }
+  if (harmonic) {
+    const Eigen::Index h = polynomial;
+    const auto uh = static_cast<std::size_t>(h);
+    const Complex rotation = std::exp(Complex(0.0, omega * trajectory.start_time()));
+    x.col(h) = trajectory.harmonic_part().tail(n) * (rotation / Complex(0.0, 2.0));
+    x.col(h + 1) = x.col(h).conjugate();
+    extra_mu_[uh] = Complex(0.0, omega);
+    extra_mu_[uh + 1] = Complex(0.0, -omega);
+    extra_factor_[uh] = plus;
+    extra_factor_[uh + 1] = minus;
+  }
+  const auto undamped = [&](Eigen::Index e) { return extra_degree_[static_cast<std::size_t>(e)] == 2; };
 
   const auto w = phase_->modes().bottomRows(n);
   const auto cross = [&](const Eigen::MatrixXd& form, Eigen::MatrixXcd& with_modes, Eigen::MatrixXcd& among) {
@@ -121,12 +154,14 @@ void ExactPowerIntegrals::start(const ExactTrajectory& trajectory) {
 
   terms_.clear();
   for (Eigen::Index e = 0; e < extras; ++e) {
+    if (undamped(e)) continue;  // no dashpot power
     const auto ue = static_cast<std::size_t>(e);
     for (Eigen::Index k = 0; k < modes; ++k) {
       terms_.push_back({lambda(k) + extra_mu_[ue], extra_degree_[ue], static_cast<int>(k), extra_factor_[ue],
                         2.0 * cross_storey_(e, k) * c_(k), 2.0 * cross_gap_(e, k) * c_(k), 0.0});
     }
     for (Eigen::Index f = 0; f <= e; ++f) {
+      if (undamped(f)) continue;
       const auto uf = static_cast<std::size_t>(f);
       const double twice = e == f ? 1.0 : 2.0;
       terms_.push_back({extra_mu_[ue] + extra_mu_[uf], extra_degree_[ue] + extra_degree_[uf], extra_factor_[ue],
@@ -181,16 +216,21 @@ void ExactPowerIntegrals::factors(double a, double h) const {
 
 namespace {
 /// p_l = l! h^{l+1} φ_{l+1}(μh), l = 0 … degree (the rest 0).
-std::array<Complex, 3> step_weights(int degree, Complex mu, double h, Complex exp_mu_h) {
-  if (degree == 0) return {h * phi1(mu * h, exp_mu_h), 0.0, 0.0};
+std::array<Complex, 4> step_weights(int degree, Complex mu, double h, Complex exp_mu_h) {
+  if (degree == 0) return {h * phi1(mu * h, exp_mu_h), 0.0, 0.0, 0.0};
+  if (degree == 3) {
+    const auto [p1, p2, p3, p4] = phi_to_4(mu * h, exp_mu_h);
+    return {h * p1, h * h * p2, 2 * h * h * h * p3, 6 * h * h * h * h * p4};
+  }
   const auto [p1, p2, p3] = phi(mu * h, exp_mu_h);
-  return {h * p1, h * h * p2, 2 * h * h * h * p3};
+  return {h * p1, h * h * p2, 2 * h * h * h * p3, 0.0};
 }
 
 /// ∫_a^b s^d e^{μs} ds from e^{μa} and the step weights (moment() above, with b = a + h).
-Complex from_weights(int degree, double b, Complex exp_mu_a, const std::array<Complex, 3>& p) {
+Complex from_weights(int degree, double b, Complex exp_mu_a, const std::array<Complex, 4>& p) {
   if (degree == 0) return exp_mu_a * p[0];
   if (degree == 1) return exp_mu_a * (b * p[0] - p[1]);
+  if (degree == 3) return exp_mu_a * (b * b * b * p[0] - 3 * b * b * p[1] + 3 * b * p[2] - p[3]);
   return exp_mu_a * (b * b * p[0] - 2 * b * p[1] + p[2]);
 }
 }  // namespace

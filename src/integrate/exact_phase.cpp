@@ -1,5 +1,6 @@
 #include "poundsim/integrate/exact_phase.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Eigenvalues>
@@ -17,6 +18,122 @@ constexpr double kMinModeConditioning = 1e-5;
 /// Below this rcond(A) the phase is taken as singular (a rigid-body mode): its A⁻¹ would carry
 /// round-off amplified beyond 1e-4.
 constexpr double kMinInverseConditioning = 1e-12;
+
+/// rcond(Â) ≤ kMinInverseConditioning, proven by a pivot or estimated. Eigen's estimate alone
+/// is not enough: on an exactly singular Â (a floor held by neither a spring nor a dashpot, a
+/// zero column) the zero pivot's infinities can leave it at 1, and A⁻¹ then made every state
+/// NaN. With PÂ = LU and |L_ij| ≤ 1, ‖Â⁻¹‖₁ ≥ ‖U⁻¹‖₁/‖L‖₁ ≥ 1/(size · min|u_ii|), so
+/// rcond₁(Â) ≤ size · min|u_ii| / ‖Â‖₁: a small pivot proves the phase singular.
+bool is_singular(const Eigen::MatrixXd& balanced) {
+  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(balanced);
+  const double size = static_cast<double>(balanced.rows());
+  const double norm = balanced.cwiseAbs().colwise().sum().maxCoeff();
+  const double least_pivot = lu.matrixLU().diagonal().cwiseAbs().minCoeff();
+  if (!(size * least_pivot > kMinInverseConditioning * norm)) return true;
+  return !(lu.rcond() > kMinInverseConditioning);
+}
+
+/// K's null space N_K, mass-normalised (NᵀMN = I), split into the modes C also annihilates
+/// (undamped: the Jordan pairs) and the rest (damped). `found` is false when K or C is not
+/// symmetric (the invariant splitting of exact_phase.hpp needs NᵀK = NᵀC = 0) or K has no null
+/// space within the tolerances.
+struct RigidModes {
+  Eigen::MatrixXd undamped, damped;
+  bool found = false;
+};
+
+bool symmetric(const Eigen::MatrixXd& m) {
+  return (m - m.transpose()).cwiseAbs().maxCoeff() <= 16 * std::numeric_limits<double>::epsilon() * m.cwiseAbs().maxCoeff();
+}
+
+RigidModes find_rigid_modes(const LinearPhase& phase, const ExactPhaseTolerances& tolerances) {
+  const Eigen::VectorXd root = phase.mass().cwiseSqrt().cwiseInverse();  // M^{-1/2}
+  const Eigen::MatrixXd k = root.asDiagonal() * Eigen::MatrixXd(phase.stiffness()) * root.asDiagonal();
+  const Eigen::MatrixXd c = root.asDiagonal() * Eigen::MatrixXd(phase.damping()) * root.asDiagonal();
+  RigidModes out;
+  if (!symmetric(k) || !symmetric(c)) return out;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> stiffness(k);  // ascending
+  const double largest = std::max(stiffness.eigenvalues().maxCoeff(), 0.0);
+  Eigen::Index free = 0;
+  while (free < k.rows() && stiffness.eigenvalues()(free) <= tolerances.rigid_stiffness * largest) ++free;
+  if (free == 0) return out;
+  const Eigen::MatrixXd null_space = stiffness.eigenvectors().leftCols(free);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> damping(null_space.transpose() * c * null_space);
+  // Rates of the phase: √ω²_max, and C's largest (its ∞-norm bounds it).
+  const double rate = std::max(std::sqrt(largest), c.cwiseAbs().rowwise().sum().maxCoeff());
+  Eigen::Index undamped = 0;
+  while (undamped < free && damping.eigenvalues()(undamped) <= tolerances.rigid_damping * rate) ++undamped;
+  const Eigen::MatrixXd modes = root.asDiagonal() * (null_space * damping.eigenvectors());
+  out.undamped = modes.leftCols(undamped);
+  out.damped = modes.rightCols(free - undamped);
+  out.found = true;
+  return out;
+}
+
+/// D⁻¹ P A D: the balanced A with the Jordan pairs of the undamped rigid modes N projected out,
+/// P = I − diag(N NᵀM, N NᵀM) (exact_phase.hpp).
+Eigen::MatrixXd projected_balanced(const Eigen::MatrixXd& a, const Eigen::MatrixXd& rigid, const Eigen::VectorXd& mass,
+                                   const Eigen::VectorXd& scale) {
+  const Eigen::Index n = rigid.rows();
+  const Eigen::MatrixXd within = rigid * (rigid.transpose() * mass.asDiagonal());
+  Eigen::MatrixXd projector = Eigen::MatrixXd::Identity(2 * n, 2 * n);
+  projector.topLeftCorner(n, n) -= within;
+  projector.bottomRightCorner(n, n) -= within;
+  return scale.cwiseInverse().asDiagonal() * (projector * a) * scale.asDiagonal();
+}
+
+/// Sets the computed kernel of D⁻¹PAD to its exact basis, balanced and normalised: D⁻¹[N; 0],
+/// D⁻¹[0; N] (the Jordan pairs, listed in `jordan`) and D⁻¹[N_d; 0] (the damped rigid modes),
+/// with λ = 0. False when the eigenvalues within tolerance of zero are not as many as that basis.
+bool set_exact_kernel(const RigidModes& rigid, const Eigen::VectorXd& scale, double tolerance, Eigen::VectorXcd& values,
+                      Eigen::MatrixXcd& vectors, std::vector<Eigen::Index>& jordan) {
+  const Eigen::Index n = rigid.undamped.rows(), r = rigid.undamped.cols(), d = rigid.damped.cols();
+  Eigen::MatrixXd kernel = Eigen::MatrixXd::Zero(2 * n, 2 * r + d);
+  kernel.block(0, 0, n, r) = rigid.undamped;
+  kernel.block(n, r, n, r) = rigid.undamped;
+  kernel.block(0, 2 * r, n, d) = rigid.damped;
+  kernel = scale.cwiseInverse().asDiagonal() * kernel;
+  kernel.colwise().normalize();
+  const double radius = values.cwiseAbs().maxCoeff();
+  std::vector<Eigen::Index> zero;
+  for (Eigen::Index k = 0; k < values.size(); ++k) {
+    if (std::abs(values(k)) <= tolerance * radius) zero.push_back(k);
+  }
+  if (static_cast<Eigen::Index>(zero.size()) != kernel.cols()) return false;
+  for (std::size_t i = 0; i < zero.size(); ++i) {
+    vectors.col(zero[i]) = kernel.col(static_cast<Eigen::Index>(i)).cast<std::complex<double>>();
+    values(zero[i]) = 0.0;
+  }
+  jordan.assign(zero.begin(), zero.begin() + 2 * r);
+  return true;
+}
+
+/// `slow`[k]: |λ_k| h ≤ limit (a conjugate pair shares |λ|, so both or neither); left empty when
+/// no mode is.
+void mark_slow_modes(const Eigen::VectorXcd& lambda, double step, double limit, std::vector<bool>& slow) {
+  slow.assign(static_cast<std::size_t>(lambda.size()), false);
+  bool any = false;
+  for (Eigen::Index k = 0; k < lambda.size(); ++k) {
+    const bool is_slow = std::abs(lambda(k)) * step <= limit;
+    slow[static_cast<std::size_t>(k)] = is_slow;
+    any = any || is_slow;
+  }
+  if (!any) slow.clear();
+}
+
+/// The velocity rows of a slow mode's balanced eigenvector set to what A's first block row
+/// imposes, λ times its displacement rows over D: the eigen-solver gives them to ε of the
+/// vector's norm, while they are |λ|/ω_i of it — a relative error ε ω_i/|λ| (8e-11 for a floor of
+/// 1e-6 N/m in contact at 1e5 N/m), which the energy integrals' velocities V c carried into the
+/// balance. Not the Jordan columns (generalised eigenvectors).
+void tie_slow_velocities(const Eigen::VectorXcd& lambda, const Eigen::VectorXd& scale, const std::vector<bool>& slow,
+                         const std::vector<Eigen::Index>& jordan, Eigen::MatrixXcd& vectors) {
+  const Eigen::Index n = vectors.rows() / 2;
+  for (Eigen::Index k = 0; k < vectors.cols(); ++k) {
+    if (!slow[static_cast<std::size_t>(k)] || std::find(jordan.begin(), jordan.end(), k) != jordan.end()) continue;
+    vectors.col(k).tail(n) = lambda(k) * vectors.col(k).head(n).cwiseQuotient(scale.tail(n).cast<std::complex<double>>());
+  }
+}
 }  // namespace
 
 void ExactPhase::polynomial_particular(const Eigen::VectorXd& c0, const Eigen::VectorXd& c1,
@@ -47,7 +164,7 @@ void ExactPhase::polynomial_particular(const Eigen::VectorXd& c0, const Eigen::V
   for (Eigen::Index k = 0; k < 4; ++k) p[static_cast<std::size_t>(k)] = z.segment(k * m, m);
 }
 
-ExactPhase::ExactPhase(const LinearPhase& phase) : n_(phase.reduced_size()) {
+ExactPhase::ExactPhase(const LinearPhase& phase, const ExactPhaseTolerances& tolerances) : n_(phase.reduced_size()) {
   const Eigen::VectorXd inv_m = phase.mass().cwiseInverse();
   a_ = Eigen::MatrixXd::Zero(2 * n_, 2 * n_);
   a_.topRightCorner(n_, n_).setIdentity();
@@ -71,16 +188,35 @@ ExactPhase::ExactPhase(const LinearPhase& phase) : n_(phase.reduced_size()) {
       scale_.cwiseInverse().asDiagonal() * a_ * scale_.asDiagonal();
   // A rigid-body mode (K singular) makes A singular. Judged balanced: unbalanced, a stiff wall
   // beside a frame (‖A‖ ~ 1e14) has rcond(A) ~ 1e-14 with no rigid mode at all.
-  singular_ = !(Eigen::PartialPivLU<Eigen::MatrixXd>(balanced).rcond() > kMinInverseConditioning);
+  singular_ = is_singular(balanced);
   Eigen::VectorXd e = Eigen::VectorXd::Zero(2 * n_);
   e.tail(n_).setConstant(-1.0);
   if (!singular_) a_inv_e_ = a_lu_.solve(e);
-  const Eigen::EigenSolver<Eigen::MatrixXd> eig(balanced, true);
+  // A singular phase is decomposed without its Jordan pairs (D⁻¹PAD) and its kernel set exactly.
+  const RigidModes rigid = singular_ ? find_rigid_modes(phase, tolerances) : RigidModes{};
+  const Eigen::MatrixXd projected =
+      rigid.found ? projected_balanced(a_, rigid.undamped, phase.mass(), scale_) : Eigen::MatrixXd();
+  const Eigen::EigenSolver<Eigen::MatrixXd> eig(rigid.found ? projected : balanced, true);
   if (eig.info() == Eigen::Success) {
-    lambda_ = eig.eigenvalues();
-    v_lu_.compute(eig.eigenvectors());
-    v_ = scale_.cast<std::complex<double>>().asDiagonal() * eig.eigenvectors();
-    modal_ = v_lu_.rcond() > kMinModeConditioning && !singular_;
+    Eigen::VectorXcd values = eig.eigenvalues();
+    Eigen::MatrixXcd vectors = eig.eigenvectors();
+    const bool exact_kernel =
+        rigid.found && set_exact_kernel(rigid, scale_, tolerances.kernel, values, vectors, jordan_columns_);
+    mark_slow_modes(values, phase.step(), tolerances.slow_mode, slow_);
+    if (!slow_.empty()) tie_slow_velocities(values, scale_, slow_, jordan_columns_, vectors);
+    lambda_ = values;
+    v_lu_.compute(vectors);
+    v_ = scale_.cast<std::complex<double>>().asDiagonal() * vectors;
+    modal_ = v_lu_.rcond() > kMinModeConditioning && (!singular_ || exact_kernel);
+    if (modal_ && exact_kernel) {
+      rigid_ = rigid.undamped;
+      rigid_weights_ = rigid_.transpose() * phase.mass().asDiagonal();
+      rigid_work_.resize(rigid_.cols());
+      rigid_part_.resize(n_);
+    } else {
+      jordan_columns_.clear();
+    }
+    if (!modal_) slow_.clear();
     spectral_radius_ = lambda_.cwiseAbs().maxCoeff();
     conjugate_of_previous_.assign(static_cast<std::size_t>(lambda_.size()), false);
     for (Eigen::Index k = 1; k < lambda_.size(); ++k) {
@@ -103,6 +239,27 @@ ExactPhase::ExactPhase(const LinearPhase& phase) : n_(phase.reduced_size()) {
     log_norm_ = sym.eigenvalues().maxCoeff();
     spectral_radius_ = norm_;
   }
+}
+
+void ExactPhase::absorb_rigid_motion(Eigen::VectorXd& r, Eigen::VectorXd& p0, Eigen::VectorXd& p1) const {
+  if (rigid_.cols() == 0) return;
+  // d = (I − P) r = [N NᵀM r_q; N NᵀM r_v]: the homogeneous motion in J is d + s A d with
+  // A d = [N NᵀM r_v; 0] (K N = C N = 0).
+  for (const bool velocity : {false, true}) {
+    auto part = velocity ? r.tail(n_) : r.head(n_);
+    rigid_work_.noalias() = rigid_weights_ * part;
+    rigid_part_.noalias() = rigid_ * rigid_work_;
+    part -= rigid_part_;
+    (velocity ? p0.tail(n_) : p0.head(n_)) += rigid_part_;
+    if (velocity) p1.head(n_) += rigid_part_;
+  }
+}
+
+Eigen::MatrixXd ExactPhase::rigid_rate(const Eigen::MatrixXd& r) const {
+  // A(I − P) r = [N NᵀM r_v; 0].
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(r.rows(), r.cols());
+  out.topRows(n_) = rigid_ * (rigid_weights_ * r.bottomRows(n_));
+  return out;
 }
 
 void ExactPhase::exponentials(double s, Eigen::VectorXcd& out) const {
@@ -203,10 +360,52 @@ void ExactTrajectory::start(const ExactPhase& phase, const Eigen::VectorXd& mass
     x_p0 += (harmonic_ * std::exp(std::complex<double>(0.0, piece.omega * t0))).imag();
   }
   r0_ = x0 - x_p0;
-  if (phase.modal()) phase.modal_coordinates(r0_, scaled_start_, c_);
+  if (phase.singular()) phase.absorb_rigid_motion(r0_, xc_, beta_);
+  if (phase.modal()) {
+    phase.modal_coordinates(r0_, scaled_start_, c_);
+    for (const Eigen::Index k : phase.jordan_columns()) c_(k) = 0.0;  // (I − P) r₀ = 0
+  }
+  slow_constant_.resize(0);
+  if (phase.modal() && !phase.slow_modes().empty()) {
+    work_ = c_;
+    for (Eigen::Index k = 0; k < c_.size(); ++k) {
+      if (phase.slow_modes()[static_cast<std::size_t>(k)]) work_(k) = 0.0;
+    }
+    product_.noalias() = phase.modes() * work_;
+    slow_constant_ = r0_ - product_.real();
+  }
+  increments_at_ = std::numeric_limits<double>::quiet_NaN();
   exponentials_at_ = std::numeric_limits<double>::quiet_NaN();
   work_.resize(2 * n);
   product_.resize(2 * n);
+}
+
+const Eigen::VectorXcd& ExactTrajectory::increments(double s) const {
+  if (s != increments_at_) {
+    const Eigen::VectorXcd& lambda = phase_->eigenvalues();
+    const std::vector<bool>& slow = phase_->slow_modes();
+    increments_.resize(lambda.size());
+    for (Eigen::Index k = 0; k < lambda.size(); ++k) {
+      increments_(k) = slow[static_cast<std::size_t>(k)] ? complex_expm1(lambda(k) * s) : 0.0;
+    }
+    increments_at_ = s;
+  }
+  return increments_;
+}
+
+void ExactTrajectory::add_slow_modal(double s, Eigen::VectorXd& x, Eigen::VectorXd* x_rate) const {
+  const ExactPhase& ph = *phase_;
+  const Eigen::VectorXcd& e = exponentials(s);
+  const Eigen::VectorXcd& d = increments(s);
+  for (Eigen::Index k = 0; k < c_.size(); ++k) work_(k) = (ph.slow_modes()[static_cast<std::size_t>(k)] ? d(k) : e(k)) * c_(k);
+  product_.noalias() = ph.modes() * work_;
+  x += slow_constant_;
+  x += product_.real();
+  if (x_rate != nullptr) {
+    work_ = e.cwiseProduct(c_).cwiseProduct(ph.eigenvalues());
+    product_.noalias() = ph.modes() * work_;
+    *x_rate += product_.real();
+  }
 }
 
 const Eigen::VectorXcd& ExactTrajectory::exponentials(double s) const {
@@ -221,7 +420,10 @@ Eigen::MatrixXd ExactPhase::propagator(double s) const {
   if (!modal_) return (a_ * s).exp();
   Eigen::VectorXcd e;
   exponentials(s, e);
-  return (v_ * e.asDiagonal() * inverse_modes()).real();
+  Eigen::MatrixXd out = (v_ * e.asDiagonal() * inverse_modes()).real();
+  // The Jordan pairs: V e^{Λs} V⁻¹ keeps (I − P) as it is (λ = 0); e^{As} adds s A(I − P).
+  if (rigid_.cols() > 0) out += s * rigid_rate(Eigen::MatrixXd::Identity(2 * n_, 2 * n_));
+  return out;
 }
 
 const Eigen::MatrixXcd& ExactPhase::inverse_modes() const {
@@ -262,6 +464,11 @@ void ExactPhase::project_modes(const Eigen::MatrixXd& r, Projection& projected) 
   keep_modes();
   projected.real.noalias() = kept_inverse_real_ * r;
   projected.imag.noalias() = kept_inverse_imag_ * r;
+  if (rigid_.cols() > 0) {
+    projected.rigid_rate = rigid_rate(r);
+  } else {
+    projected.rigid_rate.resize(0, 0);
+  }
 }
 
 void ExactPhase::propagate_projected(double s, const Projection& projected, Eigen::MatrixXd& out) const {
@@ -279,6 +486,7 @@ void ExactPhase::propagate_projected(double s, const Projection& projected, Eige
   }
   out.noalias() = kept_real_ * projected_real_;
   out.noalias() -= kept_imag_ * projected_imag_;
+  if (projected.rigid_rate.size() > 0) out += s * projected.rigid_rate;
 }
 
 void ExactTrajectory::evaluate(double s, Eigen::VectorXd& x, Eigen::VectorXd& x_rate) const { evaluate(s, x, &x_rate); }
@@ -303,7 +511,9 @@ void ExactTrajectory::evaluate(double s, Eigen::VectorXd& x, Eigen::VectorXd* x_
     x += sine * harmonic_.real() + cosine * harmonic_.imag();
     if (x_rate != nullptr) *x_rate += (w * cosine) * harmonic_.real() - (w * sine) * harmonic_.imag();
   }
-  if (ph.modal()) {
+  if (ph.modal() && !ph.slow_modes().empty()) {
+    add_slow_modal(s, x, x_rate);
+  } else if (ph.modal()) {
     work_ = exponentials(s).cwiseProduct(c_);
     product_.noalias() = ph.modes() * work_;
     x += product_.real();

@@ -71,6 +71,7 @@ void GuardExpansion::build(const ExactTrajectory& trajectory, const GuardRows& g
   }
   harmonic_.noalias() = guard_rows.complex * trajectory.harmonic_part();
   harmonic_size_ = harmonic_.cwiseAbs();
+  slow_ = phase.modal() && !phase.slow_modes().empty();
   if (phase.modal()) {
     // γ = R V diag(c), taken for the kept modes alone.
     const Eigen::VectorXcd& c = trajectory.modal_coefficients();
@@ -107,10 +108,17 @@ void GuardExpansion::build(const ExactTrajectory& trajectory, const GuardRows& g
   // resolve counts (a pair just bounced off the stop must not "cross" again in the noise of its
   // first femtoseconds).
   constexpr double eps = std::numeric_limits<double>::epsilon();
+  if (slow_) add_slow_constant(trajectory, rows);
   for (Eigen::Index j = 0; j < g; ++j) {
     if (!active_[static_cast<std::size_t>(j)]) continue;
     double size = std::abs(constant_(j)) + std::abs(harmonic_(j)) + std::abs(memory_(j));
-    if (phase.modal()) {
+    if (slow_) {
+      // A slow mode's term γ(e^{λs} − 1) is at most |γ λ| s (Re λ ≤ 0): its round-off grows
+      // from zero, a margin in the slope rather than the constant.
+      const auto [fast, rate] = slow_sizes(j);
+      size += fast;
+      slope_(j) -= 16 * eps * rate;
+    } else if (phase.modal()) {
       size += modal_size_.row(j).sum();  // |γ_jk|, taken once above
     } else {
       size += row_norm_(j) * trajectory.homogeneous_start().norm();
@@ -119,6 +127,24 @@ void GuardExpansion::build(const ExactTrajectory& trajectory, const GuardRows& g
     constant_(j) -= noise;
     start_(j) -= noise;
   }
+}
+
+void GuardExpansion::add_slow_constant(const ExactTrajectory& trajectory, const Eigen::MatrixXd& rows) {
+  // Re Σ_slow γ_jk = R_j Σ_slow V_k c_k: the slow modes' constant, from the trajectory's.
+  constant_.noalias() += rows * trajectory.slow_constant();
+}
+
+std::pair<double, double> GuardExpansion::slow_sizes(Eigen::Index j) const {
+  const ExactPhase& phase = trajectory_->phase();
+  double fast = 0.0, rate = 0.0;
+  for (Eigen::Index k = 0; k < modal_size_.cols(); ++k) {
+    if (phase.slow_modes()[static_cast<std::size_t>(k)]) {
+      rate += modal_size_(j, k) * std::abs(phase.eigenvalues()(k));
+    } else {
+      fast += modal_size_(j, k);
+    }
+  }
+  return {fast, rate};
 }
 
 std::pair<double, double> GuardExpansion::value_and_rate(int j, double s) const {
@@ -147,7 +173,11 @@ std::pair<double, double> GuardExpansion::compute(int j, double s) const {
     g += (harmonic_(j) * rotation).imag();
     d += (harmonic_(j) * Complex(0.0, tr.omega()) * rotation).imag();
   }
-  if (tr.phase().modal()) {
+  if (slow_) {
+    const auto [value, rate] = slow_modal_sum(j, s);
+    g += value;
+    d += rate;
+  } else if (tr.phase().modal()) {
     const Eigen::VectorXcd& lambda = tr.phase().eigenvalues();
     const Eigen::VectorXcd& exponentials = tr.exponentials(s);
     const std::vector<Eigen::Index>& kept = tr.phase().kept_modes();
@@ -168,6 +198,24 @@ std::pair<double, double> GuardExpansion::compute(int j, double s) const {
     d += rows_.row(j).dot(h_rate);
   }
   return {s == 0.0 ? start_(j) : g, d};
+}
+
+std::pair<double, double> GuardExpansion::slow_modal_sum(int j, double s) const {
+  // The slow modes' constants are in constant_: their terms are γ(e^{λs} − 1), by expm1.
+  const ExactTrajectory& tr = *trajectory_;
+  const Eigen::VectorXcd& lambda = tr.phase().eigenvalues();
+  const Eigen::VectorXcd& exponentials = tr.exponentials(s);
+  const Eigen::VectorXcd& increments = tr.increments(s);
+  const std::vector<Eigen::Index>& kept = tr.phase().kept_modes();
+  const std::vector<bool>& slow = tr.phase().slow_modes();
+  Complex sum = 0.0, sum_rate = 0.0;
+  for (std::size_t i = 0; i < kept.size(); ++i) {
+    const Eigen::Index k = kept[i];
+    const Complex gamma = kept_modal_(j, static_cast<Eigen::Index>(i));
+    sum += gamma * (slow[static_cast<std::size_t>(k)] ? increments(k) : exponentials(k));
+    sum_rate += lambda(k) * gamma * exponentials(k);
+  }
+  return {sum.real(), sum_rate.real()};
 }
 
 double GuardExpansion::derivative_bound(int j, int order, double a, double b) const {

@@ -70,6 +70,8 @@ class LinearPhase {
   LinearPhase& operator=(const LinearPhase&) = delete;
 
   [[nodiscard]] Eigen::Index reduced_size() const { return mass_.size(); }
+  /// The Newmark step h given at construction [s].
+  [[nodiscard]] double step() const { return step_; }
   /// True when no element is locked (T = I, o = 0).
   [[nodiscard]] bool is_unreduced() const { return unreduced_; }
 

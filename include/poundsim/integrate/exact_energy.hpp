@@ -8,10 +8,11 @@
 ///     q̇(s) = u₀ + s u₁ + Σ_k g_k e^{μ_k s},
 ///
 /// the g_k e^{μ_k s} being the modes (g_k = V_k c_k, μ_k = λ_k, the velocity rows of V) and, on a
-/// harmonic piece, the two halves of Im(h e^{iω̄(t₀+s)}). The powers the energy balance integrates
-/// (energy.hpp) are quadratic in q̇ (storey and gap dashpots, q̇ᵀ C q̇) or bilinear in a_g and q̇
-/// (ground input, −a_g m_rᵀ q̇, with a_g linear in s or a sine), so each is a finite sum of
-/// s^d e^{μs} with d ≤ 2, and
+/// harmonic piece, the two halves of Im(h e^{iω̄(t₀+s)}); a singular phase adds s² u₂, the motion of
+/// its undamped rigid-body modes under a ground ramp, which no dashpot resists (C u₂ = 0). The
+/// powers the energy balance integrates (energy.hpp) are quadratic in q̇ (storey and gap dashpots,
+/// q̇ᵀ C q̇) or bilinear in a_g and q̇ (ground input, −a_g m_rᵀ q̇, with a_g linear in s or a sine),
+/// so each is a finite sum of s^d e^{μs} with d ≤ 2 (d = 3 for the input with u₂), and
 ///
 ///     ∫_a^b s^d e^{μs} ds = e^{μa} Σ_{l≤d} C(d,l) (−1)^l b^{d−l} l! h^{l+1} φ_{l+1}(μh),  h = b − a,
 ///     φ_k(z) = Σ_j z^j / (j+k)!   (φ₁(z) = (e^z − 1)/z, ...).
@@ -35,7 +36,7 @@
 
 namespace poundsim {
 
-/// ∫ s^d e^{μs} ds over [a, a + h] for d = 0, 1, 2, accurate also for μh → 0. Exposed for tests.
+/// ∫ s^d e^{μs} ds over [a, a + h] for d = 0 … 3, accurate also for μh → 0. Exposed for tests.
 [[nodiscard]] std::complex<double> exponential_moment(int degree, std::complex<double> mu, double a,
                                                       double h);
 
@@ -84,7 +85,7 @@ class ExactPowerIntegrals {
   void weigh(double h) const;
   mutable double cached_step_ = -1.0, last_step_ = -1.0;
   mutable Eigen::MatrixXcd weighted_storey_, weighted_gap_;
-  mutable std::vector<std::array<Complex, 3>> term_weights_;
+  mutable std::vector<std::array<Complex, 4>> term_weights_;
   std::pair<double, std::size_t> signature_{-1.0, 0};
 
   mutable Eigen::VectorXcd start_factor_, step_factor_, advanced_, product_;

@@ -33,8 +33,26 @@
 ///     A p₀ − p₁ = −c₀,   A p₁ − 2p₂ = −c₁,   A p₂ − 3p₃ = 0,   A p₃ = 0
 ///
 /// for the forcing c₀ + c₁s, solved once per phase by a complete orthogonal decomposition of that
-/// block system (singular() phases use the matrix exponential: their zero eigenvalue is
-/// defective or its energy integrals would need the polynomial).
+/// block system.
+///
+/// A rigid-body mode N (K N = 0, mass-normalised NᵀMN = I) held by a dashpot (C N ≠ 0) is a simple
+/// zero eigenvalue, and the modes stay a basis. One held by nothing (C N = 0 too: an undamped
+/// storey that yields with no post-yield stiffness, or a floor without springs or dashpots) makes
+/// zero a defective eigenvalue: A [0; N] = [N; 0], a Jordan block whose motion [N(α + α̇s); Nα̇]
+/// is a polynomial, which no sum of exponentials represents. Those pairs are split off exactly:
+/// J = span{[N; 0], [0; N]} and its complement {[q; v]: NᵀMq = NᵀMv = 0} are both invariant under
+/// A (NᵀK = NᵀC = 0), so with P the projection on the complement along J
+///
+///     x(t₀ + s) = x_p(s) + Re(V e^{Λs} c),   (I − P)(x(t₀) − x_p(0)) = 0,
+///
+/// the particular polynomial carrying the whole motion in J (its homogeneous part, (I − P)r₀ +
+/// s A(I − P)r₀, added to p₀ and p₁), and V, Λ the modes of PA — A on the complement, zero on J —
+/// whose kernel, span{[N_K; 0], [0; N]} (N_K all of K's null space), is set to its exact basis
+/// with λ = 0; the coefficients of the columns in J are zero. The guards, the energy integrals
+/// and the propagator then take the phase as any modal one, with the polynomial part (degree ≤ 3
+/// in q, ≤ 2 in q̇; the propagator gains s A(I − P)). A singular phase whose rigid modes cannot be
+/// told apart (ExactPhaseTolerances), or whose remaining modes are ill-conditioned, uses the matrix
+/// exponential with the same polynomial.
 
 #include <array>
 #include <cmath>
@@ -52,6 +70,13 @@
 
 namespace poundsim {
 
+/// e^z − 1 without the cancellation of e^z − 1 for small |z|: Re = expm1(x) cos y − 2 sin²(y/2),
+/// Im = e^x sin y.
+[[nodiscard]] inline std::complex<double> complex_expm1(std::complex<double> z) {
+  const double x = z.real(), y = z.imag(), half = std::sin(0.5 * y);
+  return {std::expm1(x) * std::cos(y) - 2 * half * half, std::exp(x) * std::sin(y)};
+}
+
 /// e^z for finite z with z.real() ≤ 709, bit for bit what std::exp(std::complex<double>) returns
 /// (glibc's cexp: e^x cos y + i e^x sin y through sincos), without its classification of every
 /// special case — a third of the guard search's time went there. Other z go to std::exp.
@@ -68,11 +93,31 @@ namespace poundsim {
   return {magnitude * cosine, magnitude * sine};
 }
 
+/// The thresholds of ExactPhase's decomposition (see the file comment). K and C are taken
+/// mass-normalised, M^{-1/2} K M^{-1/2} and M^{-1/2} C M^{-1/2}.
+struct ExactPhaseTolerances {
+  /// An eigenvalue ω² of K at most this times its largest is a rigid-body mode. A zero stiffness
+  /// is computed as a few ε of the largest ω² (the sums of storey stiffnesses round), so the
+  /// threshold sits well above round-off: ω ≤ 1e-6 ω_max.
+  double rigid_stiffness = 1e-12;
+  /// A rigid-body mode whose damping rate (an eigenvalue of C on those modes) is at most this
+  /// times the phase's largest rate (ω_max or C's largest) is undamped: a Jordan pair.
+  double rigid_damping = 1e-12;
+  /// The kernel of PA is computed as eigenvalues within a few ε of its spectral radius; those up
+  /// to this fraction of it are taken as that kernel, and must be as many as its exact basis.
+  double kernel = 1e-8;
+  /// A mode with |λ| h at most this (h the phase's step, LinearPhase::step) is slow: its
+  /// coefficient |c| ~ |ċ|/|λ| dwarfs its motion over a step, ε|c| in absolute terms, so it is
+  /// summed as c (e^{λs} − 1) with the constant c apart (see slow_modes()). Above it the loss,
+  /// ε/(|λ| h) of a step's motion, is below 2e-13.
+  double slow_mode = 1e-3;
+};
+
 class ExactPhase {
  public:
   /// Builds A and its eigen-decomposition; when that fails or its modes are ill-conditioned, the
   /// phase uses the matrix exponential instead (modal() is false).
-  explicit ExactPhase(const LinearPhase& phase);
+  explicit ExactPhase(const LinearPhase& phase, const ExactPhaseTolerances& tolerances = {});
 
   [[nodiscard]] Eigen::Index groups() const { return n_; }
   [[nodiscard]] const Eigen::MatrixXd& matrix() const { return a_; }
@@ -97,6 +142,22 @@ class ExactPhase {
   /// comment). Throws SimulationError when the block system has no solution.
   void polynomial_particular(const Eigen::VectorXd& c0, const Eigen::VectorXd& c1,
                              std::array<Eigen::VectorXd, 4>& p) const;
+  /// The undamped rigid-body modes N (n × r, NᵀMN = I) split off as Jordan pairs on the modal
+  /// path (see the file comment; no columns otherwise).
+  [[nodiscard]] const Eigen::MatrixXd& rigid_modes() const { return rigid_; }
+  /// For r = x(t₀) − x_p(0) of a segment: moves its part in the Jordan pairs, d = (I − P) r, to
+  /// p₀ and d's rate A d = [N NᵀM d_v; 0] to p₁, so that the particular polynomial carries the
+  /// rigid motion and the modes none of it. Nothing when rigid_modes() is empty.
+  /// r loses d (r = P r after).
+  void absorb_rigid_motion(Eigen::VectorXd& r, Eigen::VectorXd& p0, Eigen::VectorXd& p1) const;
+  /// The modes whose coefficients are zero by construction (the columns of V in J).
+  [[nodiscard]] const std::vector<Eigen::Index>& jordan_columns() const { return jordan_columns_; }
+  /// slow_modes()[k]: mode k is slow (ExactPhaseTolerances::slow_mode; a floor on a storey of
+  /// 1e-12 N/m: |λ| = 1e-6 rad/s). Its term V c e^{λs} would carry ε|V c| ~ ε|q̇|/|λ| of
+  /// round-off, far more than its motion: it is taken as V c + V c (e^{λs} − 1), the constant
+  /// with the segment's (ExactTrajectory::slow_constant) and the increment from expm1. Empty
+  /// when no mode is slow (modal path only).
+  [[nodiscard]] const std::vector<bool>& slow_modes() const { return slow_; }
   /// A⁻¹ e.
   [[nodiscard]] const Eigen::VectorXd& ground_response() const { return a_inv_e_; }
   /// Φ(s) = e^{As} = ∂x(t₀+s)/∂x(t₀): the forcing enters only the particular solution, so the
@@ -120,6 +181,7 @@ class ExactPhase {
   /// round-off (exact_phase_test).
   struct Projection {
     Eigen::MatrixXd real, imag;  ///< V⁻¹ r of the kept modes, in parts (r is real: two real products)
+    Eigen::MatrixXd rigid_rate;  ///< A(I − P) r, the Jordan pairs' s-term (empty without them)
   };
   void project_modes(const Eigen::MatrixXd& r, Projection& projected) const;
   void propagate_projected(double s, const Projection& projected, Eigen::MatrixXd& out) const;
@@ -147,6 +209,13 @@ class ExactPhase {
   Eigen::PartialPivLU<Eigen::MatrixXd> a_lu_;
   Eigen::VectorXd a_inv_e_;
   bool singular_ = false;
+  Eigen::MatrixXd rigid_;          ///< N, the undamped rigid-body modes (modal path)
+  Eigen::MatrixXd rigid_weights_;  ///< NᵀM: (I − P) x = [N NᵀM q; N NᵀM q̇]
+  std::vector<Eigen::Index> jordan_columns_;
+  std::vector<bool> slow_;
+  mutable Eigen::VectorXd rigid_work_, rigid_part_;  // absorb_rigid_motion's, sized once
+  /// A(I − P) r for the columns r.
+  [[nodiscard]] Eigen::MatrixXd rigid_rate(const Eigen::MatrixXd& r) const;
   /// Of the block system of polynomial_particular, made on first use.
   mutable std::unique_ptr<Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd>> polynomial_;
   bool modal_ = false;
@@ -205,6 +274,13 @@ class ExactTrajectory {
   [[nodiscard]] double omega() const { return piece_.kind == ForcingPiece::Kind::harmonic ? piece_.omega : 0.0; }
   /// Modal coordinates c (modal path).
   [[nodiscard]] const Eigen::VectorXcd& modal_coefficients() const { return c_; }
+  /// The slow modes' part of x(t₀) − x_p(0), Σ_slow V_k c_k, as r₀ less the other modes' (so
+  /// without the slow ones' round-off): a constant of x(s) (ExactPhase::slow_modes). Empty when
+  /// the phase has no slow modes.
+  [[nodiscard]] const Eigen::VectorXd& slow_constant() const { return slow_constant_; }
+  /// e^{λ_k s} − 1 of the slow modes (0 for the others), accurate for small |λs|; kept for the
+  /// last s like exponentials().
+  [[nodiscard]] const Eigen::VectorXcd& increments(double s) const;
   /// x(t₀) − x_p(0) (both paths).
   [[nodiscard]] const Eigen::VectorXd& homogeneous_start() const { return r0_; }
 
@@ -212,15 +288,18 @@ class ExactTrajectory {
   const ExactPhase* phase_ = nullptr;
   double t0_ = 0.0;
   ForcingPiece piece_;
-  Eigen::VectorXd xc_, beta_, quadratic_, cubic_, r0_;
+  Eigen::VectorXd xc_, beta_, quadratic_, cubic_, r0_, slow_constant_;
   Eigen::VectorXd load_, particular_start_, solved_;  // start()'s work vectors
   Eigen::VectorXcd scaled_start_;                     // D⁻¹ r₀, for the modal coordinates
   std::array<Eigen::VectorXd, 4> polynomial_work_;
   Eigen::VectorXcd harmonic_, c_;
   void evaluate(double s, Eigen::VectorXd& x, Eigen::VectorXd* x_rate) const;
 
-  mutable Eigen::VectorXcd work_, product_, exponentials_;
+  mutable Eigen::VectorXcd work_, product_, exponentials_, increments_;
   mutable double exponentials_at_ = std::numeric_limits<double>::quiet_NaN();
+  mutable double increments_at_ = std::numeric_limits<double>::quiet_NaN();
+  /// The modal part of x(s) (and of its rate) with the slow modes apart.
+  void add_slow_modal(double s, Eigen::VectorXd& x, Eigen::VectorXd* x_rate) const;
 };
 
 }  // namespace poundsim

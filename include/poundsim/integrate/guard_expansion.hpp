@@ -9,7 +9,8 @@
 ///
 ///     g_j(s) = K_j + L_j s + Im(H_j e^{iω̄(t₀+s)}) + Re Σ_k γ_jk e^{λ_k s} − m_j e^{−ν_j s}
 ///
-/// (plus Q_j s² + P_j s³ on a phase with a rigid-body mode, exact_phase.hpp)
+/// (plus Q_j s² + P_j s³ on a phase with a rigid-body mode, exact_phase.hpp; a slow mode's term
+/// as Re γ_jk + Re γ_jk(e^{λ_k s} − 1), its constant in K_j, ExactPhase::slow_modes)
 ///
 /// whose values, rates and derivative bounds are exact and cheap. first_crossing() searches an
 /// interval by subdivision: on [a, b] the cubic Hermite model p of a guard from its values and
@@ -22,6 +23,7 @@
 #include <limits>
 #include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -92,6 +94,13 @@ class GuardExpansion {
   mutable double growth_b_ = std::numeric_limits<double>::quiet_NaN();
   mutable Eigen::VectorXd growth_;
   void update_growth(double a, double b) const;
+  // The phase's slow modes (ExactPhase::slow_modes) summed as γ(e^{λs} − 1), their constants in
+  // constant_; their round-off margin grows with s (in slope_).
+  bool slow_ = false;
+  void add_slow_constant(const ExactTrajectory& trajectory, const Eigen::MatrixXd& rows);
+  /// Σ|γ_jk| of the other modes, and Σ|γ_jk λ_k| of the slow ones.
+  [[nodiscard]] std::pair<double, double> slow_sizes(Eigen::Index j) const;
+  [[nodiscard]] std::pair<double, double> slow_modal_sum(int j, double s) const;
   [[nodiscard]] std::pair<double, double> compute(int j, double s) const;
 };
 
