@@ -36,6 +36,8 @@ import tempfile
 import time
 from typing import Any, Callable, Optional, Sequence
 
+import numpy as np
+
 # A package imported from a source tree (python/ beside the plotting scripts) finds the extension
 # where it is installed: every poundsim folder on sys.path is part of the package.
 __path__ = pkgutil.extend_path(__path__, __name__)
@@ -59,7 +61,7 @@ except ImportError as missing:  # the results and plots still work
 
 __all__ = ["Continuation", "FrequencyResponse", "Input", "InputError", "Model", "Optimization", "SimulationError", "Study",
            "Summary", "Table", "TimeHistory", "__version__", "from_dict", "harmonic", "load", "loads", "read",
-           "record", "run"]
+           "record", "run", "stiffness_check"]
 
 
 def _extension():
@@ -199,6 +201,60 @@ def run(
                    for name in ("optimum_frf", "bare_frf", "pareto")}
             return Optimization(r.summary, Table(r.evaluations, r.evaluation_units), **frf)
     raise InputError(f"{input.source}: analysis.kind = {kind!r} cannot be run")
+
+
+def stiffness_check(input: "Input | Model", factor: float = 2.0) -> "Table":
+    """How much a time history's peaks move when every gap element's contact stiffness is
+    multiplied by `factor` (2: doubled). The stiffness is [gap_elements] stiffness (and every
+    override's), or η of the dimensionless form; the run is the input's own, then the same with
+    the stiffer contacts. Returns a Table with a row per peak — quantity ("contact_force_N", and
+    per frame and floor "displacement_m", "interstorey_drift_m", "absolute_acceleration_m_s2"),
+    frame, floor (0 for the contact force), at_k, at_factor_k and change = at_factor_k / at_k − 1.
+    A conclusion that moves with k by more than the tolerance it needs is decided by k
+    (docs/model.md, "Choosing the contact stiffness")."""
+    core = _extension()
+    if isinstance(input, Model):
+        input = input.build()
+    if not isinstance(input, core.Input):
+        raise InputError(f"stiffness_check takes an Input or a Model, not {type(input).__name__}")
+    if input.kind != "time_history":
+        raise InputError(f"{input.source}: stiffness_check runs time histories, not analysis.kind = {input.kind!r}")
+    if isinstance(factor, bool) or not (isinstance(factor, (int, float)) and math.isfinite(factor) and factor > 0):
+        raise InputError(f"factor: {factor!r} must be a finite number > 0")
+    stiffer = input.to_dict()
+    dimensionless = stiffer.get("model", {}).get("dimensionless")
+    if dimensionless is not None:
+        scaled = ["model.dimensionless.eta"]
+        dimensionless["eta"] = dimensionless.get("eta", 0.0) * factor
+    else:
+        gaps = stiffer.get("gap_elements", {})
+        tables = [gaps] + list(gaps.get("override", []))
+        scaled = [t for t in tables if "stiffness" in t]
+        for t in scaled:
+            t["stiffness"] = t["stiffness"] * factor
+    if not scaled:
+        raise InputError(f"{input.source}: the gap elements' law has no stiffness to vary (gap_elements.stiffness)")
+    runs = [run(input, progress=False), run(from_dict(stiffer, name=f"{input.source} (k × {factor:g})"), progress=False)]
+    rows: dict = {"quantity": [], "frame": [], "floor": [], "at_k": [], "at_factor_k": []}
+
+    def add(quantity: str, frame: int, floor: int, values: list) -> None:
+        for column, value in zip(("quantity", "frame", "floor", "at_k", "at_factor_k"),
+                                 (quantity, frame, floor, *values)):
+            rows[column].append(value)
+
+    forces = [r.summary.to_dict()["max_gap_force_N"] for r in runs]
+    add("contact_force_N", 0, 0, forces)
+    floors = [r.summary.to_dict()["peaks"]["floors"] for r in runs]
+    for a, b in zip(*floors):
+        for quantity in ("displacement_m", "interstorey_drift_m", "absolute_acceleration_m_s2"):
+            add(quantity, a["frame"], a["floor"], [a[quantity]["value"], b[quantity]["value"]])
+    at_k, at_factor_k = np.asarray(rows["at_k"], float), np.asarray(rows["at_factor_k"], float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        change = np.where(at_k != 0, at_factor_k / at_k - 1.0, np.nan)
+    return Table({"quantity": np.asarray(rows["quantity"]), "frame": np.asarray(rows["frame"], np.int64),
+                  "floor": np.asarray(rows["floor"], np.int64), "at_k": at_k, "at_factor_k": at_factor_k,
+                  "change": change},
+                 {"quantity": "", "frame": "", "floor": "", "at_k": "SI", "at_factor_k": "SI", "change": "1"})
 
 
 def _iterable(value: Any, name: str) -> list:

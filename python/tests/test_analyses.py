@@ -459,3 +459,28 @@ def test_the_units_of_the_extensions_tables_are_those_of_the_files_reader(tmp_pa
     assert study.table.unit("peak_V1_at") == "1" and study.table.unit("max_peak_V_W") == "1"
     assert ensemble.table.unit("peak_u_1_1_m") == "m" and ensemble.table.unit("amp_u_1_1") == "1"
     assert ensemble.table.unit("max_impact_impulse_Ns") == "N·s" and ensemble.table.unit("pga_g") == "g"
+
+
+def test_the_stiffness_check_reruns_with_stiffer_contacts():
+    """stiffness_check runs the input at k and 2k: its first run is the input's own, its second
+    the same input with gap_elements.stiffness doubled, and the change is their ratio − 1."""
+    file = EXAMPLES / "contact_laws" / "hertzdamp.toml"
+    settings = ["analysis.duration=3.0"]
+    check = poundsim.stiffness_check(poundsim.load(file, settings=settings))
+    own = poundsim.run(poundsim.load(file, settings=settings), progress=False).summary.to_dict()
+    stiff_input = poundsim.load(file, settings=settings + ["gap_elements.stiffness=1.26e6"])
+    stiff = poundsim.run(stiff_input, progress=False).summary.to_dict()
+    force = [i for i, q in enumerate(check["quantity"]) if q == "contact_force_N"][0]
+    assert check["at_k"][force] == own["max_gap_force_N"]
+    assert check["at_factor_k"][force] == stiff["max_gap_force_N"]
+    assert check["at_factor_k"][force] > check["at_k"][force]  # a stiffer contact pushes harder
+    for i, q in enumerate(check["quantity"]):
+        if q == "displacement_m" and check["frame"][i] == 2:
+            assert check["at_factor_k"][i] == stiff["peaks"]["floors"][1]["displacement_m"]["value"]
+    assert np.allclose(check["change"], check["at_factor_k"] / check["at_k"] - 1, equal_nan=True)
+    paper = poundsim.stiffness_check(poundsim.load(EXAMPLES / "fig2c_ratio0.8.toml", settings=["analysis.duration=2.0"]))
+    assert len(paper) == 1 + 3 * 2
+    with pytest.raises(poundsim.InputError, match="stiffness_check runs time histories"):
+        poundsim.stiffness_check(poundsim.load(EXAMPLES / "paper" / "fig2c.toml"))
+    with pytest.raises(poundsim.InputError, match="factor: 0 must be"):
+        poundsim.stiffness_check(poundsim.load(file, settings=settings), factor=0)

@@ -1011,6 +1011,8 @@ FrfPoint frf_point(StroboscopicMap& map, double amplitude, const PeriodicOrbit& 
   p.stable = orbit.stable;
   p.multipliers.assign(orbit.multipliers.data(), orbit.multipliers.data() + orbit.multipliers.size());
   p.bifurcation = orbit.bifurcation;
+  p.section_u.assign(orbit.u.data(), orbit.u.data() + orbit.u.size());
+  p.section_v.assign(orbit.v.data(), orbit.v.data() + orbit.v.size());
   return p;
 }
 

@@ -4,6 +4,8 @@
 #include <chrono>
 #include <complex>
 #include <limits>
+#include <numbers>
+#include <tuple>
 #include <map>
 
 #include <fmt/format.h>
@@ -70,6 +72,22 @@ Table frf_table(const Model& model, const std::vector<FrfPoint>& points) {
     return p.multipliers.empty() ? std::numeric_limits<double>::quiet_NaN() : std::abs(p.multipliers.front());
   });
   each(table.texts("bifurcation"), [](const FrfPoint& p) { return std::string(to_string(p.bifurcation)); });
+  // The orbit's minimal period in seconds and its state on the Poincaré section, from which it
+  // repeats: enough to restart it or check it with another solver.
+  each(table.numbers("period_s", "s"), [](const FrfPoint& p) {
+    return p.periodicity > 0 ? p.periodicity * 2 * std::numbers::pi / p.omega : std::numeric_limits<double>::quiet_NaN();
+  });
+  const DofLayout layout(model);
+  for (const auto& [name, unit, of] : {std::tuple{"section_u_{}_{}", "m", &FrfPoint::section_u},
+                                       std::tuple{"section_v_{}_{}", "m/s", &FrfPoint::section_v}}) {
+    for (int dof = 0; dof < layout.size(); ++dof) {
+      auto& column = table.numbers(fmt::format(fmt::runtime(name), layout.frame_of(dof) + 1, layout.floor_of(dof) + 1), unit);
+      for (const FrfPoint& p : points) {
+        const std::vector<double>& values = p.*of;
+        column.push_back(values.empty() ? std::numeric_limits<double>::quiet_NaN() : values[static_cast<std::size_t>(dof)]);
+      }
+    }
+  }
   each(table.texts("multipliers"), [](const FrfPoint& p) {
     std::string text;
     for (const std::complex<double>& m : p.multipliers) {

@@ -119,6 +119,10 @@ struct FrfPoint {
   bool stable = true;            ///< every Floquet multiplier inside the unit circle
   std::vector<std::complex<double>> multipliers;  ///< by decreasing modulus (continued orbits)
   BifurcationKind bifurcation = BifurcationKind::none;  ///< between this point and the one before
+  /// A continued orbit's state on the Poincaré section (t = 0 mod its period), every floor in
+  /// DofLayout's order: displacements [m] and velocities [m/s] from which the orbit repeats, so
+  /// that it can be restarted or checked independently (empty for a simulated point).
+  std::vector<double> section_u, section_v;
 };
 
 /// The peaks per frame of what `sim` ran since its statistics were last reset.
