@@ -212,10 +212,15 @@ void EnergyMeter::add_plastic_work(const KinematicState& x0, const KinematicStat
       for (const auto& link : links) {
         const double work = link.law.plastic_work(detail::kinematics<detail::Derivatives::velocities>(x0, link), detail::kinematics<detail::Derivatives::velocities>(x1, link),
                                                   mode_in(link, config), states.at(link));
-        storey_hysteretic_[static_cast<std::size_t>(link.a)] += work;
+        if constexpr (ContactLaw<L>) {
+          // A gap element's hysteresis is its own dissipation, not a storey's.
+          element_dissipation_[static_cast<std::size_t>(link.element)] += work;
+        } else {
+          storey_hysteretic_[static_cast<std::size_t>(link.a)] += work;
+        }
         sum += work;
       }
-      balance_.storey_hysteretic += sum;
+      term(L::traits.energy, balance_.storey_hysteretic, balance_.gap_damping) += sum;
     }
   });
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <optional>
 #include <numbers>
+#include <type_traits>
 
 #include <fmt/format.h>
 
@@ -66,6 +67,14 @@ json describe_model(const RunInput& input) {
         [&](const auto& law) {
           if (!is_default(g.law)) element["law"] = law.key;
           write_with_units(element, law.parameters);
+          if constexpr (std::is_same_v<std::decay_t<decltype(law)>, Impact>) {
+            // Muthukumar's derivation: the OpenSees parameters the run used.
+            if (law.parameters.stiffness > 0.0) {
+              element["derived"] = {{"k1_N_m", law.k1()}, {"k2_N_m", law.k2()},
+                                    {"yield_penetration_m", law.yield_penetration()},
+                                    {"target_dissipation_J", law.parameters.target_dissipation()}};
+            }
+          }
         },
         g.law);
     gaps.push_back(std::move(element));

@@ -99,7 +99,8 @@ class EnergyMeter {
   void add_impact_loss(double loss) { balance_.impact_loss += loss; }
 
   [[nodiscard]] const EnergyBalance& balance() const { return balance_; }
-  /// The energy each gap element's law has dissipated since start() (its dashpot or damping part
+  /// The energy each gap element's law has dissipated since start() (its dashpot or damping part,
+  /// the impact law's plastic work
   /// and a relaxing free end's release; impact losses are the instant's, E_impact) [J], by
   /// element; they sum to the balance's gap_damping. Nothing when a segment was integrated
   /// elsewhere (step_with: the exact integrator's closed forms are per quadratic form, not per

@@ -30,6 +30,7 @@
 #include "poundsim/model/laws/bouc_wen.hpp"
 #include "poundsim/model/laws/hertz.hpp"
 #include "poundsim/model/laws/hertzdamp.hpp"
+#include "poundsim/model/laws/impact.hpp"
 #include "poundsim/model/laws/jankowski.hpp"
 #include "poundsim/model/laws/kelvin_voigt.hpp"
 #include "poundsim/model/laws/linear_storey.hpp"
@@ -39,7 +40,7 @@ namespace poundsim {
 
 /// The closed set of laws.
 using Law = std::variant<LinearStorey, PaperGap, KelvinVoigt, Hertz, Hertzdamp, Jankowski, BilinearStorey,
-                         BoucWenStorey>;
+                         BoucWenStorey, Impact>;
 
 /// A law whose force in some modes is a smooth function of the link's motion (not linear): it
 /// gives the force with its consistent tangent, which Newmark's Newton iterations solve.
@@ -56,8 +57,9 @@ concept StateLoadedLaw = requires(const L& law, LinkMode mode, const typename L:
   { law.state_force(mode, state) } -> std::same_as<double>;
 };
 
-/// A storey law that dissipates hysteretic energy: the plastic work between two states in one
-/// mode, exact from the ends (the energy meter's H_storey, dynamics/energy.hpp).
+/// A law that dissipates hysteretic energy: the plastic work between two states in one mode,
+/// exact from the ends (the energy meter's H_storey for a storey, D_gap for a gap element,
+/// dynamics/energy.hpp).
 template <class L>
 concept YieldingLaw = requires(const L& law, const LinkKinematics& k, LinkMode mode, const typename L::State& state) {
   { law.plastic_work(k, k, mode, state) } -> std::same_as<double>;
