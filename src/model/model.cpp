@@ -121,7 +121,7 @@ void validate(const Model& model) {
       if (traits.has_stop) {
         throw std::invalid_argument(fmt::format(
             "{}: {} has a stop, whose impacts and locking act between two floors; a slab that strikes a column "
-            "takes a contact law without one (kelvin_voigt, hertz, hertzdamp, jankowski)", what, traits.name));
+            "takes a contact law without one (kelvin_voigt, hertz, hertzdamp, jankowski, impact)", what, traits.name));
       }
     }
     // A floor meets its neighbour at one place: one element per floor and side (a struck
