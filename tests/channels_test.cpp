@@ -135,7 +135,7 @@ TEST(Channels, TheOutputTableChoosesHistoryCsvsColumns) {
   (void)io::run_time_history(in, dir);
   const std::string history = testing::slurp(dir / "history.csv");
   EXPECT_EQ(history.substr(0, history.find('\n')),
-            "t,a_abs_1_2,a_abs_2_2,F_1_1,F_1_2,drift_ratio_1_1,drift_ratio_1_2,drift_ratio_1_3");
+            "t_s,a_abs_1_2_m_s2,a_abs_2_2_m_s2,F_1_1_N,F_1_2_N,drift_ratio_1_1,drift_ratio_1_2,drift_ratio_1_3");
   EXPECT_EQ(std::count(history.begin(), history.end(), '\n'), 52);  // the header and 51 instants
   std::filesystem::remove_all(dir);
   // The echo keeps the selection.

@@ -9,6 +9,7 @@
 #include <numbers>
 #include <string>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include "poundsim/analysis/time_history.hpp"
@@ -62,8 +63,9 @@ TEST(FiguresOfMerit, AFrequencyResponsesBandPeaksAndTheirRatios) {
   EXPECT_EQ(figures.max_peak_V_W(), f.max_peak_V_W);
   EXPECT_EQ(figures.max_ratio_to_free(), f.max_ratio_to_free);
   // Bare pounding peaking at 1.4 and 0 (a frame at rest): ratios 0.5 and 0.
-  const std::vector<double> bare{1.4, 0.0};
+  const std::vector<FigureColumn> bare{{"peak_V1_W", 1.4}, {"peak_V2_W", 0.0}, {"max_peak_V_W", 1.4}};
   figures.compare_with_bare(bare);
+  EXPECT_FALSE(figures.bare->time_history);  // a frequency response has no drifts to compare
   EXPECT_DOUBLE_EQ(figures.bare->ratio_to_bare[0], 0.7 / 1.4);
   EXPECT_EQ(figures.bare->ratio_to_bare[1], 0.0);
   EXPECT_DOUBLE_EQ(figures.bare->max_ratio_to_bare, 0.5);
@@ -75,7 +77,7 @@ TEST(FiguresOfMerit, AFrequencyResponsesBandPeaksAndTheirRatios) {
   EXPECT_FALSE(columns.at("peak_V1_W").count);
   EXPECT_EQ(columns.at("bare_peak_V1_W").value, 1.4);
   EXPECT_EQ(columns.at("max_ratio_to_bare").value, figures.bare->max_ratio_to_bare);
-  const std::vector<double> wrong{1.0};
+  const std::vector<FigureColumn> wrong{{"peak_V1_W", 1.0}};  // no frame 2
   EXPECT_THROW(figures.compare_with_bare(wrong), std::invalid_argument);
 }
 
@@ -123,9 +125,9 @@ TEST(FiguresOfMerit, AnEnsemblesMeanAndMaximumFigureByFigure) {
   // One record's columns: the count is a count.
   const PointFigures one{.response = records[0], .bare = std::nullopt};
   EXPECT_TRUE(by_name(one).at("impacts").count);
-  // Per frame 9 figures (no storey heights: no drift ratios), per floor 7, per joint 1, and 9
+  // Per frame 9 figures (no storey heights: no drift ratios), per floor 7, per joint 1, and 10
   // of the whole (no element with a stroke: no stroke use).
-  EXPECT_EQ(by_name(one).size(), 2U + 9 + 7 + 1 + 9);
+  EXPECT_EQ(by_name(one).size(), 2U + 9 + 7 + 1 + 10);
   EXPECT_THROW(static_cast<void>(ensemble_figures({})), std::invalid_argument);
 }
 
@@ -180,6 +182,57 @@ TEST(FiguresOfMerit, AYieldingStoreysDriftRatioResidualDriftAndHystereticEnergyA
     EXPECT_EQ(columns.count("max_stroke_use"), 0U);  // no gap element
     EXPECT_EQ(figures.figure("residual_drift_1_m"), columns.at("residual_drift_1_m").value);
     EXPECT_EQ(figures.figure("no_such_figure"), std::nullopt);
+  }
+}
+
+// A rigid impact of equal masses with e = 1 exchanges their velocities. Frame 2 (undamped,
+// ω = 20 rad/s) released from rest position with −v0 meets frame 1 (at rest, heavily damped)
+// across the gap δ at speed v_c = √(v0² − ω²δ²): frame 1 leaves with −v_c, frame 2 stops. The
+// velocity jump of each floor is v_c; spread over a half-sine pulse of duration τ it adds
+// π v_c / (2τ) to the floors' accelerations at the impact: on frame 2 to the spring's ω²δ, in the
+// pulse's direction; on frame 1 to its rest before (0) and to the dashpot's c v_c / m against it
+// after, so π v_c / (2τ) alone. Frame 1's storey shear jumps from 0 to
+// c v_c, its peak (overdamped: c² > 4km, the shear relaxes from there). Without τ the
+// accelerations are those at the states, and the velocity jump is reported alone.
+TEST(FiguresOfMerit, ARigidImpactsVelocityJumpEquivalentPulseAndPostImpactShearAreTheClosedForms) {
+  const double m = 1e4, k = 4e6, c = 1e6, delta = 0.01, v0 = 0.5, omega = std::sqrt(k / m);
+  const double vc = std::sqrt(v0 * v0 - omega * omega * delta * delta);
+  for (const double tau : {0.0, 2e-3}) {
+    for (const Integrator integrator : {Integrator::exact, Integrator::newmark}) {
+      SCOPED_TRACE(fmt::format("tau {} s, {}", tau, integrator == Integrator::exact ? "exact" : "newmark"));
+      TimeHistoryProblem problem{
+          .model = testing::two_oscillators(m, k, c, m, k, 0.0, {.gap = delta, .restitution = 1.0}),
+          .excitation = NoExcitation{},
+          .options = {.dt = 1e-3, .integrator = integrator, .impact_duration = tau},
+          .initial = {.displacement = {}, .velocity = {{0.0}, {-v0}}},
+          .duration = 0.06,
+          .output_dt = 0.01};
+      const TimeHistoryAnalysis run = analyse_time_history(problem);
+      ASSERT_EQ(run.statistics.gaps[0].impacts, 1);
+      const double tol = integrator == Integrator::exact ? 1e-9 : 1e-6;
+      for (const FloorResponse& floor : run.statistics.floors) {
+        EXPECT_NEAR(floor.velocity_jump.value, vc, tol * vc);
+      }
+      EXPECT_NEAR(run.statistics.storey_shear[0].value, c * vc, tol * c * vc);
+      const PointFigures figures{.response = time_history_figures(run.model, run, 0.0), .bare = std::nullopt};
+      const auto columns = by_name(figures);
+      EXPECT_NEAR(columns.at("max_velocity_jump_m_s").value, vc, tol * vc);
+      const FloorResponse& left = run.statistics.floors[0];
+      const FloorResponse& right = run.statistics.floors[1];
+      if (tau == 0) {
+        EXPECT_EQ(left.impact_acceleration.value, 0.0);
+        // Frame 1 moves off with the dashpot's deceleration c v_c / m at most.
+        EXPECT_NEAR(columns.at("peak_abs_acc_1_g").value * standard_gravity, c * vc / m, 1e-6 * c * vc / m);
+        continue;
+      }
+      const double pulse = std::numbers::pi * vc / (2 * tau);
+      EXPECT_NEAR(left.impact_absolute_acceleration.value, pulse, tol * pulse);
+      EXPECT_NEAR(right.impact_absolute_acceleration.value, pulse + omega * omega * delta, tol * pulse);
+      EXPECT_NEAR(columns.at("peak_abs_acc_2_g").value * standard_gravity, pulse + omega * omega * delta, tol * pulse);
+      EXPECT_EQ(columns.at("max_peak_abs_acc_g").value,
+                std::max(columns.at("peak_abs_acc_1_g").value, columns.at("peak_abs_acc_2_g").value));
+      EXPECT_EQ(left.acceleration_with_impacts().value, left.impact_acceleration.value);
+    }
   }
 }
 

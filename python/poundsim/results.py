@@ -158,6 +158,29 @@ def channel_unit(name: str) -> str:
     raise KeyError(f"{name!r} is not a poundsim channel")
 
 
+# history.csv and events.csv name their columns with the unit as a suffix (channels.hpp's
+# Channel::column); the module's channels and event fields are the bare names.
+_UNIT_SUFFIXES = (("_m_s2", "m/s2"), ("_m_s", "m/s"), ("_m", "m"), ("_s", "s"), ("_N", "N"), ("_J", "J"))
+_EVENT_FIELDS = {"t_s": "t", "relative_velocity_before_m_s": "relative_velocity_before",
+                 "relative_velocity_after_m_s": "relative_velocity_after", "impulse_Ns": "impulse"}
+
+
+def channel_of_column(column: str) -> tuple[str, str]:
+    """The channel and its unit of a history.csv column: "a_abs_1_2_m_s2" → ("a_abs_1_2", "m/s2"),
+    "t_s" → ("t", "s"), a ratio bare ("drift_ratio_1_1" → ("drift_ratio_1_1", "1"))."""
+    for suffix, unit in _UNIT_SUFFIXES:
+        if column.endswith(suffix):
+            name = column[: -len(suffix)]
+            try:
+                if channel_unit(name) == unit:
+                    return name, unit
+            except KeyError:
+                pass
+    if channel_unit(column) == "1":
+        return column, "1"
+    raise KeyError(f"{column!r} is not a history.csv column")
+
+
 def column_unit(name: str) -> str:
     """The unit of a table column from its name: SI suffixes (_m, _s, _N, _J, _rad_s, _g), "1" for
     ratios (V1_W, max_ratio_to_free, gap_over_min_gap), "" otherwise; a summary's {value, time} pair flattened
@@ -443,9 +466,13 @@ def read(folder: str | os.PathLike):
         with open(path("history.csv"), newline="") as f:
             header = next(csv.reader(f))
         data = np.loadtxt(path("history.csv"), delimiter=",", skiprows=1, ndmin=2)
+        channels = [channel_of_column(c) for c in header[1:]]
         events = Table.read_csv(path("events.csv")) if os.path.exists(path("events.csv")) else None
-        return TimeHistory(data, header[1:], [channel_unit(c) for c in header[1:]],
-                           events.to_records() if events is not None and len(events) else _no_events(), summary())
+        records = _no_events()
+        if events is not None and len(events):
+            records = events.to_records()
+            records.dtype.names = tuple(_EVENT_FIELDS.get(n, n) for n in records.dtype.names)
+        return TimeHistory(data, [c for c, _ in channels], [u for _, u in channels], records, summary())
     if os.path.exists(path("frf.csv")):
         return FrequencyResponse(Table.read_csv(path("frf.csv")), summary())
     if os.path.exists(path("orbits.csv")):

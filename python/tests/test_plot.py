@@ -30,9 +30,21 @@ G = 9.81  # poundsim's standard_gravity (include/poundsim/units.hpp)
 CHANNELS = '["u_*", "v_*", "a_abs_*", "V_*", "F_*", "s_*", "drift_*", "E_*"]'  # drift_* takes drift_ratio_*
 
 
+def bare_name(column: str) -> str:
+    """A history.csv or events.csv column without its unit suffix ("u_1_8_m" → "u_1_8")."""
+    from poundsim.results import _EVENT_FIELDS, channel_of_column
+    if column in _EVENT_FIELDS:
+        return _EVENT_FIELDS[column]
+    try:
+        return channel_of_column(column)[0]
+    except KeyError:
+        return column
+
+
 def csv_column(path: pathlib.Path, name: str, rows=None) -> list[str]:
+    """The column of a table, by its name or, in history.csv and events.csv, by its channel's."""
     header, body = read_csv(path)
-    k = header.index(name)
+    k = header.index(name) if name in header else [bare_name(h) for h in header].index(name)
     return [r[k] for r in (body if rows is None else [body[i] for i in rows])]
 
 
@@ -195,7 +207,7 @@ def test_the_module_imports_without_the_extension():
 def test_time_history_draws_channels_in_engineering_units(el_centro, tmp_path):
     out, th = el_centro
     header, rows = read_csv(out / "history.csv")
-    column = {name: np.array([float(r[k]) for r in rows]) for k, name in enumerate(header)}
+    column = {bare_name(name): np.array([float(r[k]) for r in rows]) for k, name in enumerate(header)}
     fig = pp.time_history(th, ["u_*_8", "u_2_4"])
     ax = fig.axes[0]
     x, y = xy(line(ax, "u_1_8"))
@@ -609,8 +621,8 @@ def test_read_gives_the_csv_tables_typed(responses, study, ensemble, optimum, el
     assert o.optimum == json.loads((out / "optimize.json").read_text())["optimum"]
     out, th = el_centro
     events = poundsim.Table.read_csv(out / "events.csv")
-    check_table(events, out / "events.csv", {"t": np.float64, "floor": np.int64, "kind": str})
-    assert np.array_equal(th.events["t"], events["t"]) and th.events["kind"].tolist() == events["kind"].tolist()
+    check_table(events, out / "events.csv", {"t_s": np.float64, "floor": np.int64, "kind": str})
+    assert np.array_equal(th.events["t"], events["t_s"]) and th.events["kind"].tolist() == events["kind"].tolist()
 
 
 # --- The scripts ---------------------------------------------------------------------------------

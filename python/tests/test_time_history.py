@@ -27,7 +27,10 @@ def el_centro(tmp_path_factory):
 def test_the_history_is_the_command_lines_bit_for_bit(el_centro):
     _, out, th = el_centro
     header, rows = read_csv(out / "history.csv")
-    assert header == ["t"] + th.channels
+    # Each column is its channel with the unit as a suffix (u_1_1_m, v_1_1_m_s, drift_ratio_1_1 bare).
+    from poundsim.results import channel_of_column
+    assert [channel_of_column(h) for h in header] == [("t", "s")] + list(zip(th.channels, th.units))
+    assert header[0] == "t_s" and "u_1_1_m" in header and "E_input_J" in header
     # The CSV holds each double's shortest exact form: read back, it is the same double.
     expected = np.array([[float(x) for x in row] for row in rows])
     assert th.data.shape == expected.shape
@@ -45,10 +48,10 @@ def test_events_are_events_csv(el_centro):
         "relative_velocity_before", "relative_velocity_after", "impulse")
     for event, row in zip(th.events, rows):
         record = dict(zip(header, row))
-        assert event["t"] == float(record["t"])
+        assert event["t"] == float(record["t_s"])
         assert event["kind"] == record["kind"]
         assert event["floor"] == int(record["floor"])
-        assert event["impulse"] == float(record["impulse"])
+        assert event["impulse"] == float(record["impulse_Ns"])
 
 
 def test_the_summary_is_summary_json(el_centro):

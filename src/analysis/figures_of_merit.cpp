@@ -73,6 +73,7 @@ void zip_figures(TimeHistoryFigures& out, const TimeHistoryFigures& in, F&& f) {
   }
   f(out.impacts, in.impacts);
   f(out.max_impact_impulse_Ns, in.max_impact_impulse_Ns);
+  f(out.max_velocity_jump_m_s, in.max_velocity_jump_m_s);
   f(out.max_gap_force_N, in.max_gap_force_N);
   f(out.max_peak_V_W, in.max_peak_V_W);
   f(out.max_ratio_to_free, in.max_ratio_to_free);
@@ -134,6 +135,7 @@ void add_columns(const TimeHistoryFigures& t, const std::string& prefix, bool co
   add(std::string(column_names::max_ratio_to_free), t.max_ratio_to_free);
   add("impacts", t.impacts, true);
   add("max_impact_impulse_Ns", t.max_impact_impulse_Ns);
+  add("max_velocity_jump_m_s", t.max_velocity_jump_m_s);
   add("max_gap_force_N", t.max_gap_force_N);
   add("max_peak_drift_m", t.max_peak_drift_m);
   add("max_peak_abs_acc_g", t.max_peak_abs_acc_g);
@@ -176,17 +178,40 @@ std::vector<double> PointFigures::peak_V_W() const {
   return peaks;
 }
 
-void PointFigures::compare_with_bare(std::span<const double> bare_peak_V_W) {
+void PointFigures::compare_with_bare(std::span<const FigureColumn> bare_columns) {
+  const auto bare_figure = [&](const std::string& name) {
+    for (const FigureColumn& c : bare_columns) {
+      if (c.name == name) return c.value;
+    }
+    throw std::invalid_argument(fmt::format("bare pounding has no figure {}", name));
+  };
   const std::vector<double> peaks = peak_V_W();
-  if (bare_peak_V_W.size() != peaks.size()) {
-    throw std::invalid_argument(fmt::format("bare pounding has {} frames, the point {}", bare_peak_V_W.size(),
-                                            peaks.size()));
-  }
   BareComparison b;
+  // A single response's figures, or an ensemble's mean: the frames compared.
+  const TimeHistoryFigures* history = std::visit(
+      [](const auto& r) -> const TimeHistoryFigures* {
+        using R = std::decay_t<decltype(r)>;
+        if constexpr (std::is_same_v<R, TimeHistoryFigures>) return &r;
+        if constexpr (std::is_same_v<R, EnsembleFigures>) return &r.mean;
+        return nullptr;
+      },
+      response);
+  b.time_history = history != nullptr;
+  const auto compare = [](double value, double reference, std::vector<double>& bare_values,
+                          std::vector<double>& ratios, double& largest) {
+    bare_values.push_back(reference);
+    ratios.push_back(ratio(value, reference));
+    largest = std::max(largest, ratios.back());
+  };
   for (std::size_t f = 0; f < peaks.size(); ++f) {
-    b.bare_peak_V_W.push_back(bare_peak_V_W[f]);
-    b.ratio_to_bare.push_back(ratio(peaks[f], bare_peak_V_W[f]));
-    b.max_ratio_to_bare = std::max(b.max_ratio_to_bare, b.ratio_to_bare.back());
+    compare(peaks[f], bare_figure(fmt::format("peak_V{}_W", f + 1)), b.bare_peak_V_W, b.ratio_to_bare,
+            b.max_ratio_to_bare);
+    if (history == nullptr) continue;
+    const FrameFigures& frame = history->frames[f];
+    compare(frame.peak_drift_m, bare_figure(fmt::format("peak_drift_{}_m", f + 1)), b.bare_peak_drift_m,
+            b.ratio_to_bare_drift, b.max_ratio_to_bare_drift);
+    compare(frame.peak_abs_acc_g, bare_figure(fmt::format("peak_abs_acc_{}_g", f + 1)), b.bare_peak_abs_acc_g,
+            b.ratio_to_bare_acc, b.max_ratio_to_bare_acc);
   }
   bare = std::move(b);
 }
@@ -229,6 +254,16 @@ std::vector<FigureColumn> PointFigures::columns() const {
       out.push_back({fmt::format("ratio_to_bare_{}", f + 1), bare->ratio_to_bare[f]});
     }
     out.push_back({"max_ratio_to_bare", bare->max_ratio_to_bare});
+    if (bare->time_history) {
+      for (std::size_t f = 0; f < bare->bare_peak_drift_m.size(); ++f) {
+        out.push_back({fmt::format("bare_peak_drift_{}_m", f + 1), bare->bare_peak_drift_m[f]});
+        out.push_back({fmt::format("ratio_to_bare_drift_{}", f + 1), bare->ratio_to_bare_drift[f]});
+        out.push_back({fmt::format("bare_peak_abs_acc_{}_g", f + 1), bare->bare_peak_abs_acc_g[f]});
+        out.push_back({fmt::format("ratio_to_bare_acc_{}", f + 1), bare->ratio_to_bare_acc[f]});
+      }
+      out.push_back({"max_ratio_to_bare_drift", bare->max_ratio_to_bare_drift});
+      out.push_back({"max_ratio_to_bare_acc", bare->max_ratio_to_bare_acc});
+    }
   }
   return out;
 }
@@ -288,6 +323,8 @@ TimeHistoryFigures time_history_figures(const Model& model, const TimeHistoryAna
       // A storey without a height has no drift ratio (its columns are not written).
       const double h = frame.storey_heights ? structure.storey_height[static_cast<std::size_t>(i)] : 0.0;
       const auto per_height = [&](double drift) { return h > 0 ? drift / h : 0.0; };
+      const Peak a_abs = a.absolute_acceleration_with_impacts();
+      out.max_velocity_jump_m_s = std::max(out.max_velocity_jump_m_s, a.velocity_jump.value);
       const double residual = d < run.final_drift.size() ? std::abs(run.final_drift[d]) : 0.0;
       const FloorFigures floor{.frame = f,
                                .floor = i,
@@ -295,17 +332,18 @@ TimeHistoryFigures time_history_figures(const Model& model, const TimeHistoryAna
                                .free_peak_u_m = b.displacement.value,
                                .amp_u = ratio(a.displacement.value, b.displacement.value),
                                .amp_drift = ratio(a.drift.value, b.drift.value),
-                               .amp_acc = ratio(a.absolute_acceleration.value, b.absolute_acceleration.value),
+                               .amp_acc = ratio(a_abs.value, b.absolute_acceleration_with_impacts().value),
                                .peak_drift_m = a.drift.value,
                                .peak_drift_ratio = per_height(a.drift.value),
-                               .peak_abs_acc_g = a.absolute_acceleration.value / standard_gravity,
+                               .peak_abs_acc_g = a_abs.value / standard_gravity,
                                .storey_height = frame.storey_heights};
       frame.peak_drift_m = std::max(frame.peak_drift_m, a.drift.value);
       frame.free_peak_drift_m = std::max(frame.free_peak_drift_m, b.drift.value);
       frame.peak_drift_ratio = std::max(frame.peak_drift_ratio, floor.peak_drift_ratio);
       frame.free_peak_drift_ratio = std::max(frame.free_peak_drift_ratio, per_height(b.drift.value));
       frame.peak_abs_acc_g = std::max(frame.peak_abs_acc_g, floor.peak_abs_acc_g);
-      frame.free_peak_abs_acc_g = std::max(frame.free_peak_abs_acc_g, b.absolute_acceleration.value / standard_gravity);
+      frame.free_peak_abs_acc_g =
+          std::max(frame.free_peak_abs_acc_g, b.absolute_acceleration_with_impacts().value / standard_gravity);
       frame.residual_drift_m = std::max(frame.residual_drift_m, residual);
       frame.residual_drift_ratio = std::max(frame.residual_drift_ratio, per_height(residual));
       if (d < run.storey_hysteretic.size()) frame.hysteretic_energy_J += run.storey_hysteretic[d];

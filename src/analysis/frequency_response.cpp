@@ -68,45 +68,105 @@ class PoincareSection {
 
   void add(const Simulator& sim, double omega) {
     const KinematicState& x = sim.state();
-    Eigen::VectorXd y(2 * x.u.size());
+    const Eigen::Index n = x.u.size();
+    if (frame_of_.empty()) {
+      for (Eigen::Index i = 0; i < 2 * n; ++i) frame_of_.push_back(sim.layout().frame_of(static_cast<int>(i % n)));
+      frame_scale_.assign(static_cast<std::size_t>(sim.layout().frame_count()), 0.0);
+    }
+    Eigen::VectorXd y(2 * n);
     y << x.u, x.v / omega;
-    scale_ = std::max(scale_, y.cwiseAbs().maxCoeff());
+    for (Eigen::Index i = 0; i < y.size(); ++i) {
+      double& scale = frame_scale_[static_cast<std::size_t>(frame_of_[static_cast<std::size_t>(i)])];
+      scale = std::max(scale, std::abs(y(i)));
+    }
     samples_.push_back({std::move(y), sim.configuration()});
-    if (static_cast<int>(samples_.size()) > 2 * max_k_) samples_.pop_front();
+    if (static_cast<int>(samples_.size()) > kept(max_k_)) samples_.pop_front();
+    // Each frame's differences relative to its own largest |y| (at least 1e-3 of the largest
+    // frame's), so that a frame moving far less than its neighbour has its peaks to the tolerance too.
+    const double largest = *std::max_element(frame_scale_.begin(), frame_scale_.end());
+    weight_.resize(frame_of_.size());
+    for (std::size_t i = 0; i < frame_of_.size(); ++i) {
+      const double scale = std::max(frame_scale_[static_cast<std::size_t>(frame_of_[i])], kSmallestFrameScale * largest);
+      weight_[i] = scale > 0 ? 1.0 / scale : 0.0;
+    }
   }
 
-  /// The smallest k whose last k samples each repeat the sample k earlier, provided the orbit is
-  /// clearly not of a shorter period j < k; 0 if none, or not yet decided.
+  /// The smallest k whose last k samples each lie within the tolerance of the period-k orbit,
+  /// provided the orbit is clearly not of a shorter period j < k; 0 if none, or not yet decided.
+  ///
+  /// The distance to the orbit is estimated from the transient's contraction. Over a window of
+  /// w = max(k, 8) sections, let d be the largest difference of a section from the one k periods
+  /// earlier, and d' the same over the w sections before: the transient shrinks by d/d' every
+  /// w periods, by q = (d/d')^{k/w} every k, and the sections are within about d q/(1 − q) of the
+  /// orbit — more than d when q > 1/2, a lightly damped transient, which the repetition
+  /// d ≤ tolerance alone would stop short of (the peaks taken next would carry what remains of
+  /// it). The window spans several sections because a decaying free vibration sampled once a
+  /// period oscillates: a single difference can pass near one of its zeros. The test is
+  /// max(d, d q/(1 − q)) ≤ tolerance, the
+  /// differences of each frame relative to its own largest |y| (a d far below the tolerance, at
+  /// round-off, passes whatever ρ; one that passes d ≤ tolerance but not the estimate leaves the
+  /// point undecided, and the transient goes on).
   ///
   /// The second condition rejects a decaying transient whose natural period is commensurate with
   /// the forcing (e.g. a free mode at ω̄/3 makes the sections nearly repeat every 3 periods long
   /// before they repeat every period): a genuine period-k orbit keeps its k sections apart by far
   /// more than the tolerance.
-  [[nodiscard]] int periodicity() const {
+  ///
+  /// `last`: the budget of periods is spent; the repetition alone decides (a slowly contracting
+  /// transient near a bifurcation is periodic all the same, its peaks as close as it came).
+  [[nodiscard]] int periodicity(bool last) const {
+    const double limit = tolerance_;
     for (int k = 1; k <= max_k_; ++k) {
-      if (difference(k) > tolerance_ * scale_) continue;
+      const int w = window(k);
+      const double d = difference(k, 0, w);
+      if (d > limit) continue;
+      if (!last && d > std::max(kRoundOff * limit, kNoise)) {
+        // Not yet within the tolerance of the period-k orbit (or too few sections to tell):
+        // undecided, not a longer period (a period-k orbit repeats every 2k periods too).
+        const double rho = d / difference(k, w, w);
+        const double q = std::pow(rho, static_cast<double>(k) / w);  // the contraction every k periods
+        if (!(q > 0 && q < 1) || d * q / (1 - q) > limit) return 0;
+      }
       for (int j = 1; j < k; ++j) {
-        if (difference(j) <= kDistinct * tolerance_ * scale_) return 0;  // undecided yet
+        if (difference(j, 0, j) <= kDistinct * limit) return 0;  // undecided yet
       }
       return k;
     }
     return 0;
   }
 
+  /// The sections a PoincareSection keeps: enough for the two windows of the longest period.
+  [[nodiscard]] static int kept(int max_k) { return 2 * window(max_k) + max_k; }
+
  private:
   static constexpr double kDistinct = 100.0;
+  /// A repetition this far below the tolerance is converged, whatever the contraction's estimate
+  /// (near round-off the differences no longer shrink geometrically).
+  static constexpr double kRoundOff = 1e-3;
+  /// … and so is one at the sections' round-off, where a tolerance near it puts the test.
+  static constexpr double kNoise = 1e-12;
+  /// A frame's scale is at least this share of the largest frame's (a frame nearly at rest is
+  /// not held to the tolerance of its own tiny motion).
+  static constexpr double kSmallestFrameScale = 1e-3;
+  /// The fewest sections of a window of the contraction's estimate.
+  static constexpr int kWindow = 8;
 
-  /// max over the last k samples of |y − y k samples earlier| (∞ if too few samples or a
+  [[nodiscard]] static int window(int k) { return std::max(k, kWindow); }
+
+  /// max over `count` samples, ending `back` samples before the last, of |y − y k samples
+  /// earlier|, each component relative to its frame's scale (∞ if too few samples or a
   /// different contact configuration).
-  [[nodiscard]] double difference(int k) const {
-    const int n = static_cast<int>(samples_.size());
-    if (2 * k > n) return std::numeric_limits<double>::infinity();
+  [[nodiscard]] double difference(int k, int back, int count) const {
+    const int n = static_cast<int>(samples_.size()) - back;
+    if (count + k > n) return std::numeric_limits<double>::infinity();
     double worst = 0;
-    for (int j = 0; j < k; ++j) {
+    for (int j = 0; j < count; ++j) {
       const Sample& now = samples_[static_cast<std::size_t>(n - 1 - j)];
       const Sample& before = samples_[static_cast<std::size_t>(n - 1 - j - k)];
       if (now.config != before.config) return std::numeric_limits<double>::infinity();
-      worst = std::max(worst, (now.y - before.y).cwiseAbs().maxCoeff());
+      for (Eigen::Index i = 0; i < now.y.size(); ++i) {
+        worst = std::max(worst, std::abs(now.y(i) - before.y(i)) * weight_[static_cast<std::size_t>(i)]);
+      }
     }
     return worst;
   }
@@ -117,7 +177,9 @@ class PoincareSection {
   };
   int max_k_;
   double tolerance_;
-  double scale_ = 0.0;
+  std::vector<int> frame_of_;         ///< Of each component of y.
+  std::vector<double> frame_scale_;   ///< Each frame's largest |y| seen.
+  std::vector<double> weight_;        ///< 1 / the scale each component's differences are relative to.
   std::deque<Sample> samples_;
 };
 
@@ -161,7 +223,7 @@ class PointRun {
   bool end_period(const Simulator& sim) {
     ++periods_;
     section_.add(sim, point_.omega);
-    point_.periodicity = section_.periodicity();
+    point_.periodicity = section_.periodicity(periods_ >= steady_.max_periods);
     point_.transient_periods = periods_;
     return point_.periodicity > 0 || periods_ >= steady_.max_periods;
   }

@@ -102,6 +102,27 @@ void ResponseMonitor::observe(const KinematicState& x) {
   });
 }
 
+void ResponseMonitor::observe_velocity_jumps(const Eigen::VectorXd& v_before, const Eigen::VectorXd& a_before,
+                                             const KinematicState& x) {
+  // A half-sine pulse of duration τ whose area is Δu̇ peaks at π Δu̇ / (2τ); it acts over the
+  // impact's instant, on the acceleration the floor has on either side of it.
+  constexpr double half_sine_peak = 1.5707963267948966;  // π/2
+  const double t = x.t, ground = x.ground;
+  FloorResponse* floors = stats_.floors.data();
+  for (Eigen::Index i = 0; i < x.v.size(); ++i) {
+    const double jump = x.v(i) - v_before(i);
+    if (jump == 0.0) continue;
+    FloorResponse& fr = floors[i];
+    fr.velocity_jump.update(jump, t);
+    if (!(impact_duration_ > 0)) continue;
+    const double pulse = half_sine_peak * jump / impact_duration_;
+    for (const double a : {a_before(i), x.a(i)}) {
+      fr.impact_acceleration.update(a + pulse, t);
+      fr.impact_absolute_acceleration.update(a + ground + pulse, t);
+    }
+  }
+}
+
 void ResponseMonitor::observe_event(std::size_t p, EventKind kind, double closing_velocity, double impulse,
                                     double t) {
   ++stats_.events;

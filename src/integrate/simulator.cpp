@@ -115,6 +115,9 @@ Loop::Loop(PoundingSystem system, const TimeHistoryOptions& options)
       monitor_(system_.model(), system_.layout(), first_storey_forms(system_.model(), system_.layout())),
       events_(std::make_unique<Events>(*this)) {
   state_.resize(system_.layout().size());
+  v_before_events_.resize(system_.layout().size());
+  a_before_events_.resize(system_.layout().size());
+  monitor_.set_impact_duration(options_.impact_duration);
   for (const Link& link : system_.links()) {
     if (link.element >= 0 && link.b < 0 && link.smooth_in(0)) {
       smooth_first_storeys_.push_back(system_.layout().frame_of(link.a));
@@ -583,6 +586,11 @@ void Loop::apply_pending_events() {
   // An event can trigger others at the same instant (e.g. an impact that makes the dashpot pull):
   // apply them all before moving on. The system re-evaluates g_lo_, hence the copy.
   bool applied = false;
+  const bool watching = recording_ && any_fired(guards_.lo);
+  if (watching) {
+    v_before_events_ = state_.v;
+    a_before_events_ = state_.a;
+  }
   while (any_fired(guards_.lo)) {
     guards_.work = guards_.lo;
     phase_ = &system_.apply_events(guards_.work, state_, contact_, *phase_, guards_.lo, guards_.rate_lo, *events_);
@@ -590,8 +598,11 @@ void Loop::apply_pending_events() {
     applied = true;
   }
   // The events changed the state (velocities, merged floors, accelerations) after accept()
-  // checked it: a step starts only from a finite state.
-  if (applied) check_finite();
+  // checked and observed it: a step starts only from a finite state, and the peaks include the
+  // state just after the events (a storey shear k u + c u̇ jumps with an impact's velocities).
+  if (!applied) return;
+  record_statistics();
+  if (watching) monitor_.observe_velocity_jumps(v_before_events_, a_before_events_, state_);
 }
 
 }  // namespace detail

@@ -1563,6 +1563,8 @@ OptimizeSettings read_optimize(TableReader& t) {
       if (seen.key == var.key) v.fail("key", fmt::format("'{}' is a variable twice", var.key));
     }
     var.start = read_range(v, var.min, var.max);
+    var.log = v.choice("scale", {"linear", "log"}, std::string("linear")) == "log";
+    if (var.log && !(var.min > 0)) v.fail("min", "must be > 0 with scale = \"log\" (NLopt searches log(value))");
     v.finish();
     o.variables.push_back(std::move(var));
   }
@@ -2195,6 +2197,7 @@ toml::table optimize_table(const OptimizeSettings& o) {
   for (const OptimizeVariable& v : o.variables) {
     toml::table variable{{"key", v.key}, {"min", v.min}, {"max", v.max}};
     if (v.start) variable.insert("start", *v.start);
+    if (v.log) variable.insert("scale", "log");
     variables.push_back(std::move(variable));
   }
   t.insert("variable", std::move(variables));

@@ -40,12 +40,14 @@ NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(FloorFigures, frame, floor, peak_u_m, free_pe
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(JointFigures, left_frame, floor, min_gap_m, label)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(GapFigures, max_force_N, stroke_use, has_stroke, label)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TimeHistoryFigures, energy_residual, pga_g, frames, floors, joints, gaps, impacts,
-                                   max_impact_impulse_Ns, max_gap_force_N, max_peak_V_W, max_ratio_to_free,
+                                   max_impact_impulse_Ns, max_velocity_jump_m_s, max_gap_force_N, max_peak_V_W, max_ratio_to_free,
                                    max_peak_drift_m, max_peak_drift_ratio, max_peak_abs_acc_g, max_residual_drift_m,
                                    max_residual_drift_ratio, max_stroke_use, hysteretic_energy_J)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(FrfFigures, points, non_periodic, frames, max_peak_V_W, max_ratio_to_free)
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(EnsembleFigures, records, mean, max)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(BareComparison, bare_peak_V_W, ratio_to_bare, max_ratio_to_bare)
+NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(BareComparison, bare_peak_V_W, ratio_to_bare, max_ratio_to_bare, time_history,
+                                   bare_peak_drift_m, ratio_to_bare_drift, bare_peak_abs_acc_g, ratio_to_bare_acc,
+                                   max_ratio_to_bare_drift, max_ratio_to_bare_acc)
 }  // namespace poundsim
 
 namespace poundsim::io {
@@ -106,6 +108,8 @@ json describe_analysis(const RunInput& in) {
          {"event_tolerance", o.event_tolerance},
          {"lock_time", o.lock_time},
          {"separation", to_string(o.separation)}};
+  // Given only (appended then: other fingerprints stay).
+  if (o.impact_duration > 0) a["impact_duration"] = o.impact_duration;
   if (in.frf) {
     const FrfSettings& f = *in.frf;
     a["frf"] = {{"amplitude_g", f.amplitude_g},     {"ratios", f.ratios},
@@ -250,10 +254,12 @@ json to_json(const PointFigures& figures) {
   return columns;
 }
 
-std::vector<double> peak_V_W_of(const json& columns, int frames) {
-  std::vector<double> peaks;
-  for (int f = 1; f <= frames; ++f) peaks.push_back(columns.at(fmt::format("peak_V{}_W", f)).get<double>());
-  return peaks;
+std::vector<FigureColumn> figure_columns_of(const json& columns) {
+  std::vector<FigureColumn> out;
+  for (const auto& [name, value] : columns.items()) {
+    out.push_back({name, value.get<double>(), value.is_number_integer()});
+  }
+  return out;
 }
 
 namespace {
@@ -362,7 +368,7 @@ PointFigures point_figures_from_bytes(const std::string& bytes) {
   return figures;
 }
 
-PointFigures point_figures(const RunInput& point, int threads, const std::vector<double>* bare_peak_V_W) {
+PointFigures point_figures(const RunInput& point, int threads, const std::vector<FigureColumn>* bare) {
   const auto [lo, hi] = band_of(point);
   PointFigures figures;
   switch (point.each()) {
@@ -370,7 +376,7 @@ PointFigures point_figures(const RunInput& point, int threads, const std::vector
     case PointRun::ensemble: figures.response = ensemble_figures_of(point, threads); break;
     case PointRun::time_history: figures.response = time_history_figures_of(point); break;
   }
-  if (bare_peak_V_W != nullptr) figures.compare_with_bare(*bare_peak_V_W);
+  if (bare != nullptr) figures.compare_with_bare(*bare);
   return figures;
 }
 
@@ -568,8 +574,8 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
     std::string status = "done", error;
     json metrics = json::object();
     try {
-      std::optional<std::vector<double>> bare;
-      if (!task.at("bare").is_null()) bare = peak_V_W_of(task.at("bare"), t.input.model.frame_count());
+      std::optional<std::vector<FigureColumn>> bare;
+      if (!task.at("bare").is_null()) bare = figure_columns_of(task.at("bare"));
       metrics = io::to_json(point_figures(t.input, 1, bare ? &*bare : nullptr));
     } catch (const SimulationError& e) {
       status = "failed";

@@ -1,5 +1,6 @@
 #include "poundsim/io/time_history_run.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <optional>
@@ -12,6 +13,7 @@
 #include "poundsim/error.hpp"
 #include "poundsim/io/json_fields.hpp"
 #include "poundsim/io/output_files.hpp"
+#include "poundsim/model/laws/paper_gap.hpp"
 #include "poundsim/analysis/response_metrics.hpp"
 #include "poundsim/units.hpp"
 
@@ -201,6 +203,46 @@ std::string separation_lines(const TimeHistoryResult& r) {
   }
   return text;
 }
+/// Each frame's peak absolute floor acceleration (with the free frame's), and what the rigid
+/// impacts did to the floors when the accelerations leave them out.
+std::string acceleration_lines(const TimeHistoryResult& r) {
+  std::string text;
+  const ResponseStatistics& st = r.statistics;
+  const ResponseStatistics* free = r.free ? &*r.free : nullptr;
+  Peak jump;
+  int jump_frame = 0, jump_floor = 0;
+  for (int f = 0; f < r.model.frame_count(); ++f) {
+    Peak a, free_a;
+    int at = 0;
+    for (int i = 0; i < r.model.frames[static_cast<std::size_t>(f)].storeys(); ++i) {
+      const auto d = static_cast<std::size_t>(r.layout.dof(f, i));
+      const Peak p = st.floors[d].absolute_acceleration_with_impacts();
+      if (p.value > a.value) {
+        a = p;
+        at = i;
+      }
+      if (free != nullptr) free_a.value = std::max(free_a.value, free->floors[d].absolute_acceleration.value);
+      if (st.floors[d].velocity_jump.value > jump.value) {
+        jump = st.floors[d].velocity_jump;
+        jump_frame = f;
+        jump_floor = i;
+      }
+    }
+    text += fmt::format("  frame {}: peak floor acceleration {:.4g} g at floor {}", f + 1, a.value / standard_gravity,
+                        at + 1);
+    text += free != nullptr ? fmt::format(", free {:.4g} g\n", free_a.value / standard_gravity) : "\n";
+  }
+  if (jump.value > 0) {
+    const double tau = r.options.impact_duration;
+    text += tau > 0 ? fmt::format("  rigid impacts: largest floor velocity jump {:.4g} m/s (frame {}, floor {}), in "
+                                  "the accelerations as half-sine pulses of {:.4g} ms\n",
+                                  jump.value, jump_frame + 1, jump_floor + 1, 1e3 * tau)
+                    : fmt::format("  rigid impacts: largest floor velocity jump {:.4g} m/s (frame {}, floor {}), not "
+                                  "in the accelerations (analysis.impact_duration spreads it over a pulse)\n",
+                                  jump.value, jump_frame + 1, jump_floor + 1);
+  }
+  return text;
+}
 }  // namespace
 
 std::string report(const TimeHistoryResult& r, const std::filesystem::path& out_dir) {
@@ -214,6 +256,7 @@ std::string report(const TimeHistoryResult& r, const std::filesystem::path& out_
                         v.value / weight1, v.time);
   }
   text += drift_lines(r);
+  text += acceleration_lines(r);
   text += separation_lines(r);
   text += fmt::format("  impacts {}, max gap force {:.6g} N, max impact impulse {:.6g} N·s\n", r.impacts(),
                       r.max_gap_force(), r.max_impact_impulse());
@@ -296,6 +339,9 @@ json to_json(const TimeHistoryResult& result) {
 
   json floors = json::array();
   const std::vector<Link> links = make_links(model, layout);
+  // The paper's element reaches its stop (bare pounding at once): its impacts jump the velocities.
+  const bool rigid_impacts = std::any_of(model.gaps.begin(), model.gaps.end(),
+                                         [](const GapElement& g) { return std::holds_alternative<PaperGap>(g.law); });
   for (int f = 0; f < model.frame_count(); ++f) {
     for (int i = 0; i < model.frames[f].storeys(); ++i) {
       const FloorResponse& r = st.floors[static_cast<std::size_t>(layout.dof(f, i))];
@@ -303,9 +349,10 @@ json to_json(const TimeHistoryResult& result) {
                  {"floor", i + 1},
                  {"displacement_m", peak(r.displacement)},
                  {"velocity_m_s", peak(r.velocity)},
-                 {"acceleration_m_s2", peak(r.acceleration)},
-                 {"absolute_acceleration_m_s2", peak(r.absolute_acceleration)},
+                 {"acceleration_m_s2", peak(r.acceleration_with_impacts())},
+                 {"absolute_acceleration_m_s2", peak(r.absolute_acceleration_with_impacts())},
                  {"interstorey_drift_m", peak(r.drift)}};
+      if (rigid_impacts) entry["velocity_jump_m_s"] = peak(r.velocity_jump);
       const auto& heights = model.frames[f].storey_height;
       entry["interstorey_drift_ratio"] = heights.empty() ? json() : json(r.drift.value / heights[static_cast<std::size_t>(i)]);
       if (free != nullptr) {
@@ -316,7 +363,8 @@ json to_json(const TimeHistoryResult& result) {
                          {"interstorey_drift_m", q.drift.value},
                          {"interstorey_drift_ratio", heights.empty() ? json() : json(q.drift.value / heights[static_cast<std::size_t>(i)])}};
         entry["amplification"] = {{"displacement", ratio(r.displacement.value, q.displacement.value)},
-                                  {"absolute_acceleration", ratio(r.absolute_acceleration.value, q.absolute_acceleration.value)},
+                                  {"absolute_acceleration",
+                                   ratio(r.absolute_acceleration_with_impacts().value, q.absolute_acceleration.value)},
                                   {"interstorey_drift", ratio(r.drift.value, q.drift.value)}};
       }
       if (!is_default(model.frames[f].storey_law)) entry["storey"] = storey_response(result, links, layout.dof(f, i));
@@ -437,6 +485,14 @@ json to_json(const TimeHistoryResult& result) {
                 {"event_tolerance_s", o.event_tolerance},
                 {"lock_time_s", o.lock_time},
                 {"separation", to_string(o.separation)}};
+  if (rigid_impacts) {
+    // Whether the peak accelerations contain the rigid impacts: they do when spread over a pulse,
+    // or when no floor's velocity jumped.
+    double jump = 0;
+    for (const FloorResponse& f : st.floors) jump = std::max(jump, f.velocity_jump.value);
+    analysis["impact_duration_s"] = o.impact_duration > 0 ? json(o.impact_duration) : json();
+    analysis["accelerations_include_impacts"] = o.impact_duration > 0 || jump == 0;
+  }
   return json{{"poundsim_version", POUNDSIM_VERSION},
               {"input", input.source.string()},
               {"title", input.title},
@@ -502,8 +558,8 @@ TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem:
 
   // The channels [output] chose (the default ones without it), in the model's order.
   const HistoryChannels channels(model, input.channels);
-  history.text("t");
-  for (const Channel& c : channels.channels()) history.text(c.name);
+  history.text("t_s");
+  for (const Channel& c : channels.channels()) history.text(c.column());
   history.end_row();
   std::vector<double> row(channels.size());
 
@@ -512,9 +568,9 @@ TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem:
   const bool right_floors = std::any_of(model.gaps.begin(), model.gaps.end(), [](const GapElement& g) {
     return g.floor_right() != g.floor || g.column.has_value();
   });
-  events.texts({"t", "frame_left", "frame_right", "floor"});
+  events.texts({"t_s", "frame_left", "frame_right", "floor"});
   if (right_floors) events.text("right_floor");
-  events.texts({"kind", "relative_velocity_before", "relative_velocity_after", "impulse"}).end_row();
+  events.texts({"kind", "relative_velocity_before_m_s", "relative_velocity_after_m_s", "impulse_Ns"}).end_row();
   TimeHistoryObserver observer;
   observer.on_event = [&](const Event& e) {
     const GapElement& g = model.gaps[static_cast<std::size_t>(e.gap)];

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <string_view>
 #include <string>
 #include <utility>
 
@@ -18,6 +19,7 @@
 #include "poundsim/io/frequency_response_run.hpp"
 #include "poundsim/io/output_files.hpp"
 #include "poundsim/io/study_run.hpp"
+#include "poundsim/model/laws/paper_gap.hpp"
 #include "poundsim/analysis/response_metrics.hpp"
 
 namespace poundsim::optimize {
@@ -454,11 +456,31 @@ class Problem {
   std::size_t reported_ = 0;  ///< Evaluations reported to progress (never twice across replays).
 };
 
+/// The coordinates NLopt searches: a variable's value, or its logarithm (scale = "log"), so that
+/// a stiffness over decades is searched with steps of a fraction of a decade.
+struct SearchSpace {
+  std::vector<bool> log;
+  std::vector<double> lower, upper;  ///< The design's bounds, which the designs are clamped to.
+  [[nodiscard]] std::vector<double> to_search(std::vector<double> x) const {
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      if (log[i]) x[i] = std::log(x[i]);
+    }
+    return x;
+  }
+  [[nodiscard]] std::vector<double> to_design(std::vector<double> y) const {
+    for (std::size_t i = 0; i < y.size(); ++i) {
+      if (log[i]) y[i] = std::clamp(std::exp(y[i]), lower[i], upper[i]);
+    }
+    return y;
+  }
+};
+
 /// What NLopt's callbacks of one stage share.
 struct Stage {
   Problem* problem;
   const Goal* goal;
   std::string name;
+  const SearchSpace* space;  ///< NLopt's coordinates → designs.
   /// What ended the stage from inside an evaluation (RunStopped from the caller's progress, or
   /// any error), rethrown once NLopt has returned.
   std::exception_ptr error;
@@ -485,31 +507,35 @@ double nlopt_guarded(Stage& stage, F&& f) {
   }
 }
 
-double objective_callback(const std::vector<double>& x, std::vector<double>& /*gradient*/, void* data) {
+double objective_callback(const std::vector<double>& y, std::vector<double>& /*gradient*/, void* data) {
   auto* stage = static_cast<Stage*>(data);
-  return nlopt_guarded(*stage, [&] { return stage->problem->objective((*stage->problem)(x, stage->name), *stage->goal); });
+  return nlopt_guarded(*stage, [&] {
+    return stage->problem->objective((*stage->problem)(stage->space->to_design(y), stage->name), *stage->goal);
+  });
 }
 
-double bound_callback(unsigned n, const double* x, double* /*gradient*/, void* data) {
+double bound_callback(unsigned n, const double* y, double* /*gradient*/, void* data) {
   auto* c = static_cast<BoundCallback*>(data);
-  const std::vector<double> point(x, x + n);
+  const std::vector<double> point = c->stage->space->to_design(std::vector<double>(y, y + n));
   return nlopt_guarded(*c->stage, [&] {
     const Evaluation& e = (*c->stage->problem)(point, c->stage->name);
     return e.status == "done" ? c->bound->violation(e.metrics[c->bound->metric]) : kRejected;
   });
 }
 
-/// One NLopt stage of `goal` from x: the algorithm alone when it takes constraints (or there
-/// are none), else inside AUGLAG. Returns the stage as it ran.
+/// One NLopt stage of `goal` from the design x (in NLopt's coordinates: SearchSpace): the
+/// algorithm alone when it takes constraints (or there are none), else inside AUGLAG. Returns
+/// the stage as it ran.
 OptimizationStage run_stage(const nlopt::algorithm algorithm, const std::string& algorithm_name, bool global,
-                            const std::vector<double>& lower, const std::vector<double>& upper, int budget,
-                            const OptimizeSettings& s, Problem& problem, const Goal& goal, const std::string& name,
-                            std::vector<double>& x) {
-  const auto n = static_cast<unsigned>(x.size());
+                            const SearchSpace& space, int budget, const OptimizeSettings& s, Problem& problem,
+                            const Goal& goal, const std::string& name, const std::vector<double>& design) {
+  const auto n = static_cast<unsigned>(design.size());
+  const std::vector<double> lower = space.to_search(space.lower), upper = space.to_search(space.upper);
+  std::vector<double> x = space.to_search(design);
   // A start from another stage may lie outside the box by rounding (COBYLA's steps can cross a
   // bound by an ulp), which NLopt refuses.
   for (unsigned i = 0; i < n; ++i) x[i] = std::clamp(x[i], lower[i], upper[i]);
-  Stage stage{&problem, &goal, goal.label + name, nullptr};
+  Stage stage{&problem, &goal, goal.label + name, &space, nullptr};
   std::vector<BoundCallback> callbacks;
   callbacks.reserve(goal.bounds.size());
   for (const Bound& b : goal.bounds) callbacks.push_back({&stage, &b});
@@ -565,10 +591,10 @@ OptimizationStage run_stage(const nlopt::algorithm algorithm, const std::string&
   return {stage.name, ran, outcome, static_cast<long>(problem.evaluations().size() - before)};
 }
 
-/// The algorithms and budgets of the two stages.
+/// The algorithms and budgets of the two stages, and the space they search.
 struct Stages {
   std::optional<std::pair<nlopt::algorithm, std::string>> global, local;
-  std::vector<double> lower, upper;
+  SearchSpace space;
 };
 
 /// Minimises `goal` from x with the global stage, then the local one from the goal's best point;
@@ -576,15 +602,13 @@ struct Stages {
 const Evaluation& optimise(const Stages& stages, const OptimizeSettings& s, Problem& problem, const Goal& goal,
                            const std::vector<double>& x, std::vector<OptimizationStage>& ran) {
   if (stages.global) {
-    std::vector<double> g = x;
-    ran.push_back(run_stage(stages.global->first, stages.global->second, true, stages.lower, stages.upper,
-                            s.global_evaluations, s, problem, goal, "global", g));
+    ran.push_back(run_stage(stages.global->first, stages.global->second, true, stages.space, s.global_evaluations, s,
+                            problem, goal, "global", x));
   }
   if (stages.local) {
     const Evaluation* best = problem.best(goal);
-    std::vector<double> l = best != nullptr ? best->x : x;
-    ran.push_back(run_stage(stages.local->first, stages.local->second, false, stages.lower, stages.upper,
-                            s.local_evaluations, s, problem, goal, "local", l));
+    ran.push_back(run_stage(stages.local->first, stages.local->second, false, stages.space, s.local_evaluations, s,
+                            problem, goal, "local", best != nullptr ? best->x : x));
   }
   const Evaluation* best = problem.best(goal);
   if (best == nullptr) throw SimulationError("optimize: no evaluation succeeded");
@@ -604,6 +628,39 @@ void require_figure(const std::string& name, const std::string& where, const Eva
                                "figures are: {}",
                                where.empty() ? input.source.string() + ": optimize.objective" : where, name,
                                to_string(s.each), fmt::join(names, ", ")));
+}
+
+/// Whether figure `name` is an acceleration (docs/studies.md: peak_abs_acc_…, amp_acc_…,
+/// ratio_to_bare_acc_…, an ensemble's max_… of them).
+bool is_acceleration_figure(std::string_view name) {
+  return name.find("abs_acc") != std::string_view::npos || name.find("amp_acc") != std::string_view::npos ||
+         name.find("bare_acc") != std::string_view::npos;
+}
+
+/// A figure the search steers by (objective, constraint, front) that is an acceleration, in a
+/// model whose impacts are rigid, needs their equivalent pulse: without analysis.impact_duration
+/// the accelerations leave the impacts out, and a design that still pounds would seem to meet
+/// an acceleration limit.
+void refuse_accelerations_without_impacts(const OptimizeSettings& s, const RunInput& input) {
+  if (s.each == PointRun::frf || input.analysis.options.impact_duration > 0) return;
+  const bool rigid = std::any_of(input.model.gaps.begin(), input.model.gaps.end(),
+                                 [](const GapElement& g) { return std::holds_alternative<PaperGap>(g.law); });
+  if (!rigid) return;
+  const auto check = [&](const std::string& name, const std::string& where) {
+    if (!is_acceleration_figure(name)) return;
+    throw InputError(fmt::format(
+        "{}: \"{}\" is a floor acceleration, and this model's impacts are rigid (law = \"paper\": bare "
+        "pounding, or an element reaching its stop): an impact's velocity jump is not in an acceleration taken "
+        "at states, so designs that still pound would pass. Set analysis.impact_duration (the duration of the "
+        "half-sine pulse an impact is spread over, e.g. 0.002 s), or steer by max_velocity_jump_m_s or impacts",
+        where.empty() ? input.source.string() + ": optimize.objective" : where, name));
+  };
+  check(s.objective, s.objective_where);
+  for (const io::OptimizeConstraint& c : s.constraints) check(c.metric, c.where);
+  if (s.pareto) {
+    check(s.pareto->objective, s.pareto->objective_where.empty() ? s.objective_where : s.pareto->objective_where);
+    check(s.pareto->metric, s.pareto->where);
+  }
 }
 
 /// Marks the points of the front that another point dominates (no worse in both figures,
@@ -653,14 +710,17 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
   }
   const bool global = s.global_algorithm != "none", local = s.local_algorithm != "none";
   if (!global && !local) throw InputError(fmt::format("{}: optimize: both stages are \"none\"", input.source.string()));
+  refuse_accelerations_without_impacts(s, input);
   const auto start = std::chrono::steady_clock::now();
   const std::size_t n = s.variables.size();
   Stages stages;
   std::vector<double> x;
   for (const OptimizeVariable& v : s.variables) {
-    stages.lower.push_back(v.min);
-    stages.upper.push_back(v.max);
-    x.push_back(v.start.value_or(0.5 * (v.min + v.max)));
+    stages.space.lower.push_back(v.min);
+    stages.space.upper.push_back(v.max);
+    stages.space.log.push_back(v.log);
+    // The middle of the range as NLopt searches it: the geometric mean on a log scale.
+    x.push_back(v.start.value_or(v.log ? std::sqrt(v.min * v.max) : 0.5 * (v.min + v.max)));
   }
   // Both algorithms are resolved first, so that a bad name is reported before any evaluation.
   if (global) stages.global.emplace(algorithm(s.global_algorithm, input, "global"), s.global_algorithm);

@@ -81,8 +81,9 @@ TEST_F(Cli, RunsTheFig2cExampleAndWritesTheThreeFiles) {
   std::istringstream history(slurp(out / "history.csv"));
   std::string header;
   std::getline(history, header);
-  EXPECT_EQ(header, "t,u_1_1,u_2_1,v_1_1,v_2_1,a_1_1,a_2_1,V_1,V_2,F_1_1,E_input,E_kinetic,E_storey_strain,"
-                    "E_gap_strain,E_storey_damping,E_gap_damping,E_impact,E_residual");
+  EXPECT_EQ(header, "t_s,u_1_1_m,u_2_1_m,v_1_1_m_s,v_2_1_m_s,a_1_1_m_s2,a_2_1_m_s2,V_1_N,V_2_N,F_1_1_N,E_input_J,"
+                    "E_kinetic_J,E_storey_strain_J,E_gap_strain_J,E_storey_damping_J,E_gap_damping_J,E_impact_J,"
+                    "E_residual_J");
   int rows = 0;
   for (std::string line; std::getline(history, line);) ++rows;
   EXPECT_EQ(rows, 2001);  // t = 0, 0.01, ..., 20
@@ -92,8 +93,8 @@ TEST_F(Cli, RunsTheFig2cExampleAndWritesTheThreeFiles) {
   EXPECT_LT(summary["energy"]["max_relative_residual"].get<double>(), 1e-11);
   EXPECT_NEAR(summary["excitation"]["ratio"].get<double>(), 0.8, 1e-15);
   const std::string events = slurp(out / "events.csv");
-  EXPECT_EQ(events.rfind("t,frame_left,frame_right,floor,kind,relative_velocity_before,"
-                         "relative_velocity_after,impulse\n", 0), 0u);
+  EXPECT_EQ(events.rfind("t_s,frame_left,frame_right,floor,kind,relative_velocity_before_m_s,"
+                         "relative_velocity_after_m_s,impulse_Ns\n", 0), 0u);
   EXPECT_NE(events.find(",1,2,1,impact,"), std::string::npos);
 }
 

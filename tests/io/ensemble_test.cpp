@@ -114,15 +114,29 @@ values = [2.0]
   const nlohmann::json direct = to_json(point_figures(made_bare, 1, nullptr));
   EXPECT_EQ(bare["max_peak_V_W"], direct["max_peak_V_W"]);
   EXPECT_EQ(bare["peak_V2_W"], direct["peak_V2_W"]);
-  const std::vector<double> bare_peaks = bare_figures.peak_V_W();
-  const PointFigures with_figures = point_figures(point, 1, &bare_peaks);
+  const std::vector<FigureColumn> bare_columns = figure_columns_of(bare);
+  const PointFigures with_figures = point_figures(point, 1, &bare_columns);
   const nlohmann::json with = to_json(with_figures);
   EXPECT_NE(with["max_peak_V_W"], bare["max_peak_V_W"]);  // the gap elements change the response
   EXPECT_NEAR(with["ratio_to_bare_1"].get<double>(), with["peak_V1_W"].get<double>() / bare["peak_V1_W"].get<double>(), 1e-15);
   // The typed figures and their columns agree: an ensemble's headline is its mean over records.
   EXPECT_EQ(with_figures.max_peak_V_W(), with["max_peak_V_W"].get<double>());
   EXPECT_EQ(with_figures.bare->max_ratio_to_bare, with["max_ratio_to_bare"].get<double>());
-  EXPECT_EQ(bare_peaks, peak_V_W_of(bare, 2));
+  // Drifts and accelerations against bare pounding's, frame by frame (the ensemble's means).
+  for (const char* frame : {"1", "2"}) {
+    const std::string f = frame;
+    EXPECT_EQ(with["bare_peak_drift_" + f + "_m"], bare["peak_drift_" + f + "_m"]);
+    EXPECT_NEAR(with["ratio_to_bare_drift_" + f].get<double>(),
+                with["peak_drift_" + f + "_m"].get<double>() / bare["peak_drift_" + f + "_m"].get<double>(), 1e-15);
+    EXPECT_NEAR(with["ratio_to_bare_acc_" + f].get<double>(),
+                with["peak_abs_acc_" + f + "_g"].get<double>() / bare["peak_abs_acc_" + f + "_g"].get<double>(), 1e-15);
+  }
+  EXPECT_EQ(with["max_ratio_to_bare_drift"].get<double>(),
+            std::max(with["ratio_to_bare_drift_1"].get<double>(), with["ratio_to_bare_drift_2"].get<double>()));
+  EXPECT_EQ(with["max_ratio_to_bare_acc"].get<double>(),
+            std::max(with["ratio_to_bare_acc_1"].get<double>(), with["ratio_to_bare_acc_2"].get<double>()));
+  EXPECT_GT(with["ratio_to_bare_drift_1"].get<double>(), 0.0);
+  EXPECT_NE(with["ratio_to_bare_drift_1"].get<double>(), 1.0);
 }
 
 

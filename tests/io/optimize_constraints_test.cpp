@@ -35,7 +35,7 @@ using optimize::run_optimization;
 
 constexpr double kV0 = 0.1, kMassLow = 1e4, kM1 = 1e4;
 
-std::string problem(const std::string& optimize) {
+std::string problem(const std::string& optimize, const std::string& stiffness_scale = "") {
   return R"([[frames]]
 storeys = 1
 mass = 1.0e4
@@ -73,8 +73,7 @@ max = 4.0e4
 key = "frames[2].stiffness"
 min = 1.0e6
 max = 1.0e8
-
-)" + optimize;
+)" + stiffness_scale + "\n" + optimize;
 }
 
 RunInput read(const std::string& text) { return read_input_string(text, "optimize.toml", ".", {}); }
@@ -254,6 +253,89 @@ TEST(Optimize, RefusesFiguresAnEvaluationDoesNotHaveAndIncompleteLimits) {
   expect_refused(head + "[optimize.pareto]\nmetric = \"peak_V2_W\"\npoints = 1\n", "optimize.pareto.points");
   expect_refused(head + "[optimize.pareto]\nmetric = \"no_such\"\npoints = 2\n",
                  "optimize.pareto.metric: \"no_such\" is not a figure");
+  // The paper's element (bare pounding here) impacts rigidly: an acceleration without
+  // analysis.impact_duration would leave the impacts out.
+  expect_refused(head + "[[optimize.constraint]]\nmetric = \"max_peak_abs_acc_g\"\nmax = 1.0\n",
+                 "optimize.toml:44:10: optimize.constraint[1].metric: \"max_peak_abs_acc_g\" is a floor acceleration, and "
+                 "this model's impacts are rigid");
+  expect_refused(head + "objective = \"peak_abs_acc_2_g\"\n", "optimize.objective: \"peak_abs_acc_2_g\" is a floor acceleration");
+  expect_refused(head + "[optimize.pareto]\nmetric = \"amp_acc_2_1\"\npoints = 2\n",
+                 "optimize.pareto.metric: \"amp_acc_2_1\" is a floor acceleration");
+}
+
+// With the impacts' pulse duration the same constraint on an acceleration is taken, and steers
+// by accelerations that include the impacts.
+TEST(Optimize, AnAccelerationConstraintWithTheImpactsPulseDurationRuns) {
+  RunInput in = read(problem(R"([optimize]
+each = "time_history"
+global = "none"
+local = "LN_COBYLA"
+local_evaluations = 5
+
+[[optimize.constraint]]
+metric = "max_peak_abs_acc_g"
+max = 10.0
+)"));
+  in.analysis.options.impact_duration = 0.002;
+  const auto dir = testing::fresh_folder("optimize_acceleration");
+  const OptimizationResult r = run_optimization(in, dir);
+  ASSERT_EQ(r.constraints.size(), 1U);
+  EXPECT_TRUE(r.constraints[0].value.has_value());
+  std::filesystem::remove_all(dir);
+}
+
+// On a log scale NLopt searches ln k: the constrained optimum is the same (k* = C²/m_lo), and
+// the local stage's first steps are a tenth of the range in ln k — factors of 100^{±0.1} from the
+// start at the geometric mean √(1e6 · 1e8) = 1e7 — where a linear scale steps by ±9.9e6.
+TEST(Optimize, AVariableOnALogScaleIsSearchedInItsLogarithm) {
+  const double limit = 0.5096839959225280;
+  const double c = limit * kM1 * standard_gravity / kV0;
+  const RunInput in = read(problem(fmt::format(R"([optimize]
+each = "time_history"
+objective = "peak_drift_2_m"
+global = "none"
+local = "LN_COBYLA"
+local_evaluations = 400
+relative_tolerance = 1e-12
+
+[[optimize.constraint]]
+metric = "peak_V2_W"
+max = {}
+)",
+                                               limit),
+                                   "scale = \"log\""));
+  ASSERT_TRUE(in.optimize->variables[1].log);
+  EXPECT_FALSE(in.optimize->variables[0].log);
+  const auto dir = testing::fresh_folder("optimize_log_scale");
+  const OptimizationResult r = run_optimization(in, dir);
+  EXPECT_TRUE(r.feasible);
+  EXPECT_NEAR(r.optimum[0], kMassLow, 1e-3 * kMassLow);
+  EXPECT_NEAR(r.optimum[1], c * c / kMassLow, 2e-3 * c * c / kMassLow);
+  // The evaluations' stiffnesses: the start 1e7, then COBYLA's first steps in ln k.
+  const auto& table = r.evaluation_table;
+  std::vector<double> k;
+  for (const auto& column : table.columns()) {
+    if (column.name == "frames[2].stiffness") k = std::get<io::TableColumn::Numbers>(column.values);
+  }
+  ASSERT_GE(k.size(), 3U);
+  EXPECT_NEAR(k[0], 1e7, 1e-6 * 1e7);
+  bool stepped_by_a_factor = false;
+  for (std::size_t i = 1; i < std::min<std::size_t>(k.size(), 4); ++i) {
+    const double factor = std::pow(100.0, 0.1);
+    if (std::abs(k[i] / 1e7 - factor) < 1e-9 || std::abs(1e7 / k[i] - factor) < 1e-9) stepped_by_a_factor = true;
+  }
+  EXPECT_TRUE(stepped_by_a_factor) << k[1] << ", " << k[2];
+  std::filesystem::remove_all(dir);
+  // "log" needs a positive range.
+  std::string zero_min = problem("[optimize]\neach = \"time_history\"\n", "scale = \"log\"");
+  zero_min.replace(zero_min.find("min = 1.0e6"), 11, "min = 0.0");
+  try {
+    static_cast<void>(read(zero_min));
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("optimize.variable[2].min: must be > 0 with scale = \"log\""), std::string::npos)
+        << e.what();
+  }
 }
 
 /// A constrained search with a global stage (a population algorithm) and a local one.

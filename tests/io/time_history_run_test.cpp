@@ -197,10 +197,10 @@ TEST(TimeHistoryResult, InelasticStoreysReportTheirDuctilityResidualDriftAndHyst
     return std::stod(values.at(static_cast<std::size_t>(at - names.begin())));
   };
   const auto& first = summary["peaks"]["floors"][0]["storey"];
-  EXPECT_DOUBLE_EQ(column("drift_1_1"), first["residual_drift_m"].get<double>());
+  EXPECT_DOUBLE_EQ(column("drift_1_1_m"), first["residual_drift_m"].get<double>());
   // The first storey's restoring force at the end is the base shear's then.
-  EXPECT_DOUBLE_EQ(column("Fs_1_1"), column("V_1"));
-  EXPECT_DOUBLE_EQ(column("E_storey_hysteretic"), summary["energy"]["storey_hysteretic_J"].get<double>());
+  EXPECT_DOUBLE_EQ(column("Fs_1_1_N"), column("V_1_N"));
+  EXPECT_DOUBLE_EQ(column("E_storey_hysteretic_J"), summary["energy"]["storey_hysteretic_J"].get<double>());
   fs::remove_all(out);
 }
 

@@ -56,6 +56,17 @@ struct Channel {
   /// (gap quantities) or the energy term (EnergyTerm) it reads.
   int index = 0;
   double height = 0.0;  ///< The storey's height for a drift ratio [m].
+
+  /// Its column in history.csv: the name and its unit as a suffix, as the other tables name
+  /// theirs (u_1_1_m, v_1_1_m_s, a_abs_1_1_m_s2, F_1_1_N, E_input_J; a ratio bare: drift_ratio_1_1).
+  [[nodiscard]] std::string column() const { return name + unit_suffix(unit); }
+  /// "_m", "_m_s", "_m_s2", "_N", "_J" for those units ("/" as "_"), "" for a ratio ("1").
+  [[nodiscard]] static std::string unit_suffix(std::string_view unit) {
+    if (unit == "1" || unit.empty()) return "";
+    std::string suffix = "_";
+    for (const char c : unit) suffix += c == '/' ? '_' : c;
+    return suffix;
+  }
 };
 
 /// The terms of the energy balance a history records, in the order of its columns.

@@ -32,7 +32,9 @@ struct FrameFigures {
   // A time history's, storey by storey and floor by floor the largest:
   double peak_drift_m = 0.0, free_peak_drift_m = 0.0;  ///< |u_i − u_{i−1}| [m].
   double peak_drift_ratio = 0.0, free_peak_drift_ratio = 0.0;  ///< |u_i − u_{i−1}| ÷ h_i.
-  double peak_abs_acc_g = 0.0, free_peak_abs_acc_g = 0.0;      ///< |ü_i + a_g| ÷ g.
+  /// |ü_i + a_g| ÷ g, with the equivalent pulses of rigid impacts when the run spreads them
+  /// over a duration (TimeHistoryOptions::impact_duration; FloorResponse::impact_acceleration).
+  double peak_abs_acc_g = 0.0, free_peak_abs_acc_g = 0.0;
   /// |u_i − u_{i−1}| at the end of the run [m] and ÷ h_i: the residual drift of yielding storeys
   /// once the motion has died out (let it: a duration beyond the record).
   double residual_drift_m = 0.0, residual_drift_ratio = 0.0;
@@ -90,6 +92,9 @@ struct TimeHistoryFigures {
   std::vector<GapFigures> gaps;      ///< In Model::gaps order.
   double impacts = 0.0;  ///< A count; a double because an ensemble's mean need not be whole.
   double max_impact_impulse_Ns = 0.0;
+  /// The largest jump of a floor's velocity at a rigid impact or a lock [m/s] (0 without): what
+  /// the impacts do to the floors, whether or not the accelerations include them.
+  double max_velocity_jump_m_s = 0.0;
   double max_gap_force_N = 0.0;
   double max_peak_V_W = 0.0;
   double max_ratio_to_free = 0.0;
@@ -109,10 +114,18 @@ struct EnsembleFigures {
 };
 
 /// The point against bare pounding at its joints (columns bare_peak_V{f}_W, ratio_to_bare_{f},
-/// max_ratio_to_bare).
+/// max_ratio_to_bare; a time history's and an ensemble's also, per frame, its peak drift and
+/// peak absolute acceleration against bare pounding's: bare_peak_drift_{f}_m,
+/// ratio_to_bare_drift_{f}, bare_peak_abs_acc_{f}_g, ratio_to_bare_acc_{f}, and the larger over
+/// the frames, max_ratio_to_bare_drift and max_ratio_to_bare_acc). A ratio is 0 when bare
+/// pounding's figure is.
 struct BareComparison {
   std::vector<double> bare_peak_V_W, ratio_to_bare;  ///< Per frame.
   double max_ratio_to_bare = 0.0;
+  bool time_history = false;  ///< Whether the drifts and accelerations below are compared.
+  std::vector<double> bare_peak_drift_m, ratio_to_bare_drift;    ///< Per frame.
+  std::vector<double> bare_peak_abs_acc_g, ratio_to_bare_acc;    ///< Per frame.
+  double max_ratio_to_bare_drift = 0.0, max_ratio_to_bare_acc = 0.0;
 };
 
 /// The columns of the two figures every point has, which the optimiser minimises and a study
@@ -140,8 +153,10 @@ struct PointFigures {
   [[nodiscard]] double max_ratio_to_free() const;
   /// Each frame's peak V/W (an ensemble's: its mean), what bare pounding is compared by.
   [[nodiscard]] std::vector<double> peak_V_W() const;
-  /// Adds the ratios to bare pounding whose frames peak at `bare_peak_V_W`.
-  void compare_with_bare(std::span<const double> bare_peak_V_W);
+  /// Adds the ratios to bare pounding, whose figures are `bare` (the columns of the same point
+  /// made bare: bare_pounding_model). Throws std::invalid_argument when a figure compared is
+  /// not among them.
+  void compare_with_bare(std::span<const FigureColumn> bare);
   /// Every figure as a study column (docs/studies.md), in no particular order.
   [[nodiscard]] std::vector<FigureColumn> columns() const;
   /// The figure of column `name`; nothing when the point has no such column.

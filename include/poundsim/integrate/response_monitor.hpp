@@ -44,6 +44,24 @@ struct FloorResponse {
   Peak absolute_acceleration;  ///< |ü + a_g| [m/s²]
   Peak drift;                  ///< |u_i − u_{i−1}| [m]
   std::int64_t yield_excursions = 0;  ///< Times the storey below began to yield (yielding laws).
+  /// A rigid impact (the paper's element reaching its stop, bare pounding) or a lock changes the
+  /// floor's velocity at once: the largest such jump |Δu̇| [m/s]. Its acceleration is a Dirac
+  /// pulse of area Δu̇, which the accelerations above (taken at states) do not contain.
+  Peak velocity_jump;
+  /// With ResponseMonitor::set_impact_duration(τ > 0), each jump is spread over an equivalent
+  /// half-sine pulse of duration τ, of peak π Δu̇ / (2τ), added to the floor's acceleration
+  /// just before and just after the impact: the largest |ü ± pulse| and |ü + a_g ± pulse|
+  /// [m/s²]. Zero without impacts or without τ.
+  Peak impact_acceleration, impact_absolute_acceleration;
+
+  /// The peak acceleration with the impacts' equivalent pulses (relative, absolute).
+  [[nodiscard]] Peak acceleration_with_impacts() const { return larger(acceleration, impact_acceleration); }
+  [[nodiscard]] Peak absolute_acceleration_with_impacts() const {
+    return larger(absolute_acceleration, impact_absolute_acceleration);
+  }
+
+ private:
+  static Peak larger(const Peak& a, const Peak& b) { return b.value > a.value ? b : a; }
 };
 
 struct GapResponse {
@@ -190,6 +208,13 @@ class ResponseMonitor {
 
   /// The floors, shears and approaches at the accepted state x.
   void observe(const KinematicState& x);
+  /// The duration τ [s] of the half-sine pulse a rigid impact's velocity jump is spread over
+  /// (FloorResponse::impact_acceleration); 0: none.
+  void set_impact_duration(double tau) { impact_duration_ = tau; }
+  /// Events at x.t changed the floors' velocities from `v_before` and their accelerations from
+  /// `a_before` (rigid impacts, locks) to x's: the velocity jumps and their equivalent pulses.
+  void observe_velocity_jumps(const Eigen::VectorXd& v_before, const Eigen::VectorXd& a_before,
+                              const KinematicState& x);
   /// Gap element p transmits `force` [N] at shortening s [m] at time t.
   void observe_gap(std::size_t p, double force, double s, double t) {
     GapResponse& g = stats_.gaps[p];
@@ -227,6 +252,7 @@ class ResponseMonitor {
   std::vector<double> contact_start_;    ///< When each element's current contact began (NaN: none)
   std::vector<double> contact_closing_;  ///< ṡ at that contact's onset [m/s]
   std::vector<double> plastic_at_yield_; ///< Each storey's plastic drift when it last began to yield [m]
+  double impact_duration_ = 0.0;         ///< τ of set_impact_duration [s]
   mutable ResponseStatistics stats_;  ///< Mutable: statistics() copies the first storeys' drifts.
   KinematicState node_;  ///< Scratch for states on a trajectory.
 };

@@ -86,6 +86,11 @@ struct TimeHistoryOptions {
   /// fraction of the accelerations' size; in (0, 1e-3].
   double newton_tolerance = 1e-10;
   int newton_max_iterations = 50;  ///< Beyond this a step fails, naming the element; ≥ 1.
+  /// The duration [s] of the half-sine pulse over which the peaks spread a rigid impact's
+  /// velocity jump, so that a floor's peak acceleration includes the impact: π Δu̇ / (2τ) on
+  /// top of the acceleration at the impact (FloorResponse::impact_acceleration). 0: the
+  /// accelerations exclude rigid impacts, whose velocity jumps are reported alone. ≥ 0.
+  double impact_duration = 0.0;
   int max_events_per_step = 100000;        ///< Beyond this the run stops with an error.
   std::size_t phase_cache_size = 4096;     ///< Factorised configurations kept.
 
@@ -110,6 +115,9 @@ struct TimeHistoryOptions {
                     "Newmark with smooth laws: Newton's residual per unit mass, relative to the accelerations"},
         IntegerField{"newton_max_iterations", &O::newton_max_iterations, 1, 1000,
                      "Newmark with smooth laws: Newton's iterations per step before it fails"},
+        NumberField{"impact_duration", &O::impact_duration, "s", non_negative,
+                    "rigid impacts: the half-sine pulse a velocity jump is spread over in the peak "
+                    "accelerations (0: accelerations exclude rigid impacts)"},
     };
   }
 
@@ -247,6 +255,8 @@ class Loop {
   KinematicState state_;
   Guards guards_;
   int events_this_step_ = 0;
+  /// The floors' velocities and accelerations before the events of an instant (the velocity jumps).
+  Eigen::VectorXd v_before_events_, a_before_events_;
   std::function<void(const Event&)> on_event_;
 
  private:

@@ -259,7 +259,8 @@ struct OptimizeVariable {
   static constexpr auto fields() {
     using C = CustomField<OptimizeVariable>;
     return std::tuple{C{"key", "any input key"}, C{"min", "the lower bound"}, C{"max", "the upper bound"},
-                      C{"start", "the starting value"}};
+                      C{"start", "the starting value"},
+                      C{"scale", "\"linear\" or \"log\": NLopt searches the value or its logarithm"}};
   }
 };
 /// [parameter] of a continuation.
@@ -508,7 +509,10 @@ struct ContinuedParameter {
 struct OptimizeVariable {
   std::string key;
   double min = 0.0, max = 0.0;
-  std::optional<double> start;       ///< Default: the middle of [min, max].
+  std::optional<double> start;       ///< Default: the middle of [min, max] (geometric on a log scale).
+  /// NLopt searches log(value) (scale = "log"; min > 0): steps and a global algorithm's samples
+  /// spread over decades alike, as a study's log axis does.
+  bool log = false;
   std::string where;                 ///< "file:line:column: optimize.variable[i].key", for messages.
 };
 

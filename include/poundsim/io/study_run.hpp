@@ -39,15 +39,15 @@ std::string baseline_key(const RunInput& point);
 
 /// Figures of merit of one point (docs/studies.md): its frequency response over the band of the
 /// study or optimiser, its time history, or its ensemble's; compared with bare pounding whose
-/// frames peak at `bare_peak_V_W` (or not, when null). `threads` for a frequency response's
-/// points and an ensemble's records.
-PointFigures point_figures(const RunInput& point, int threads, const std::vector<double>* bare_peak_V_W);
+/// figures are `bare` (or not, when null: baseline_figures' columns). `threads` for a frequency
+/// response's points and an ensemble's records.
+PointFigures point_figures(const RunInput& point, int threads, const std::vector<FigureColumn>* bare);
 
 /// The figures as the study table's columns, name → value (a count as an integer).
 nlohmann::json to_json(const PointFigures& figures);
 
-/// The frames' peak V/W (columns peak_V1_W, …) of figures stored as columns.
-std::vector<double> peak_V_W_of(const nlohmann::json& columns, int frames);
+/// Figures stored as columns (to_json) as FigureColumns again.
+std::vector<FigureColumn> figure_columns_of(const nlohmann::json& columns);
 
 /// Bare pounding in the point's joints: every gap element a rigid stop (k = c = ε = 0) at the
 /// width of its joint (RunInput::joint_widths), where the floors collide without the element.
