@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include <optional>
+
 #include <gtest/gtest.h>
 
 #include "poundsim/integrate/simulator.hpp"
@@ -177,23 +179,33 @@ class RecordingForces final : public SmoothForces {
   const ContactState& contact_;
 };
 
-TEST(NewtonSteps, ConvergeQuadratically) {
-  // Two free masses 0.2 mm into a Hertz contact, closing at 1.5 m/s: one step of 1e-4 s, an eighth
-  // of the contact, from ü⁺ = ü — far from the answer.
+/// Two free masses 0.2 mm into a Hertz contact, closing at 1.5 m/s, in the phase of a Newmark
+/// step of 1e-4 s (an eighth of the contact): the start of one Newton step.
+class NewtonSteps : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    x.resize(2);
+    x.u << kGap + 2e-4, 0.0;
+    x.v << 1.0, -0.5;
+    contact = system.initial_contact(x);
+    ASSERT_EQ(contact.config[0], static_cast<LinkMode>(SmoothContact::Mode::contact));
+    system.refresh_flags(contact);
+    step_phase.emplace(model, system.layout(), contact.config, 1e-4);
+    ASSERT_TRUE(step_phase->has_smooth_links());
+  }
   const Model model = make_model({make_uniform_frame(1, kLeftMass, 1e-6, 0.0), make_uniform_frame(1, kRightMass, 1e-6, 0.0)},
                                  GapLaw(Hertz{.parameters = {.stiffness = 1e9, .gap = kGap}}));
-  PoundingSystem system(model, NoExcitation{}, EventRules{});
+  PoundingSystem system{model, NoExcitation{}, EventRules{}};
   KinematicState x;
-  x.resize(2);
-  x.u << kGap + 2e-4, 0.0;
-  x.v << 1.0, -0.5;
-  ContactState contact = system.initial_contact(x);
-  ASSERT_EQ(contact.config[0], static_cast<LinkMode>(SmoothContact::Mode::contact));
-  system.refresh_flags(contact);
-  LinearPhase phase(model, system.layout(), contact.config, 1e-4);
-  ASSERT_TRUE(phase.has_smooth_links());
+  ContactState contact;
+  std::optional<LinearPhase> step_phase;
+  NewmarkIntegrator newmark{2};
+};
+
+TEST_F(NewtonSteps, ConvergeQuadratically) {
+  // From ü⁺ = ü — far from the answer.
+  LinearPhase& phase = *step_phase;
   system.equilibrate(phase, x, contact);
-  NewmarkIntegrator newmark(2);
   RecordingForces forces(system, contact);
   std::vector<ForceTangent> by_element(1);
   KinematicState end;
@@ -217,7 +229,7 @@ TEST(NewtonSteps, ConvergeQuadratically) {
   EXPECT_NEAR(end.a(1) * kRightMass, final_force, 1e-9 * final_force);
 }
 
-TEST(NewtonSteps, FailureNamesTheTimeAndTheElement) {
+TEST(NewtonStep, FailureNamesTheTimeAndTheElement) {
   const Model model = make_model({make_uniform_frame(1, kLeftMass, 1e-6, 0.0), make_uniform_frame(1, kRightMass, 1e-6, 0.0)},
                                  GapLaw(Hertz{.parameters = {.stiffness = 1e9, .gap = kGap}}));
   InitialConditions ic;
@@ -240,21 +252,10 @@ class NotFiniteForces final : public SmoothForces {
   }
 };
 
-TEST(NewtonSteps, ANotFiniteForceIsBlamedOnItsElement) {
+TEST_F(NewtonSteps, ANotFiniteForceIsBlamedOnItsElement) {
   // Every comparison with NaN is false: the element whose force "changed most" was never found
   // and the failure message read the link before the first.
-  const Model model = make_model({make_uniform_frame(1, kLeftMass, 1e-6, 0.0), make_uniform_frame(1, kRightMass, 1e-6, 0.0)},
-                                 GapLaw(Hertz{.parameters = {.stiffness = 1e9, .gap = kGap}}));
-  PoundingSystem system(model, NoExcitation{}, EventRules{});
-  KinematicState x;
-  x.resize(2);
-  x.u << kGap + 2e-4, 0.0;
-  x.v << 1.0, -0.5;
-  ContactState contact = system.initial_contact(x);
-  system.refresh_flags(contact);
-  LinearPhase phase(model, system.layout(), contact.config, 1e-4);
-  ASSERT_TRUE(phase.has_smooth_links());
-  NewmarkIntegrator newmark(2);
+  LinearPhase& phase = *step_phase;
   NotFiniteForces forces;
   std::vector<ForceTangent> by_element(1);
   KinematicState end;
