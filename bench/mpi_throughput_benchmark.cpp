@@ -1,5 +1,5 @@
-// A study's throughput on one process, two threads and two MPI ranks (issue 13: two ranks ≥ 1.8×
-// one rank on ≥ 200 points), side by side in one run: bench/models/study_200_points.toml through
+// A study's throughput on one process, two threads and two MPI ranks (two ranks should give
+// ≥ 1.8× one rank on ≥ 200 points), side by side in one run: bench/models/study_200_points.toml through
 // the command line, wall clock, MPI's start-up included. And what rank 0 spends per point beside
 // computing: storing a result (one SQLite transaction) and decoding it, the terms of the
 // efficiency model in docs/studies.md#distributed-studies-on-mpi.

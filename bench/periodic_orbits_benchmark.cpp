@@ -1,4 +1,4 @@
-// Periodic orbits (issue 12), side by side with today's brute force in one run: the paper's Fig. 2c
+// Periodic orbits, side by side with the brute force in one run: the paper's Fig. 2c
 // response over 141 ratios by simulation with the exact integrator (every point from rest) and by
 // continuation (every branch, stable and unstable); and the cost of one Newton iteration (a
 // period of the exact integrator carrying the monodromy) as the frames grow from 2×1 to 2×20

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Python's overhead on a time history (issue 11): poundsim.run on two 10-storey frames under 20 s
+"""Python's overhead on a time history: poundsim.run on two 10-storey frames under 20 s
 of El Centro (bench/models/two_ten_storey_frames.toml) against the same run through the C++ library
 (poundsim_benchmarks' BM_TimeHistory2x10ThroughTheLibrary), alternately in one session; and the
 memory Python allocates to return the history (tracemalloc sees NumPy's allocations: a copy of the

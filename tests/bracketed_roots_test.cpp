@@ -27,8 +27,8 @@ struct ImpactPhaseGuard {
 
 TEST(NewtonBracket, ConvexGuardConvergesFromOneSideInAFewSteps) {
   // g = s² − 2 on [1, 2]: Newton from s = 2 approaches √2 from above only, so the lower end of
-  // the bracket stays at 1 until the last step — judged by the bracket's width (the search before
-  // session 21), every other step bisected and this took 33 evaluations.
+  // the bracket stays at 1 until the last step — judged by the bracket's width (a plain safeguard),
+  // every other step would bisect and this would take 33 evaluations.
   const double resolution = 16 * eps * 2;
   const RootBracket b = newton_bracket([](double s) { return std::pair{s * s - 2, 2 * s}; }, 1.0, 2.0, resolution);
   EXPECT_LE(b.hi - b.lo, resolution);

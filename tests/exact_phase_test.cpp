@@ -365,7 +365,7 @@ TEST(ExactPhase, AWallBesideAFrameLeavesItsForcedResponseAndEnergyUnchanged) {
   // Without contact frame 1 does not feel its neighbour: beside a wall (frame 2 up to 10⁶ times
   // its frequency) its forced response must be the one beside a twin. Before the balanced
   // harmonic solve, ratio 10⁶ was refused as a resonance (rcond ~ ω̄/‖A‖); before the closed-form
-  // energy integrals, the quadrature cost grew with the ratio (issue 8, defect 9).
+  // energy integrals, the quadrature cost grew with the ratio.
   const double m = 1.0, k = 200.0, c = 1.4;
   const HarmonicExcitation forcing{.amplitude = 2.0, .omega = 0.8 * std::sqrt(k / m)};
   const auto run = [&](double ratio) {

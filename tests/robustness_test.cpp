@@ -215,15 +215,15 @@ TEST(Robustness, PlasticImpactsAreRecordedOnce) {
   }
 }
 
-/// Frames of `storeys` equal floors, as the issue's example gives them.
+/// Frames of `storeys` equal floors.
 Frame uniform(int storeys, double mass, double stiffness, double damping) {
   return make_uniform_frame(storeys, mass, stiffness, damping);
 }
 
-// The issue's example: a light middle frame squeezed between two heavy ones with near-plastic
+// A light middle frame squeezed between two heavy ones with near-plastic
 // impacts (e = 0.01) and a 10 µm gap. Newmark aborted with "more than 100000 events within one
 // step" (the light floor bounced between its neighbours every 5e-11 s); the exact integrator
-// finished. Both must now finish, with the same impacts and locks, and close the energy balance.
+// finished. Both must finish, with the same impacts and locks, and close the energy balance.
 TEST(Robustness, ALightFloorSqueezedBetweenTwoFramesLocksInsteadOfChattering) {
   const Model model = make_model({uniform(3, 1.0, 3126.3184770105254, 5.3278431322740465),
                                   uniform(5, 0.0583963436056494, 178.7031364687617, 0.0),
@@ -231,7 +231,7 @@ TEST(Robustness, ALightFloorSqueezedBetweenTwoFramesLocksInsteadOfChattering) {
                                  GapProperties{.gap = 1.0504723094919021e-05, .restitution = 0.01});
   const double omega1 = fundamental_frequency(model.frames[0]);
   Case c{model, HarmonicExcitation{0.5304681209877654 * standard_gravity, 0.7611550797008909 * omega1},
-         SeparationCriterion::displacement, 3.0, "issue 8, defect 8"};
+         SeparationCriterion::displacement, 3.0, "a light floor squeezed between two frames"};
   const Outcome newmark = run(c, Integrator::newmark, 2e-3);
   const Outcome exact = run(c, Integrator::exact, 2e-3);
   ASSERT_TRUE(newmark.finished) << newmark.error;

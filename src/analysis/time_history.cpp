@@ -33,7 +33,7 @@ bool ran_as_the_frames_alone(const ResponseStatistics& run) {
 
 /// The free frames' statistics taken from a run that ran as the frames alone: its steps are the
 /// free run's (the same grid), its phase the same matrices, so every peak is the free run's to
-/// the bit (docs/numerics.md, "Session 24"). Its counts are the run's: the guards of the gap
+/// the bit (docs/numerics.md, "The free frames' run"). Its counts are the run's: the guards of the gap
 /// elements were evaluated too.
 ResponseStatistics frames_alone(const ResponseStatistics& run) {
   ResponseStatistics free = run;

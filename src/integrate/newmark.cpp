@@ -175,7 +175,7 @@ void NewmarkIntegrator::step(const LinearPhase& phase, const LinearPhase::Solver
     // Locked links: the same rows over the groups (q = u of each group's representative floor),
     // then u = T q + o as finish() writes it — (w2 + τ²/4 q̈⁺) + o, the same sum. Out of line, so
     // that the common, unreduced step stays as small as it was (2 × 1: 29 instructions a step
-    // more with this path written in here; docs/numerics.md, "Session 27").
+    // more with this path written in here; docs/numerics.md, "Locked links in bands").
     step_groups_banded(phase, *bands, from, tau, ground_end, to);
     return;
   }

@@ -1,7 +1,7 @@
 #pragma once
 // The sensitivity J = ∂x(t)/∂x(t₀) of the exact integrator's state x = [u; u̇] (full floor
 // coordinates) to where the run started: the monodromy matrix of a periodic orbit when t − t₀ is
-// its period (issue 12, docs/periodic-orbits.md).
+// its period (docs/periodic-orbits.md).
 //
 // Between events the flow of a phase is affine in its state, so J moves with the phase
 // propagator: J(t) = T Φ(t − t_s) G J(t_s), with G the gather (the leftmost floor of each rigid

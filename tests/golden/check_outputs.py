@@ -2,16 +2,12 @@
 """Outputs bit for bit: runs every example and the paper's figures and compares checksums of
 what they write with tests/golden/outputs.json.
 
-The checksums were taken with the build before the element architecture (issue 9, 466a563)
-reshaped the code, which had to keep every result bit for bit. What is hashed: every CSV as written (one
-with columns named run_time…, wall clock, is re-written without them), every JSON document (its text) without the lines of its run-time fields (run_time_s and the
-version), the
+A pure refactor keeps every checksum; a change that moves results re-records them (--update)
+and says in its commit message what moved, by how much, and why. What is hashed: every CSV as
+written (one with columns named run_time…, wall clock, is re-written without them), every JSON
+document (its text) without the lines of its run-time fields (run_time_s and the version), the
 rows of every SQLite table (run-time columns and fields dropped). The source and output folders
 are replaced by placeholders so that the checksums do not depend on where the repository lives.
-
-Sessions 21 and 22 re-recorded the three cases that run the exact integrator (its event
-refinement and peak search, then its proof of a single crossing and Newton's first point, changed
-the last bits; docs/numerics.md, "Events", lists the differences measured).
 
     check_outputs.py POUNDSIM SOURCE_DIR WORK_DIR            compare
     check_outputs.py POUNDSIM SOURCE_DIR WORK_DIR --update   write outputs.json anew

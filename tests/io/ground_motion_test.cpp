@@ -222,8 +222,8 @@ TEST_F(MalformedRecords, CosmosCutToFourPointsReads) {
   EXPECT_DOUBLE_EQ(r.duration, 0.015);
 }
 
-// Defect 1 of issue 8: a real header of fewer than 62 values was read past its end (#62 taken
-// from beyond the array: heap-buffer-overflow under ASan, a garbage dt otherwise).
+// A real header of fewer than 62 values must not be read past its end (#62 taken from beyond
+// the array would be a heap-buffer-overflow under ASan, a garbage dt otherwise).
 TEST_F(MalformedRecords, CosmosRealHeaderWithoutValue62IsAnError) {
   std::vector<std::string> lines = cosmos_lines();
   lines[24] = " 50 Real-header values follow on  10 lines, Format= (5F15.6)";
@@ -283,8 +283,8 @@ TEST_F(MalformedRecords, CosmosCountsThatLieAreErrors) {
                        "nounits.V2c:53: the data header gives no units="));
 }
 
-// Defect 5 of issue 8: NPTS = 9999999999 ended in std::bad_alloc, a 400-digit NPTS in a bare
-// "stod"; both are errors at line 4 before anything is allocated.
+// NPTS = 9999999999 (a std::bad_alloc if believed) and a 400-digit NPTS (a bare "stod" error)
+// are both errors at line 4 before anything is allocated.
 TEST_F(MalformedRecords, At2NptsLargerThanTheFileIsAnError) {
   EXPECT_TRUE(Contains(error_of(write("big.AT2", at2("NPTS= 9999999999, DT= .01 SEC", "0.1 0.2 0.3\n"))),
                        "big.AT2:4: NPTS = 9999999999 announced: the 12 bytes after the header hold at most 6 values"));
@@ -299,8 +299,8 @@ TEST_F(MalformedRecords, At2NptsLargerThanTheFileIsAnError) {
                        "fraction.AT2:4: NPTS = 2.5 must be an integer ≥ 2"));
 }
 
-// Defects 4 and 6 of issue 8: DT = INF passed the header check and failed later without the
-// file; DT = 1E308 gives times that overflow. Both are errors at line 4.
+// DT = INF would pass a header check and fail later without naming the file; DT = 1E308 gives
+// times that overflow. Both are errors at line 4.
 TEST_F(MalformedRecords, At2DtMustBeFiniteAndItsTimesToo) {
   EXPECT_TRUE(Contains(error_of(write("inf.AT2", at2("NPTS= 3, DT= INF", "0.1 0.2 0.3\n"))),
                        "inf.AT2:4: DT = INF s must be a finite number > 0"));

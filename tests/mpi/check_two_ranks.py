@@ -126,8 +126,8 @@ def main():
     # computes a design NLopt is about to ask for): the same evaluations and optimum as serial.
     gap = os.path.join(source, "examples", "optimize_gap_elements.toml")
     # The whole budget (64 evaluations) at 120 ratios a design, ~3.5 s on two ranks: the kill below
-    # must come well before its end (at the example's 27 ratios the run took 0.8 s by session 21,
-    # and it sometimes finished before mpirun's SIGTERM reached it).
+    # must come well before its end (at the example's 27 ratios the run takes under a second and
+    # can finish before mpirun's SIGTERM reaches it).
     sets = ["--set", "frf.points=120"]
     a = run([poundsim, "run", gap, "--out", out("batch_serial"), "--quiet", "--set", "optimize.threads=1"] + sets)
     b = run(MPIRUN + [poundsim, "run", gap, "--out", out("batch_two"), "--quiet"] + sets)

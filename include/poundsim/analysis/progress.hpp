@@ -2,7 +2,7 @@
 /// @file
 /// The time left of a run of many items (study points, ensemble records, optimiser evaluations,
 /// frequencies), from the rate of the items done since the run began: the progress bars of the
-/// command line and of the Python module show it (issue 13). Items finished by an earlier run (a
+/// command line and of the Python module show it. Items finished by an earlier run (a
 /// resumed study) are reported done at the first update and do not count to the rate.
 
 #include <optional>

@@ -1,7 +1,7 @@
 #pragma once
 /// @file
 /// Elastic response spectra of ground-motion records, design spectra (Eurocode 8 or a table), and
-/// the scale factors that bring a record or a suite of records to them (issue 13).
+/// the scale factors that bring a record or a suite of records to them.
 ///
 /// The spectrum of a record at a period T = 2π/ω and damping ratio ζ is the peak response of the
 /// linear oscillator

@@ -59,7 +59,7 @@ struct TimeHistoryAnalysis {
   std::optional<ResponseStatistics> free;
   /// `free` is this run's own response, not a second run: no gap element closed, no guard fired
   /// and every step was a whole grid step, so the frames moved, to the bit, as they do without
-  /// gap elements (docs/numerics.md, "Session 24").
+  /// gap elements (docs/numerics.md, "The free frames' run").
   bool free_from_this_run = false;
   EnergyBalance energy;             ///< At the end [J].
   /// What each gap element's law dissipated [J] (EnergyMeter::element_dissipation); empty with

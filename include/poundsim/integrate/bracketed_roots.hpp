@@ -2,10 +2,10 @@
 /// @file
 /// Roots of a scalar function of time inside a bracket where it changes sign: where a guard of the
 /// exact integrator crosses zero (guard_expansion.cpp) and where a response's rate vanishes
-/// between two samples, its extremum (response_monitor.cpp). Both searches ran bisection-like
-/// until session 21 (~34 and ~40 evaluations of the trajectory); these safeguarded methods take
-/// ~8 and ~7 on the same searches (Fig. 3a by continuation), each evaluation the costliest thing
-/// in an exact period.
+/// between two samples, its extremum (response_monitor.cpp). Bisection-like searches take ~34
+/// and ~40 evaluations of the trajectory there; these safeguarded methods take ~8 and ~7 on the
+/// same searches (Fig. 3a by continuation), each evaluation the costliest thing in an exact
+/// period.
 ///
 /// References: W. H. Press et al., Numerical Recipes, 3rd ed. (2007), §9.4 "rtsafe" (Newton with
 /// bisection when a step leaves the bracket or does not halve); M. Dowell and P. Jarratt, "A

@@ -19,7 +19,7 @@
 ///
 /// Why not quadrature: a Gauss rule must resolve the fastest product of two modes, so its cost
 /// grew with the frequency spread of the phase (6.9 s for 1 s of a frame beside a wall 8·10⁴ times
-/// stiffer, issue 8 defect 9). In closed form the cost per sample is O(T²), T = 2n + 4 terms,
+/// stiffer). In closed form the cost per sample is O(T²), T = 2n + 4 terms,
 /// whatever the frequencies. The modal products V_jᵀ C V_k are formed once per phase.
 ///
 /// Only for the modal path (ExactPhase::modal()); the matrix-exponential path keeps quadrature.

@@ -163,7 +163,7 @@ class ExactPhase {
   /// Φ(s) = e^{As} = ∂x(t₀+s)/∂x(t₀): the forcing enters only the particular solution, so the
   /// state's sensitivity to where the phase starts is the homogeneous flow. Modal path: V e^{Λs} V⁻¹
   /// (real to round-off, its real part returned); otherwise the matrix exponential. For the
-  /// monodromy matrix of periodic orbits (issue 12: phase propagators composed with the events'
+  /// monodromy matrix of periodic orbits (phase propagators composed with the events'
   /// saltation matrices).
   [[nodiscard]] Eigen::MatrixXd propagator(double s) const;
   /// One mode of each conjugate pair (the first) and every real mode, ascending; `paired(i)`: the

@@ -1,6 +1,6 @@
 #pragma once
 /// @file
-/// Grid steps of several simulators at once: many small models in lockstep (issue 14).
+/// Grid steps of several simulators at once: many small models in lockstep (docs/numerics.md).
 ///
 /// A brute-force frequency response runs each of its points — a model under its own harmonic
 /// forcing and step — through thousands of grid steps, nearly all of them plain: Newmark over

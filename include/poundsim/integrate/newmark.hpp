@@ -161,8 +161,8 @@ class NewmarkIntegrator {
                                              double ground_end);
   /// step() for a phase without locked links, the common case, in plain loops over the sparse
   /// matrices' arrays: the same operations in the same order as Eigen's expressions and
-  /// SimplicialLDLT's solve (hence the same bits), without their per-call machinery — a step of
-  /// two one-storey frames took ≈ 980 instructions that way (docs/numerics.md).
+  /// SimplicialLDLT's solve (hence the same bits), without their per-call machinery, which cost
+  /// a step of two one-storey frames several times its arithmetic (docs/numerics.md, "Speed").
   void step_unreduced(const LinearPhase& phase, const LinearPhase::Solver& solver, const KinematicState& from,
                       double tau, double ground_end, KinematicState& to);
   /// step_unreduced() for a phase with bands of half-width B (LinearPhase::Bands), row by row,

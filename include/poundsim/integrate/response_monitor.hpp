@@ -118,7 +118,7 @@ struct ResponseStatistics {
   /// change sign for one that rose and fell inside it (the grazing checks below).
   std::int64_t guard_evaluations = 0;
   /// Of guard_evaluations, the grazing checks: what locating the events took is the rest
-  /// (issue 14 asks ≤ 3 a located event on average; bench/step_benchmark.cpp reports both).
+  /// (bench/step_benchmark.cpp reports both).
   std::int64_t grazing_checks = 0;
   std::int64_t events = 0;
   std::int64_t phases_factorised = 0; ///< Configurations assembled and factorised.
