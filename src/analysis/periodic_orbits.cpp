@@ -484,11 +484,148 @@ int complex_outside(const Eigen::VectorXcd& mu) {
   return count;
 }
 
+/// A branch waiting to be followed: from `start` in the direction of `direction` in p (or along
+/// `tangent` when given), or — `doubling` — the period-2k branch born at the period doubling
+/// `start` of a period-k branch, switched to when its turn comes.
 struct PendingBranch {
   PeriodicOrbit start;
   int parent;
   int direction;
+  Eigen::VectorXd tangent;  ///< orientation of the first tangent in (w, p); empty: `direction`
+  bool doubling = false;
+  bool located = false;     ///< a doubling's `start` is the located doubling (else an orbit beside it)
+  PeriodicOrbit unstable;   ///< a doubling's period-k orbit on its unstable side (the fallback's start)
 };
+
+/// The pseudo-arclength corrector: Newton's method on F(w, p) = 0 with tangent · (z − predicted) = 0
+/// from `predicted` (a step of length `step` from a point at parameter `from`). True when it
+/// converged no further than two max_parameter_step from `from` in the parameter (beyond, it
+/// landed on another branch); `trial`, `orbit`, f, fw, fp are then the corrected point's.
+bool corrected(BranchProblem& problem, const Eigen::VectorXd& predicted, const Eigen::VectorXd& tangent, double step,
+               double from, double contraction, const ShootingOptions& shooting, const ContinuationOptions& options,
+               ContinuationResult& result, Eigen::VectorXd& trial, PeriodicOrbit& orbit, Eigen::VectorXd& f,
+               Eigen::MatrixXd& fw, Eigen::VectorXd& fp, int& iterations, std::string& failure) {
+  const Eigen::Index m = predicted.size() - 1;
+  trial = predicted;
+  bool converged = false;
+  iterations = 0;
+  double last_residual = std::numeric_limits<double>::infinity();
+  for (; iterations < options.newton_iterations; ++iterations) {
+    ++result.newton_iterations;
+    if (!problem.evaluate(trial.head(m), trial(m), f, fw, fp, orbit, failure, iterations == 0)) break;
+    const double arclength = tangent.dot(trial - predicted);
+    const double residual = f.cwiseAbs().maxCoeff();
+    if (residual <= shooting.tolerance * std::max(1.0, trial.head(m).cwiseAbs().maxCoeff()) &&
+        std::abs(arclength) <= 1e-6 * step) {
+      // A corrector that ran far along the parameter landed on another branch: a smaller step.
+      converged = std::abs(trial(m) - from) <= 2 * options.max_parameter_step;
+      break;
+    }
+    // With the exact F_w and F_p Newton converges quadratically once near the branch; a
+    // corrector that does not halve the residual after its first correction is cycling or
+    // diverging (the map is not smooth between predictor and branch: a grazing, a lock), and
+    // its remaining iterations were half of all the runs (Fig. 3a): halve the step instead.
+    // A model parameter's F_p is a chord and Newton only linear: there, only a residual that
+    // grows stops it.
+    if (iterations >= 2 && residual > contraction * last_residual) break;
+    last_residual = residual;
+    Eigen::MatrixXd a(m + 1, m + 1);
+    a.topLeftCorner(m, m) = fw;
+    a.topRightCorner(m, 1) = fp;
+    a.bottomRows(1) = tangent.transpose();
+    Eigen::VectorXd rhs(m + 1);
+    rhs << -f, -arclength;
+    const Eigen::VectorXd delta = a.partialPivLu().solve(rhs);
+    if (!delta.allFinite()) break;
+    trial += delta;
+  }
+  return converged;
+}
+
+/// The scaled state of an orbit at its parameter.
+Eigen::VectorXd scaled_state(OrbitFamily& family, const PeriodicOrbit& orbit) {
+  Eigen::VectorXd x(2 * orbit.u.size());
+  x << orbit.u, orbit.v;
+  return Scaling{family.length_scale(), family.at(orbit.parameter).omega()}.to_scaled(x);
+}
+
+/// P^j(w) − w in the scaled state for the orbit (j periods run); none when the run fails.
+std::optional<Eigen::VectorXd> return_difference(OrbitFamily& family, const PeriodicOrbit& orbit, int j,
+                                                 ContinuationResult& result) {
+  StroboscopicMap& map = family.at(orbit.parameter);
+  const Scaling s{family.length_scale(), map.omega()};
+  Eigen::VectorXd x(2 * orbit.u.size());
+  x << orbit.u, orbit.v;
+  try {
+    const Eigen::VectorXd image = map.evaluate(x, j);
+    ++result.map_evaluations;
+    return Eigen::VectorXd(s.to_scaled(image) - s.to_scaled(x));
+  } catch (const std::exception&) {
+    return std::nullopt;
+  }
+}
+
+/// The first orbit of the period-2k branch born at the period doubling `at` of a period-k
+/// branch (its multiplier at −1, eigenvector φ in the scaled state), and the orientation of its
+/// tangent, away from the period-k branch. As fixed points of P^{2k} the two branches cross at
+/// `at`, the period-2k one along (φ, 0): its first orbit is corrected from (w + hφ, p) by the
+/// pseudo-arclength corrector with that tangent, in w and p together — so whichever side of the
+/// doubling the branch lies on (super- or subcritical) — for h a hundredth of the state's size
+/// (then smaller or larger). An orbit the corrector lands on that repeats every k periods is the
+/// period-k branch again, not kept. None when no such orbit converges.
+struct SwitchedBranch {
+  PeriodicOrbit start;
+  Eigen::VectorXd tangent;
+};
+std::optional<SwitchedBranch> switched_branch(OrbitFamily& family, const PeriodicOrbit& at,
+                                              const ShootingOptions& shooting, const ContinuationOptions& options,
+                                              ContinuationResult& result) {
+  const int k = at.periodicity;
+  if (at.monodromy.size() == 0) return std::nullopt;
+  StroboscopicMap& map = family.at(at.parameter);
+  const Scaling s{family.length_scale(), map.omega()};
+  const Eigen::EigenSolver<Eigen::MatrixXd> eig(s.jacobian(at.monodromy));
+  Eigen::Index best = 0;
+  for (Eigen::Index i = 1; i < eig.eigenvalues().size(); ++i) {
+    if (std::abs(eig.eigenvalues()(i) + 1.0) < std::abs(eig.eigenvalues()(best) + 1.0)) best = i;
+  }
+  Eigen::VectorXd phi = eig.eigenvectors().col(best).real();
+  if (!(phi.norm() > 0) || !phi.allFinite()) return std::nullopt;
+  phi.normalize();
+  Eigen::VectorXd x(2 * at.u.size());
+  x << at.u, at.v;
+  const Eigen::VectorXd w0 = s.to_scaled(x);
+  const Eigen::Index m = w0.size();
+  const double size = std::max(1.0, w0.cwiseAbs().maxCoeff());
+  BranchProblem problem(family, 2 * k, options, result);
+  const double contraction = family.frequency_rate() ? 0.5 : 1.0;
+  Eigen::VectorXd tangent = Eigen::VectorXd::Zero(m + 1);
+  tangent.head(m) = phi;
+  for (const double h : {1e-2, 1e-3, 1e-1}) {
+    if (result.map_evaluations >= options.max_evaluations || result.events >= options.max_events) break;
+    Eigen::VectorXd predicted(m + 1);
+    predicted << w0 + h * size * phi, at.parameter;
+    Eigen::VectorXd trial, f, fp;
+    Eigen::MatrixXd fw;
+    PeriodicOrbit orbit;
+    int iterations = 0;
+    std::string failure;
+    if (!corrected(problem, predicted, tangent, h * size, at.parameter, contraction, shooting, options, result, trial,
+                   orbit, f, fw, fp, iterations, failure)) {
+      continue;
+    }
+    // Not the period-k orbit again: P^k moves it by about 2h along φ.
+    orbit.parameter = trial(m);
+    const std::optional<Eigen::VectorXd> half = return_difference(family, orbit, k, result);
+    if (!half || half->norm() < 0.5 * h * size) continue;
+    orbit.iterations = iterations;
+    orbit.residual = f.cwiseAbs().maxCoeff();
+    const Eigen::VectorXd next = branch_tangent(fw, fp, tangent);
+    if (!next.allFinite()) continue;
+    return SwitchedBranch{std::move(orbit), next};
+  }
+  return std::nullopt;
+}
 
 /// A period-2k orbit near the period-k orbit `at`, along the eigenvector of its multiplier
 /// nearest −1; nothing when Newton finds none distinct from the period-k orbit.
@@ -675,10 +812,95 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
   shooting.validate();
   options.validate();
   ContinuationResult result;
-  std::vector<PendingBranch> pending{{start, -1, direction >= 0 ? 1 : -1}};
+  std::vector<PendingBranch> pending{{start, -1, direction >= 0 ? 1 : -1, {}, false, false, {}}};
+  // The period doublings the period-2k branches were switched at, and the pairs of points between
+  // which a period-2k branch crossed the period-k one (came back to a doubling): a doubling at
+  // either is not switched at again.
+  struct Doubling {
+    double parameter;
+    Eigen::VectorXd w;
+    int periodicity;  ///< k of the period-k branch
+  };
+  struct Meeting {
+    double parameter;  ///< the period-2k branch's last point before the crossing
+    Eigen::VectorXd w;  ///< the crossing, estimated from the points either side
+    double radius;      ///< the estimate's uncertainty
+    int periodicity;    ///< 2k
+  };
+  std::vector<Doubling> switched;
+  std::vector<Meeting> meetings;
+  // A period-k orbit is k states on the section (its state and the k − 1 it runs through), and a
+  // branch followed as period k may hold any of them: the same doubling reached along two
+  // branches may be at two of its states.
+  const auto phases = [&](const PeriodicOrbit& orbit) {
+    std::vector<Eigen::VectorXd> out{scaled_state(family, orbit)};
+    StroboscopicMap& map = family.at(orbit.parameter);
+    const Scaling s{family.length_scale(), map.omega()};
+    Eigen::VectorXd x(2 * orbit.u.size());
+    x << orbit.u, orbit.v;
+    for (int j = 1; j < orbit.periodicity; ++j) {
+      try {
+        x = map.evaluate(x, 1);
+      } catch (const std::exception&) {
+        break;
+      }
+      ++result.map_evaluations;
+      out.push_back(s.to_scaled(x));
+    }
+    return out;
+  };
+  const auto already_followed = [&](const PeriodicOrbit& at, const std::vector<Eigen::VectorXd>& states) {
+    const double size = std::max(1.0, states.front().cwiseAbs().maxCoeff());
+    for (const Eigen::VectorXd& w : states) {
+      for (const Doubling& d : switched) {
+        if (d.periodicity == at.periodicity && std::abs(d.parameter - at.parameter) <= 2 * options.max_parameter_step &&
+            (d.w - w).cwiseAbs().maxCoeff() <= 1e-3 * size) {
+          return true;
+        }
+      }
+      for (const Meeting& meeting : meetings) {
+        if (meeting.periodicity == 2 * at.periodicity && (meeting.w - w).norm() <= meeting.radius + 1e-3 * size &&
+            std::abs(at.parameter - meeting.parameter) <= 2 * options.max_parameter_step) {
+          return true;
+        }
+      }
+    }
+    return false;
+  };
   while (!pending.empty()) {
-    const PendingBranch job = pending.front();
+    PendingBranch job = pending.front();
     pending.erase(pending.begin());
+    if (job.doubling) {
+      // Switch to the period-2k branch born at the period doubling job.start (located, else the
+      // orbit beside it), unless a branch already did or came back there.
+      if (result.map_evaluations >= options.max_evaluations || result.events >= options.max_events) continue;
+      const std::vector<Eigen::VectorXd> states = phases(job.start);
+      if (already_followed(job.start, states)) continue;
+      switched.push_back({job.start.parameter, states.front(), job.start.periodicity});
+      std::optional<SwitchedBranch> born;
+      if (job.located) born = switched_branch(family, job.start, shooting, options, result);
+      if (born) {
+        job.start = std::move(born->start);
+        job.tangent = std::move(born->tangent);
+        // Back towards the doubling too: where the map is smooth the branch crosses the period-k
+        // one at once and ends; where it is not (a grazing at the doubling), it may go on.
+        pending.insert(pending.begin(), PendingBranch{job.start, job.parent, job.direction, -job.tangent, false, false, {}});
+      } else {
+        // The corrector found no period-2k orbit near the doubling: shoot one at the unstable
+        // side's parameter instead, and follow it both ways.
+        std::optional<PeriodicOrbit> doubled;
+        try {
+          doubled = doubled_orbit(family, job.unstable, shooting, result);
+        } catch (const std::exception&) {
+          doubled.reset();
+        }
+        if (!doubled) continue;  // no period-2k orbit could be started: the branch is not followed
+        job.start = *doubled;
+        job.direction = 1;
+        pending.insert(pending.begin(), PendingBranch{*doubled, job.parent, -1, {}, false, false, {}});
+      }
+      job.doubling = false;
+    }
     Branch branch;
     branch.id = static_cast<int>(result.branches.size());
     branch.periodicity = job.start.periodicity;
@@ -707,6 +929,7 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
     const Eigen::Index m = w.size();
     Eigen::VectorXd seed = Eigen::VectorXd::Zero(m + 1);
     seed(m) = job.direction;
+    if (job.tangent.size() == m + 1) seed = job.tangent;
     Eigen::VectorXd tangent = branch_tangent(fw, fp, seed);
     branch.points.push_back(current);
     if (!tangent.allFinite()) {
@@ -763,40 +986,11 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
       Eigen::VectorXd z(m + 1);
       z << w, p;
       const Eigen::VectorXd predicted = z + step * tangent;
-      Eigen::VectorXd trial = predicted;
+      Eigen::VectorXd trial;
       PeriodicOrbit orbit;
-      bool converged = false;
       int iterations = 0;
-      double last_residual = std::numeric_limits<double>::infinity();
-      for (; iterations < options.newton_iterations; ++iterations) {
-        ++result.newton_iterations;
-        if (!problem.evaluate(trial.head(m), trial(m), f, fw, fp, orbit, failure, iterations == 0)) break;
-        const double arclength = tangent.dot(trial - predicted);
-        const double residual = f.cwiseAbs().maxCoeff();
-        if (residual <= shooting.tolerance * std::max(1.0, trial.head(m).cwiseAbs().maxCoeff()) &&
-            std::abs(arclength) <= 1e-6 * step) {
-          // A corrector that ran far along the parameter landed on another branch: a smaller step.
-          converged = std::abs(trial(m) - p) <= 2 * options.max_parameter_step;
-          break;
-        }
-        // With the exact F_w and F_p Newton converges quadratically once near the branch; a
-        // corrector that does not halve the residual after its first correction is cycling or
-        // diverging (the map is not smooth between predictor and branch: a grazing, a lock), and
-        // its remaining iterations were half of all the runs (Fig. 3a): halve the step instead.
-        // A model parameter's F_p is a chord and Newton only linear: there, only a residual that
-        // grows stops it.
-        if (iterations >= 2 && residual > contraction * last_residual) break;
-        last_residual = residual;
-        Eigen::MatrixXd a(m + 1, m + 1);
-        a.topLeftCorner(m, m) = fw;
-        a.topRightCorner(m, 1) = fp;
-        a.bottomRows(1) = tangent.transpose();
-        Eigen::VectorXd rhs(m + 1);
-        rhs << -f, -arclength;
-        const Eigen::VectorXd delta = a.partialPivLu().solve(rhs);
-        if (!delta.allFinite()) break;
-        trial += delta;
-      }
+      const bool converged = corrected(problem, predicted, tangent, step, p, contraction, shooting, options, result,
+                                       trial, orbit, f, fw, fp, iterations, failure);
       if (!converged) {
         step *= 0.5;
         if (step < options.min_step) {
@@ -830,17 +1024,32 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
       } else if (real_above_one(before.multipliers) != real_above_one(orbit.multipliers)) {
         orbit.bifurcation = BifurcationKind::fold;
       }
-      if (branch.parent >= 0 && orbit.bifurcation != BifurcationKind::none && k % 2 == 0) {
-        // A doubled branch that returns to its parent's period-doubling point goes on as the
-        // parent's orbits run twice (a fixed point of P^{2k} too): it ends there.
-        StroboscopicMap& map = family.at(orbit.parameter);
-        Eigen::VectorXd x(2 * orbit.u.size());
-        x << orbit.u, orbit.v;
-        const Scaling s{family.length_scale(), map.omega()};
-        const Eigen::VectorXd half = map.evaluate(x, k / 2);
-        ++result.map_evaluations;
-        if ((s.to_scaled(half) - s.to_scaled(x)).cwiseAbs().maxCoeff() < 1e-6) {
+      const bool turned = orbit.bifurcation == BifurcationKind::fold;
+      if (k % 2 == 0 && (turned || (branch.parent >= 0 && orbit.bifurcation != BifurcationKind::none))) {
+        // A period-2k branch that comes back to a period doubling of a period-k branch crosses it
+        // there (as fixed points of P^{2k} the two branches cross) and would go on as the same
+        // orbits shifted by k periods — its mirror image, turning back in p like a fold — or as
+        // the period-k orbits run twice: it ends there. Near the crossing w ≈ w* + aφ, φ the
+        // doubling's eigenvector, and D = P^k(w) − w ≈ −2aφ: the branch crossed between two
+        // points where D points opposite ways and is no longer than the step between them (a fold
+        // of the branch itself keeps D's direction and its size).
+        const Eigen::VectorXd w_after = trial.head(m);
+        const std::optional<Eigen::VectorXd> after = return_difference(family, orbit, k / 2, result);
+        bool met = after && after->cwiseAbs().maxCoeff() < 1e-6;
+        Eigen::VectorXd crossing = w_after;
+        double radius = after ? after->norm() : 0.0;
+        if (after && !met && turned) {
+          const std::optional<Eigen::VectorXd> ahead = return_difference(family, before, k / 2, result);
+          if (ahead) {
+            const double chord = (w_after - w).norm();
+            met = ahead->dot(*after) < 0 && ahead->norm() + after->norm() <= 3 * chord;
+            crossing = 0.5 * ((w + 0.5 * *ahead) + (w_after + 0.5 * *after));
+            radius = std::max(ahead->norm(), after->norm());
+          }
+        }
+        if (met) {
           orbit.bifurcation = BifurcationKind::period_doubling;
+          meetings.push_back({before.parameter, crossing, radius, k});
           branch.points.push_back(orbit);
           branch.ended = "met the branch it doubled from";
           break;
@@ -848,10 +1057,12 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
       }
       const bool grazed = orbit.bifurcation == BifurcationKind::grazing;
       const BifurcationKind found = orbit.bifurcation;
+      std::optional<PeriodicOrbit> located;
       if (orbit.bifurcation == BifurcationKind::period_doubling || orbit.bifurcation == BifurcationKind::neimark_sacker) {
         // Locate it: the flagged orbit is only the first past it.
-        if (auto at = refined_bifurcation(family, before, orbit, orbit.bifurcation, shooting, result)) {
-          branch.points.push_back(*at);
+        located = refined_bifurcation(family, before, orbit, orbit.bifurcation, shooting, result);
+        if (located) {
+          branch.points.push_back(*located);
           orbit.bifurcation = BifurcationKind::none;
         }
       }
@@ -903,34 +1114,12 @@ ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& sta
         }
       }
       if (found == BifurcationKind::period_doubling && 2 * k <= options.max_periodicity) {
-        // Follow the doubled branch from the side where the period-k orbit is unstable.
+        // The period-2k branch born here is switched to when its turn comes, from the located
+        // doubling; where it could not be located, shot beside it from the period-k orbit on its
+        // unstable side (the fallback).
         const PeriodicOrbit& unstable =
             real_below_minus_one(orbit.multipliers) > real_below_minus_one(before.multipliers) ? orbit : before;
-        bool known = false;
-        for (const Branch& b : result.branches) {
-          if (b.periodicity != 2 * k) continue;
-          for (const PeriodicOrbit& q : {b.points.front(), b.points.back()}) {
-            if (std::abs(q.parameter - unstable.parameter) <= 2 * options.max_parameter_step) known = true;
-          }
-        }
-        for (const PendingBranch& b : pending) {
-          if (b.start.periodicity == 2 * k &&
-              std::abs(b.start.parameter - unstable.parameter) <= 2 * options.max_parameter_step) {
-            known = true;
-          }
-        }
-        std::optional<PeriodicOrbit> doubled;
-        if (!known) {
-          try {
-            doubled = doubled_orbit(family, unstable, shooting, result);
-          } catch (const std::exception&) {
-            doubled.reset();  // no period-2k orbit could be started: the branch is not followed
-          }
-          if (doubled) {
-            pending.push_back({*doubled, branch.id, 1});
-            pending.push_back({*doubled, branch.id, -1});
-          }
-        }
+        pending.push_back({located ? *located : unstable, branch.id, 1, {}, true, located.has_value(), unstable});
       }
     }
     if (branch.ended.empty()) branch.ended = "reached the most points of a branch";
@@ -993,6 +1182,34 @@ std::optional<PeriodicOrbit> orbit_from_rest(StroboscopicMap& map, const SteadyS
   return std::nullopt;
 }
 
+/// The periodic orbit the response from rest settles on within about `longest` periods: its
+/// sections read as orbit_from_rest's after steady.max_periods/10 + 10 periods, then again every
+/// 10 + 2 max_k periods until they repeat, and shot. None when they do not repeat by then,
+/// Newton does not converge or a run fails.
+std::optional<PeriodicOrbit> periodic_orbit_from_rest(StroboscopicMap& map, const SteadyStateOptions& steady, int max_k,
+                                                      int longest, const ShootingOptions& shooting, long& budget,
+                                                      long& event_budget) {
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(2 * map.dofs());
+  try {
+    int k = 0;
+    for (int run = 0; k == 0 && run < longest;) {
+      const int settle = run == 0 ? steady.max_periods / 10 + 10 : 10;
+      k = detected_periodicity(map, x, settle, max_k, 1e-4);
+      run += settle + 2 * max_k;
+      budget -= settle + 2 * max_k;
+      event_budget -= map.simulator().statistics().events * (settle + 2 * max_k);
+    }
+    if (k == 0) return std::nullopt;
+    ShootingResult shot = shoot(map, x, k, shooting);
+    budget -= shot.orbit.iterations + 1;
+    event_budget -= shot.orbit.events * (shot.orbit.iterations + 1) / k;
+    if (shot.converged) return std::move(shot.orbit);
+  } catch (const std::exception&) {
+    // the run from rest failed: nothing to follow from there
+  }
+  return std::nullopt;
+}
+
 FrfPoint frf_point(StroboscopicMap& map, double amplitude, const PeriodicOrbit& orbit, int branch, int parent,
                    double period_tolerance) {
   const Model& model = map.model();
@@ -1019,6 +1236,21 @@ FrfPoint frf_point(StroboscopicMap& map, double amplitude, const PeriodicOrbit& 
 }  // namespace
 
 namespace {
+
+/// Whether a stable orbit lies at ratio r among the points: a simulated point there, a continued
+/// one there, or two consecutive points of a branch either side of r one of which is stable (a
+/// branch's stability changes only at a bifurcation, located as a point of its own).
+bool has_stable_orbit(const std::vector<FrfPoint>& points, double r) {
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const FrfPoint& a = points[i];
+    if (a.ratio == r && (a.stable || !a.continued)) return true;
+    if (!a.continued || i + 1 == points.size()) continue;
+    const FrfPoint& b = points[i + 1];
+    if (!b.continued || b.branch_id != a.branch_id) continue;
+    if ((a.ratio - r) * (b.ratio - r) < 0 && (a.stable || b.stable)) return true;
+  }
+  return false;
+}
 
 /// One piece of a frequency response by continuation: the ratios [first, last) of the sorted
 /// list, continued within [lo, hi] on a budget of its own. Branch ids count from 0 in the piece.
@@ -1056,12 +1288,32 @@ std::vector<FrfPoint> continued_segment(const Model& model, const FrequencyRespo
       if (seed) seed->parameter = r;
     }
     if (!seed) {
-      // No periodic orbit from here (quasi-periodic, chaotic, or beyond Newton): simulate.
+      // No periodic orbit from here (quasi-periodic, chaotic, or beyond Newton): simulate. Where
+      // the simulation settles on a periodic response and the budget allows, shoot it from there
+      // (a longer transient than the seed's) and continue it after all.
       std::unique_ptr<Simulator> sim;
-      out.push_back(steady_state_point(model, options.amplitude, r, options.steady, th, sim));
-      covered = r;
-      report();
-      continue;
+      FrfPoint simulated = steady_state_point(model, options.amplitude, r, options.steady, th, sim);
+      if (budget > 0 && event_budget > 0 && simulated.periodicity > 0 && sim) {
+        Eigen::VectorXd x(2 * map.dofs());
+        x << sim->state().u, sim->state().v;
+        try {
+          ShootingResult shot = shoot(map, x, simulated.periodicity, options.shooting);
+          budget -= shot.orbit.iterations + 2;
+          event_budget -= shot.orbit.events * (shot.orbit.iterations + 2) / shot.orbit.periodicity;
+          if (shot.converged) {
+            seed = std::move(shot.orbit);
+            seed->parameter = r;
+          }
+        } catch (const std::exception&) {
+          // a run that cannot start: the simulated point stays
+        }
+      }
+      if (!seed) {
+        out.push_back(std::move(simulated));
+        covered = r;
+        report();
+        continue;
+      }
     }
     co.max_evaluations = budget;
     co.max_events = event_budget;
@@ -1081,6 +1333,44 @@ std::vector<FrfPoint> continued_segment(const Model& model, const FrequencyRespo
     covered = std::max(covered, reached);
     next_branch += static_cast<int>(traced.branches.size());
     report();
+  }
+
+  // A ratio where every continued orbit is unstable: the response from rest settles elsewhere — on
+  // a stable orbit no branch followed here reached (born at a grazing or a fold, not at a period
+  // doubling of a branch followed), or on none. Seed it there (simulated from rest up to a
+  // quarter of max_periods until its sections repeat, then shot) and follow that orbit both ways,
+  // on a share of the budget of its own: one ratio's, or what the piece has left if more.
+  for (const double r : segment.ratios) {
+    if (has_stable_orbit(out, r)) continue;
+    long allowance = std::max(budget, static_cast<long>(co.evaluations_per_ratio));
+    long event_allowance = std::max(event_budget, static_cast<long>(co.events_per_ratio));
+    const long given = allowance, events_given = event_allowance;
+    std::optional<PeriodicOrbit> seed = periodic_orbit_from_rest(family.at(r), options.steady, max_k, options.steady.max_periods / 4,
+                                                                 options.shooting, allowance, event_allowance);
+    if (seed && seed->stable) {
+      seed->parameter = r;
+      for (const int direction : {+1, -1}) {
+        // Upward at least the seed itself, whatever is left.
+        if (direction < 0 && (allowance <= 0 || event_allowance <= 0)) break;
+        co.max_evaluations = allowance;
+        co.max_events = event_allowance;
+        const ContinuationResult traced =
+            continue_orbits(family, *seed, segment.lo, segment.hi, direction, options.shooting, co);
+        allowance -= traced.map_evaluations;
+        event_allowance -= traced.events;
+        for (const Branch& b : traced.branches) {
+          for (const PeriodicOrbit& orbit : b.points) {
+            if (orbit.parameter < segment.lo || orbit.parameter > segment.hi) continue;
+            out.push_back(frf_point(family.at(orbit.parameter), options.amplitude, orbit, next_branch + b.id,
+                                    b.parent >= 0 ? next_branch + b.parent : -1,
+                                    options.continuation.period_tolerance));
+          }
+        }
+        next_branch += static_cast<int>(traced.branches.size());
+      }
+    }
+    budget -= given - allowance;
+    event_budget -= events_given - event_allowance;
   }
   return out;
 }

@@ -17,10 +17,11 @@
 /// branch's tangent, Newton corrector on F(x, p) = P^k(x; p) − x = 0 with the arclength
 /// constraint, so that folds are passed. ∂F/∂x is exact; so is ∂F/∂p in the forcing frequency
 /// (the state's sensitivity to ω̄ carried through the run beside the monodromy), while in a model
-/// parameter it is a forward difference of the map (one extra run per step, a chord). Along a branch the multipliers mark folds (+1), period doublings (−1: the
-/// period-2k branch is followed from there), Neimark–Sacker points (a complex pair leaves the unit
-/// circle) and grazing (the orbit's events change: an element starts or stops touching, where
-/// the map is not smooth; the branch is restarted across it).
+/// parameter it is a forward difference of the map (one extra run per step, a chord). Along a branch the multipliers mark folds (+1), period doublings (−1: at
+/// each one located the period-2k branch born there is switched to and followed), Neimark–Sacker
+/// points (a complex pair leaves the unit circle) and grazing (the orbit's events change: an
+/// element starts or stops touching, where the map is not smooth; the branch is restarted across
+/// it).
 ///
 /// The state is scaled for Newton and the arclength: w = [u; u̇/ω̄]/L, L = A/ω₁² (the static
 /// displacement of frame 1's first mode under the amplitude).
@@ -216,7 +217,11 @@ struct ContinuationResult {
 
 /// Follows the period-k branch through `start` (a converged orbit at p = start.parameter) in
 /// the direction of increasing p (`direction` = +1) or decreasing (−1) until p leaves
-/// [p_min, p_max]; period doublings start new branches, followed likewise.
+/// [p_min, p_max]. At every period doubling located on a branch (up to max_periodicity) the
+/// period-2k branch born there is switched to — its first orbit corrected from the doubling along
+/// the eigenvector of the multiplier −1, in the state and p together — and followed away from the
+/// doubling and back towards it; a period-2k branch that comes back to a doubling of a period-k
+/// branch ends there, and that doubling is not switched at again (docs/periodic-orbits.md).
 [[nodiscard]] ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& start, double p_min,
                                                  double p_max, int direction, const ShootingOptions& shooting,
                                                  const ContinuationOptions& options);
@@ -226,9 +231,13 @@ struct ContinuationResult {
 /// budget: from a piece's lowest ratio a seed (simulated from rest until its sections repeat, then
 /// shot) is continued upward to the next piece's lowest ratio, its period doublings followed;
 /// where a branch ends before the top, the next ratio above it is seeded again, and where no
-/// orbit converges or the budget is spent the point is simulated (FrfPoint::continued false).
-/// Every point of every branch in the range is returned, stable or not, piece after piece; the
-/// result does not depend on the number of threads.
+/// orbit converges or the budget is spent the point is simulated (FrfPoint::continued false) —
+/// and, when the simulated response is periodic and the budget allows, shot from there and
+/// continued after all. Then each ratio of the piece where every continued orbit is unstable is
+/// seeded from rest again (simulated up to a quarter of max_periods until its sections repeat)
+/// and a stable orbit found there is followed both ways. Every point of every branch in the
+/// range is returned, stable or not, piece after piece; the result does not depend on the number
+/// of threads.
 [[nodiscard]] std::vector<FrfPoint> frequency_response_by_continuation(const Model& model,
                                                                        const FrequencyResponseOptions& options);
 
