@@ -1,4 +1,4 @@
-// Periodic orbits by shooting and continuation (issue 12): the monodromy matrix against finite
+// Periodic orbits by shooting and continuation: the monodromy matrix against finite
 // differences of the map, linear frames against their closed form, the forced impact oscillator
 // against its analytic period-1 orbit and period-doubling frequency, stable orbits against long
 // exact simulations, the paper's frequency responses from rest against their continuation.
@@ -366,7 +366,7 @@ TEST(ImpactOscillator, ContinuationFindsTheAnalyticPeriodDoubling) {
     (osc.doubling_test(lo) * osc.doubling_test(mid) <= 0 ? hi : lo) = mid;
   }
   const double analytic = 0.5 * (lo + hi) / osc.omega0;
-  // As derived independently for σ = 0.1, e = 0.8, ζ = 0.05 (the design note of issue 12).
+  // As derived independently for σ = 0.1, e = 0.8, ζ = 0.05 (docs/periodic-orbits.md).
   EXPECT_NEAR(analytic, 2.45671536, 1e-8);
 
   const Model model = osc.model();

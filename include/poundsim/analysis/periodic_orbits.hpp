@@ -1,7 +1,7 @@
 #pragma once
 /// @file
 /// Periodic responses to a harmonic base acceleration a_g = A sin(ω̄t), found by shooting and
-/// followed by pseudo-arclength continuation, with their Floquet stability (issue 12;
+/// followed by pseudo-arclength continuation, with their Floquet stability (see
 /// docs/periodic-orbits.md).
 ///
 /// The stroboscopic (Poincaré) map P takes the floors' state x = [u; u̇] at t = 0 to the state
