@@ -325,9 +325,9 @@ class Simulator : private detail::Loop {
 
   /// False: the simulator keeps the state, the events, their counts and the sensitivity but
   /// neither the energy balance nor the peaks, at the samples or between them (the exact
-  /// integrator locates extrema on its trajectory and integrates the energy in closed form: a
-  /// recorded period costs 4–5× one that skips them, docs/periodic-orbits.md; for Newmark the
-  /// peaks and the balance are a third of a step): statistics() and energy() then do not describe
+  /// integrator locates extrema on its trajectory and integrates the energy in closed form, which
+  /// costs a recorded period several times its state alone, docs/periodic-orbits.md; for Newmark
+  /// the peaks and the balance are a third of a step): statistics() and energy() then do not describe
   /// the run. A periodic orbit's Newton iterations need only the state reached, and the orbit
   /// found is run once more with them; a brute-force frequency response needs no peak of its
   /// transient: reset_statistics() after record_responses(true) starts the window's peaks there.
