@@ -1259,6 +1259,20 @@ struct Segment {
   double lo = 0.0, hi = 0.0;
 };
 
+/// Appends to `out` the points of `traced`'s branches inside the piece, their branch ids offset
+/// by `next_branch`, which then counts them.
+void append_branches(const ContinuationResult& traced, const Segment& segment, FrequencyFamily& family,
+                     const FrequencyResponseOptions& options, int& next_branch, std::vector<FrfPoint>& out) {
+  for (const Branch& b : traced.branches) {
+    for (const PeriodicOrbit& orbit : b.points) {
+      if (orbit.parameter < segment.lo || orbit.parameter > segment.hi) continue;
+      out.push_back(frf_point(family.at(orbit.parameter), options.amplitude, orbit, next_branch + b.id,
+                              b.parent >= 0 ? next_branch + b.parent : -1, options.continuation.period_tolerance));
+    }
+  }
+  next_branch += static_cast<int>(traced.branches.size());
+}
+
 std::vector<FrfPoint> continued_segment(const Model& model, const FrequencyResponseOptions& options,
                                         const Segment& segment, const std::function<void(int)>& ratios_done) {
   TimeHistoryOptions th = options.time_history;
@@ -1321,17 +1335,10 @@ std::vector<FrfPoint> continued_segment(const Model& model, const FrequencyRespo
         continue_orbits(family, *seed, segment.lo, segment.hi, +1, options.shooting, co);
     budget -= traced.map_evaluations;
     event_budget -= traced.events;
-    for (const Branch& b : traced.branches) {
-      for (const PeriodicOrbit& orbit : b.points) {
-        if (orbit.parameter < segment.lo || orbit.parameter > segment.hi) continue;
-        out.push_back(frf_point(family.at(orbit.parameter), options.amplitude, orbit, next_branch + b.id,
-                                b.parent >= 0 ? next_branch + b.parent : -1, options.continuation.period_tolerance));
-      }
-    }
     double reached = r;
     for (const PeriodicOrbit& orbit : traced.branches.front().points) reached = std::max(reached, orbit.parameter);
     covered = std::max(covered, reached);
-    next_branch += static_cast<int>(traced.branches.size());
+    append_branches(traced, segment, family, options, next_branch, out);
     report();
   }
 
@@ -1358,15 +1365,7 @@ std::vector<FrfPoint> continued_segment(const Model& model, const FrequencyRespo
             continue_orbits(family, *seed, segment.lo, segment.hi, direction, options.shooting, co);
         allowance -= traced.map_evaluations;
         event_allowance -= traced.events;
-        for (const Branch& b : traced.branches) {
-          for (const PeriodicOrbit& orbit : b.points) {
-            if (orbit.parameter < segment.lo || orbit.parameter > segment.hi) continue;
-            out.push_back(frf_point(family.at(orbit.parameter), options.amplitude, orbit, next_branch + b.id,
-                                    b.parent >= 0 ? next_branch + b.parent : -1,
-                                    options.continuation.period_tolerance));
-          }
-        }
-        next_branch += static_cast<int>(traced.branches.size());
+        append_branches(traced, segment, family, options, next_branch, out);
       }
     }
     budget -= given - allowance;

@@ -80,12 +80,9 @@ RunInput read(const std::string& text) { return read_input_string(text, "optimiz
 
 // The closed-form optimum with LN_COBYLA (which takes the constraint itself) and with LN_BOBYQA
 // inside the augmented Lagrangian; the constraint holds at the optimum and is active there.
-TEST(Optimize, ConstrainedOptimumOfAKnownProblem) {
-  const double limit = 0.5096839959225280;  // B: C = B m₁ g / v0 = 5e5, k* = C²/m_lo = 2.5e7
-  const double c = limit * kM1 * standard_gravity / kV0;
-  for (const char* local : {"LN_COBYLA", "LN_BOBYQA"}) {
-    SCOPED_TRACE(local);
-    const RunInput in = read(problem(fmt::format(R"([optimize]
+/// [optimize]: the least peak_drift_2_m with peak_V2_W ≤ `limit`, by the local algorithm alone.
+std::string least_drift_under_a_shear_limit(const std::string& local, double limit) {
+  return fmt::format(R"([optimize]
 each = "time_history"
 objective = "peak_drift_2_m"
 global = "none"
@@ -97,7 +94,15 @@ relative_tolerance = 1e-12
 metric = "peak_V2_W"
 max = {}
 )",
-                                                 local, limit)));
+                     local, limit);
+}
+
+TEST(Optimize, ConstrainedOptimumOfAKnownProblem) {
+  const double limit = 0.5096839959225280;  // B: C = B m₁ g / v0 = 5e5, k* = C²/m_lo = 2.5e7
+  const double c = limit * kM1 * standard_gravity / kV0;
+  for (const char* local : {"LN_COBYLA", "LN_BOBYQA"}) {
+    SCOPED_TRACE(local);
+    const RunInput in = read(problem(least_drift_under_a_shear_limit(local, limit)));
     const auto dir = testing::fresh_folder(std::string("optimize_constrained_") + local);
     const OptimizationResult r = run_optimization(in, dir);
     EXPECT_EQ(r.stages[0].algorithm, std::string(local) == "LN_COBYLA" ? "LN_COBYLA" : "AUGLAG(LN_BOBYQA)");
@@ -290,20 +295,7 @@ max = 10.0
 TEST(Optimize, AVariableOnALogScaleIsSearchedInItsLogarithm) {
   const double limit = 0.5096839959225280;
   const double c = limit * kM1 * standard_gravity / kV0;
-  const RunInput in = read(problem(fmt::format(R"([optimize]
-each = "time_history"
-objective = "peak_drift_2_m"
-global = "none"
-local = "LN_COBYLA"
-local_evaluations = 400
-relative_tolerance = 1e-12
-
-[[optimize.constraint]]
-metric = "peak_V2_W"
-max = {}
-)",
-                                               limit),
-                                   "scale = \"log\""));
+  const RunInput in = read(problem(least_drift_under_a_shear_limit("LN_COBYLA", limit), "scale = \"log\""));
   ASSERT_TRUE(in.optimize->variables[1].log);
   EXPECT_FALSE(in.optimize->variables[0].log);
   const auto dir = testing::fresh_folder("optimize_log_scale");
