@@ -13,7 +13,6 @@
 #include "poundsim/error.hpp"
 #include "poundsim/io/json_fields.hpp"
 #include "poundsim/io/output_files.hpp"
-#include "poundsim/model/laws/paper_gap.hpp"
 #include "poundsim/analysis/response_metrics.hpp"
 #include "poundsim/units.hpp"
 
@@ -339,9 +338,7 @@ json to_json(const TimeHistoryResult& result) {
 
   json floors = json::array();
   const std::vector<Link> links = make_links(model, layout);
-  // The paper's element reaches its stop (bare pounding at once): its impacts jump the velocities.
-  const bool rigid_impacts = std::any_of(model.gaps.begin(), model.gaps.end(),
-                                         [](const GapElement& g) { return std::holds_alternative<PaperGap>(g.law); });
+  const bool rigid_impacts = model.has_rigid_impacts();
   for (int f = 0; f < model.frame_count(); ++f) {
     for (int i = 0; i < model.frames[f].storeys(); ++i) {
       const FloorResponse& r = st.floors[static_cast<std::size_t>(layout.dof(f, i))];

@@ -19,7 +19,6 @@
 #include "poundsim/io/frequency_response_run.hpp"
 #include "poundsim/io/output_files.hpp"
 #include "poundsim/io/study_run.hpp"
-#include "poundsim/model/laws/paper_gap.hpp"
 #include "poundsim/analysis/response_metrics.hpp"
 
 namespace poundsim::optimize {
@@ -643,9 +642,7 @@ bool is_acceleration_figure(std::string_view name) {
 /// an acceleration limit.
 void refuse_accelerations_without_impacts(const OptimizeSettings& s, const RunInput& input) {
   if (s.each == PointRun::frf || input.analysis.options.impact_duration > 0) return;
-  const bool rigid = std::any_of(input.model.gaps.begin(), input.model.gaps.end(),
-                                 [](const GapElement& g) { return std::holds_alternative<PaperGap>(g.law); });
-  if (!rigid) return;
+  if (!input.model.has_rigid_impacts()) return;
   const auto check = [&](const std::string& name, const std::string& where) {
     if (!is_acceleration_figure(name)) return;
     throw InputError(fmt::format(

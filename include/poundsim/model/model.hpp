@@ -97,6 +97,14 @@ struct Model {
 
   [[nodiscard]] int frame_count() const { return static_cast<int>(frames.size()); }
   [[nodiscard]] int gap_count() const { return static_cast<int>(gaps.size()); }
+  /// Whether an impact can be rigid: a gap element has the paper's law, which collides when it
+  /// reaches its stop (bare pounding at once), its floors' velocities jumping.
+  [[nodiscard]] bool has_rigid_impacts() const {
+    for (const GapElement& g : gaps) {
+      if (std::holds_alternative<PaperGap>(g.law)) return true;
+    }
+    return false;
+  }
 };
 
 /// Per-element override of the default gap-element law, for (left frame, floor), 0-based.
