@@ -640,18 +640,25 @@ bool same_peaks(const FrameAmplitudes& a, const FrameAmplitudes& b, double toler
 
 /// A paper figure's frequency response simulated from rest and by continuation (the exact
 /// integrator, 16 samples a period, the file's 71 ratios): for each ratio where the response from
-/// rest is periodic with minimal period k, a stable continued orbit there of minimal period k whose
+/// rest is not periodic, a simulated point of the continuation with its peaks; where it is
+/// periodic with minimal period k, a stable continued orbit there of minimal period k whose
 /// peaks — base shear and top displacement of each frame — agree with it to 1e-3. A continued point
 /// at that ratio, or the orbit at that ratio between two consecutive points of a branch, shot from
 /// their interpolated section states as the branch's period. An orbit of minimal period j, a
 /// multiple of k, counts when it repeats after k periods to ten times the simulation's tolerance
 /// on its sections (the simulation labels such an orbit k: near a period doubling, the doubled
 /// orbit is that close to the orbit it doubled from).
-std::vector<CoveredRatio> periodic_responses_continued(const std::string& figure) {
+std::vector<CoveredRatio> periodic_responses_continued(const std::string& figure,
+                                                       const std::vector<std::string>& more = {}) {
   const std::string file = std::string(POUNDSIM_SOURCE_DIR) + "/examples/paper/" + figure + ".toml";
   const auto options = [&](const char* method) {
-    const std::vector<std::string> settings{"analysis.integrator=exact", "frf.steps_per_period=16",
-                                            std::string("frf.method=") + method};
+    std::vector<std::string> settings{"analysis.integrator=exact", "frf.steps_per_period=16",
+                                      std::string("frf.method=") + method};
+    for (const std::string& setting : more) {
+      // [frf.continuation] is refused with the simulation method
+      if (setting.starts_with("frf.continuation.") && std::string_view(method) != "continuation") continue;
+      settings.push_back(setting);
+    }
     return io::read_input(file, settings);
   };
   const io::RunInput simulated = options("simulation"), continued = options("continuation");
@@ -665,8 +672,15 @@ std::vector<CoveredRatio> periodic_responses_continued(const std::string& figure
   std::vector<CoveredRatio> out;
   for (const FrfPoint& b : from_rest) {
     const int k = b.periodicity;
-    if (k == 0) continue;
     CoveredRatio covered{b.ratio, k};
+    if (k == 0) {
+      // Not periodic: the continuation reports the simulated response itself, the same bits.
+      covered.found = std::any_of(orbits.begin(), orbits.end(), [&](const FrfPoint& c) {
+        return !c.continued && c.ratio == b.ratio && same_peaks(c.interacting, b.interacting, 0.0);
+      });
+      out.push_back(covered);
+      continue;
+    }
     StroboscopicMap map(model, co.amplitude, b.omega, th, co.steady.steps_per_period);
     const Eigen::Index n = map.dofs();
     const auto section = [&](const FrfPoint& p) {
@@ -712,43 +726,28 @@ std::vector<CoveredRatio> periodic_responses_continued(const std::string& figure
 }
 
 TEST(PeriodicOrbits, ThePeriodicResponsesFromRestAreStableContinuedOrbits) {
-  // Six of the paper's figures: every ratio where the response from rest is periodic has a stable
-  // continued orbit of that minimal period with the same peaks, but for coexisting responses the
-  // continuation does not reach (listed with why). Where the response from rest is the period-2
-  // orbit born at a period doubling of a continued branch, the orbit is on the branch switched to
-  // there. Fig. 3a is left out: its low frequencies spend their pieces' budgets (20 ratios
-  // simulated) and three of its responses coexist with the stable orbits continued.
+  // The seven paper figures: every ratio where the response from rest is periodic has a stable
+  // continued orbit of that minimal period with the same peaks — coexisting responses born at a
+  // fold or a grazing included (seeds_from_rest = every, the default) — and every ratio where it
+  // is not has that simulated response. Where the response from rest is the period-2 orbit born
+  // at a period doubling of a continued branch, the orbit is on the branch switched to there.
   struct Case {
     const char* figure;
     int periodic;                ///< ratios where the response from rest is periodic
-    std::set<double> elsewhere;  ///< periodic responses no continued branch reaches
     std::vector<double> doubled; ///< ratios whose response lies on a branch born at a doubling
   };
   const std::vector<Case> cases{
-      // 1.44: a stable period-1 orbit beside the stable period-2 branch the seeds at 1.40 and
-      // above follow.
-      {"fig2a", 65, {1.44}, {0.58, 0.60, 0.80}},
-      // 0.76: a period-6 window (0.753–0.763) bounded by folds, beside a stable period-2 orbit;
-      // 1.26–1.38: a stable period-2 branch born at a grazing of a low-amplitude period-1 branch
-      // near 1.22 (its multipliers grow without bound there), beside the period-1 branch continued.
-      {"fig2b", 69, {0.76, 1.26, 1.28, 1.30, 1.32, 1.34, 1.36, 1.38}, {0.78}},
-      {"fig2c", 71, {}, {}},
-      {"fig3b", 71, {}, {}},
-      // 0.4629: a stable period-1 orbit (up to its Neimark–Sacker point at 0.486) beside the
-      // stable period-2 orbits continued there; 0.5171, 0.5714, 0.5986: simulated, Newton's
-      // method failing from the simulated response (the chatter of frames touching at rest).
-      {"fig4a", 58, {0.4629, 0.5171, 0.5714, 0.5986}, {1.3043}},
-      {"fig4b", 70, {}, {}},
+      {"fig2a", 65, {0.58, 0.60, 0.80}}, {"fig2b", 69, {0.78}}, {"fig2c", 71, {}},    {"fig3a", 65, {}},
+      {"fig3b", 71, {}},                 {"fig4a", 58, {1.3043}}, {"fig4b", 70, {}},
   };
   for (const Case& c : cases) {
     const std::vector<CoveredRatio> ratios = periodic_responses_continued(c.figure);
-    EXPECT_EQ(static_cast<int>(ratios.size()), c.periodic) << c.figure;
+    ASSERT_EQ(ratios.size(), 71u) << c.figure;
+    EXPECT_EQ(std::count_if(ratios.begin(), ratios.end(), [](const CoveredRatio& r) { return r.periodicity > 0; }),
+              c.periodic)
+        << c.figure;
     for (const CoveredRatio& r : ratios) {
-      const bool elsewhere = std::any_of(c.elsewhere.begin(), c.elsewhere.end(),
-                                         [&](double e) { return std::abs(e - r.ratio) < 5e-5; });
-      if (!elsewhere) {
-        EXPECT_TRUE(r.found) << c.figure << " at " << r.ratio << ": period " << r.periodicity;
-      }
+      EXPECT_TRUE(r.found) << c.figure << " at " << r.ratio << ": period " << r.periodicity;
       const bool doubled = std::any_of(c.doubled.begin(), c.doubled.end(),
                                        [&](double d) { return std::abs(d - r.ratio) < 5e-5; });
       if (doubled) {
@@ -757,6 +756,39 @@ TEST(PeriodicOrbits, ThePeriodicResponsesFromRestAreStableContinuedOrbits) {
       }
     }
   }
+}
+
+TEST(PeriodicOrbits, SeedsFromRestAtEveryRatioFindTheCoexistingOrbitsNoBranchReaches) {
+  // Fig. 2b at 1.22 … 1.40: the responses from rest at 1.26 … 1.38 are a stable period-2 branch
+  // (1.166–1.400) born at a grazing of a low-amplitude period-1 branch, beside the stable
+  // period-1 branch the continuation follows there. Seeded only where every continued orbit is
+  // unstable, none of them is reported; seeded at every ratio, all are, on one branch.
+  // Ratios 1.22, 1.24, …, 1.40.
+  const std::vector<std::string> range{"frf.ratio_min=1.22", "frf.ratio_max=1.40", "frf.points=10"};
+  const auto found = [](const std::vector<CoveredRatio>& ratios, bool inside) {
+    return std::count_if(ratios.begin(), ratios.end(), [&](const CoveredRatio& r) {
+      return r.found && (r.ratio > 1.25 && r.ratio < 1.39) == inside;
+    });
+  };
+  std::vector<std::string> unstable = range;
+  unstable.emplace_back("frf.continuation.seeds_from_rest=unstable");
+  const std::vector<CoveredRatio> some = periodic_responses_continued("fig2b", unstable);
+  const std::vector<CoveredRatio> every = periodic_responses_continued("fig2b", range);
+  ASSERT_EQ(every.size(), 10u);
+  // From rest: period 1 at 1.22 and 1.40, not periodic at 1.24 (reported as simulated only when
+  // seeded at every ratio), period 2 between.
+  for (const CoveredRatio& r : every) {
+    EXPECT_EQ(r.periodicity, r.ratio > 1.25 && r.ratio < 1.39 ? 2 : (r.ratio < 1.23 || r.ratio > 1.39 ? 1 : 0)) << r.ratio;
+  }
+  EXPECT_EQ(found(some, true), 0);
+  EXPECT_EQ(found(every, true), 7);
+  EXPECT_EQ(found(some, false), 2);
+  EXPECT_EQ(found(every, false), 3);
+  std::set<int> branches;
+  for (const CoveredRatio& r : every) {
+    if (r.periodicity == 2) branches.insert(r.branch);
+  }
+  EXPECT_EQ(branches.size(), 1u);
 }
 
 TEST(PeriodicOrbits, AFrequencyResponseInPiecesIsTheSameOnAnyThreadsAndCoversTheRange) {

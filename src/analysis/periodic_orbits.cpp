@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <functional>
+#include <initializer_list>
 #include <optional>
 #include <cmath>
 #include <limits>
@@ -1252,6 +1253,42 @@ bool has_stable_orbit(const std::vector<FrfPoint>& points, double r) {
   return false;
 }
 
+/// Whether the response at ratio r was simulated (no orbit converged there).
+bool simulated_at(const std::vector<FrfPoint>& points, double r) {
+  return std::any_of(points.begin(), points.end(), [&](const FrfPoint& p) { return !p.continued && p.ratio == r; });
+}
+
+/// Whether `orbit`, shot at ratio r, lies on a stable side of a continued branch: a point at r,
+/// or two consecutive points of a branch either side of r, of the orbit's minimal period (the
+/// longer of the two labels: a point at a doubling is labelled with the period it doubled), and
+/// whose peaks (interpolated linearly between the two) are the orbit's to
+/// 1 % of each frame's (kPeaks): coexisting orbits differ far more, and linear interpolation over
+/// a parameter step of 0.01 errs far less.
+bool on_stable_branch(const std::vector<FrfPoint>& points, double r, const PeriodicOrbit& orbit) {
+  constexpr double kPeaks = 1e-2;
+  const auto same = [&](const FrameAmplitudes& a, const FrameAmplitudes& b, double t) {
+    for (std::size_t f = 0; f < orbit.amplitudes.base_shear.size(); ++f) {
+      const double shear = a.base_shear[f] + t * (b.base_shear[f] - a.base_shear[f]);
+      const double top = a.top_displacement[f] + t * (b.top_displacement[f] - a.top_displacement[f]);
+      if (std::abs(shear - orbit.amplitudes.base_shear[f]) > kPeaks * orbit.amplitudes.base_shear[f]) return false;
+      if (std::abs(top - orbit.amplitudes.top_displacement[f]) > kPeaks * orbit.amplitudes.top_displacement[f]) return false;
+    }
+    return true;
+  };
+  const int k = orbit.periodicity;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const FrfPoint& a = points[i];
+    if (!a.continued) continue;
+    if (a.ratio == r && a.stable && a.periodicity == k && same(a.interacting, a.interacting, 0)) return true;
+    if (i + 1 == points.size()) continue;
+    const FrfPoint& b = points[i + 1];
+    if (!b.continued || b.branch_id != a.branch_id || !((a.ratio - r) * (b.ratio - r) < 0)) continue;
+    if (!(a.stable || b.stable) || std::max(a.periodicity, b.periodicity) != k) continue;
+    if (same(a.interacting, b.interacting, (r - a.ratio) / (b.ratio - a.ratio))) return true;
+  }
+  return false;
+}
+
 /// One piece of a frequency response by continuation: the ratios [first, last) of the sorted
 /// list, continued within [lo, hi] on a budget of its own. Branch ids count from 0 in the piece.
 struct Segment {
@@ -1273,105 +1310,198 @@ void append_branches(const ContinuationResult& traced, const Segment& segment, F
   next_branch += static_cast<int>(traced.branches.size());
 }
 
-std::vector<FrfPoint> continued_segment(const Model& model, const FrequencyResponseOptions& options,
-                                        const Segment& segment, const std::function<void(int)>& ratios_done) {
-  TimeHistoryOptions th = options.time_history;
-  th.integrator = Integrator::exact;
-  FrequencyFamily family(model, options.amplitude, th, options.steady.steps_per_period);
-  ContinuationOptions co = options.continuation;
-  const int max_k = std::min(options.steady.max_periodicity, co.max_periodicity);
-  long budget = static_cast<long>(co.evaluations_per_ratio) * static_cast<long>(segment.ratios.size());
-  long event_budget = static_cast<long>(co.events_per_ratio) * static_cast<long>(segment.ratios.size());
+/// One piece of a frequency response by continuation, in two passes: the ratios continued
+/// upward from seeds (continue_upward), then the responses from rest no branch reached
+/// (seed_from_rest). Branch ids count from 0 in the piece.
+class PieceContinuation {
+ public:
+  PieceContinuation(const Model& model, const FrequencyResponseOptions& options, const Segment& segment,
+                    const std::function<void(int)>& ratios_done)
+      : model_(model), options_(options), segment_(segment), ratios_done_(ratios_done),
+        th_(exact_options(options.time_history)),
+        family_(model, options.amplitude, th_, options.steady.steps_per_period), co_(options.continuation),
+        max_k_(std::min(options.steady.max_periodicity, co_.max_periodicity)),
+        budget_(static_cast<long>(co_.evaluations_per_ratio) * static_cast<long>(segment.ratios.size())),
+        event_budget_(static_cast<long>(co_.events_per_ratio) * static_cast<long>(segment.ratios.size())) {}
 
-  std::vector<FrfPoint> out;
-  int next_branch = 0;
-  double covered = -std::numeric_limits<double>::infinity();
-  int reported = 0;
-  const auto report = [&] {
-    const auto done = static_cast<int>(
-        std::count_if(segment.ratios.begin(), segment.ratios.end(), [&](double r) { return r <= covered; }));
-    ratios_done(done - reported);
-    reported = done;
+  std::vector<FrfPoint> run() {
+    for (const double r : segment_.ratios) {
+      if (r > covered_) continue_upward(r);
+    }
+    for (const double r : segment_.ratios) seed_from_rest(r);
+    return std::move(out_);
+  }
+
+ private:
+  /// A periodic response simulated where the budget was spent: shot in the second pass, on a
+  /// ratio's budget of its own.
+  struct Pending {
+    double ratio;
+    Eigen::VectorXd state;
+    int periodicity;
   };
-  for (const double r : segment.ratios) {
-    if (r <= covered) continue;
-    StroboscopicMap& map = family.at(r);
+
+  static TimeHistoryOptions exact_options(TimeHistoryOptions th) {
+    th.integrator = Integrator::exact;
+    return th;
+  }
+
+  void report() {
+    const auto done = static_cast<int>(
+        std::count_if(segment_.ratios.begin(), segment_.ratios.end(), [&](double r) { return r <= covered_; }));
+    ratios_done_(done - reported_);
+    reported_ = done;
+  }
+
+  /// The orbit shot from state x as period k, charged to (runs, events); none when Newton does
+  /// not converge or the run cannot start.
+  std::optional<PeriodicOrbit> shot_from(StroboscopicMap& map, const Eigen::VectorXd& x, int k, double r, long& runs,
+                                         long& events) const {
+    try {
+      ShootingResult shot = shoot(map, x, k, options_.shooting);
+      runs -= shot.orbit.iterations + 2;
+      events -= shot.orbit.events * (shot.orbit.iterations + 2) / shot.orbit.periodicity;
+      if (!shot.converged) return std::nullopt;
+      shot.orbit.parameter = r;
+      return std::move(shot.orbit);
+    } catch (const std::exception&) {
+      return std::nullopt;  // a run that cannot start: the simulated point stays
+    }
+  }
+
+  /// Follows `seed` within the piece in `directions`, on (runs, events); appends its branches.
+  void follow(const PeriodicOrbit& seed, std::initializer_list<int> directions, long& runs, long& events) {
+    for (const int direction : directions) {
+      // Upward at least the seed itself, whatever is left.
+      if (direction < 0 && (runs <= 0 || events <= 0)) break;
+      co_.max_evaluations = runs;
+      co_.max_events = events;
+      const ContinuationResult traced =
+          continue_orbits(family_, seed, segment_.lo, segment_.hi, direction, options_.shooting, co_);
+      runs -= traced.map_evaluations;
+      events -= traced.events;
+      if (direction > 0) {
+        for (const PeriodicOrbit& orbit : traced.branches.front().points) covered_ = std::max(covered_, orbit.parameter);
+      }
+      append_branches(traced, segment_, family_, options_, next_branch_, out_);
+    }
+  }
+
+  /// Seeds at r (the orbit the response from rest settles on, or the simulated response shot
+  /// where Newton fails from the short run) and continues upward; where no orbit converges or
+  /// the budget is spent, the simulated point stands for r.
+  void continue_upward(double r) {
+    StroboscopicMap& map = family_.at(r);
     std::optional<PeriodicOrbit> seed;
-    if (budget > 0 && event_budget > 0) {
-      seed = orbit_from_rest(map, options.steady, max_k, options.shooting, budget, event_budget);
-      if (seed) seed->parameter = r;
+    if (budget_ > 0 && event_budget_ > 0) {
+      seed = orbit_from_rest(map, options_.steady, max_k_, options_.shooting, budget_, event_budget_);
+      if (seed) {
+        seed->parameter = r;
+        if (seed->stable) seeded_.push_back(r);
+      }
     }
     if (!seed) {
       // No periodic orbit from here (quasi-periodic, chaotic, or beyond Newton): simulate. Where
-      // the simulation settles on a periodic response and the budget allows, shoot it from there
-      // (a longer transient than the seed's) and continue it after all.
+      // the simulation settles on a periodic response, shoot it from there (a longer transient
+      // than the seed's) and continue it after all — now if the budget allows, else later.
       std::unique_ptr<Simulator> sim;
-      FrfPoint simulated = steady_state_point(model, options.amplitude, r, options.steady, th, sim);
-      if (budget > 0 && event_budget > 0 && simulated.periodicity > 0 && sim) {
+      FrfPoint simulated = steady_state_point(model_, options_.amplitude, r, options_.steady, th_, sim);
+      if (simulated.periodicity > 0 && sim) {
         Eigen::VectorXd x(2 * map.dofs());
         x << sim->state().u, sim->state().v;
-        try {
-          ShootingResult shot = shoot(map, x, simulated.periodicity, options.shooting);
-          budget -= shot.orbit.iterations + 2;
-          event_budget -= shot.orbit.events * (shot.orbit.iterations + 2) / shot.orbit.periodicity;
-          if (shot.converged) {
-            seed = std::move(shot.orbit);
-            seed->parameter = r;
-          }
-        } catch (const std::exception&) {
-          // a run that cannot start: the simulated point stays
+        if (budget_ > 0 && event_budget_ > 0) {
+          seed = shot_from(map, x, simulated.periodicity, r, budget_, event_budget_);
+        } else {
+          pending_.push_back({r, std::move(x), simulated.periodicity});
         }
       }
       if (!seed) {
-        out.push_back(std::move(simulated));
-        covered = r;
+        out_.push_back(std::move(simulated));
+        covered_ = r;
         report();
-        continue;
+        return;
       }
     }
-    co.max_evaluations = budget;
-    co.max_events = event_budget;
-    const ContinuationResult traced =
-        continue_orbits(family, *seed, segment.lo, segment.hi, +1, options.shooting, co);
-    budget -= traced.map_evaluations;
-    event_budget -= traced.events;
-    double reached = r;
-    for (const PeriodicOrbit& orbit : traced.branches.front().points) reached = std::max(reached, orbit.parameter);
-    covered = std::max(covered, reached);
-    append_branches(traced, segment, family, options, next_branch, out);
+    covered_ = std::max(covered_, r);
+    follow(*seed, {+1}, budget_, event_budget_);
     report();
   }
 
-  // A ratio where every continued orbit is unstable: the response from rest settles elsewhere — on
-  // a stable orbit no branch followed here reached (born at a grazing or a fold, not at a period
-  // doubling of a branch followed), or on none. Seed it there (simulated from rest up to a
-  // quarter of max_periods until its sections repeat, then shot) and follow that orbit both ways,
-  // on a share of the budget of its own: one ratio's, or what the piece has left if more.
-  for (const double r : segment.ratios) {
-    if (has_stable_orbit(out, r)) continue;
-    long allowance = std::max(budget, static_cast<long>(co.evaluations_per_ratio));
-    long event_allowance = std::max(event_budget, static_cast<long>(co.events_per_ratio));
-    const long given = allowance, events_given = event_allowance;
-    std::optional<PeriodicOrbit> seed = periodic_orbit_from_rest(family.at(r), options.steady, max_k, options.steady.max_periods / 4,
-                                                                 options.shooting, allowance, event_allowance);
-    if (seed && seed->stable) {
-      seed->parameter = r;
-      for (const int direction : {+1, -1}) {
-        // Upward at least the seed itself, whatever is left.
-        if (direction < 0 && (allowance <= 0 || event_allowance <= 0)) break;
-        co.max_evaluations = allowance;
-        co.max_events = event_allowance;
-        const ContinuationResult traced =
-            continue_orbits(family, *seed, segment.lo, segment.hi, direction, options.shooting, co);
-        allowance -= traced.map_evaluations;
-        event_allowance -= traced.events;
-        append_branches(traced, segment, family, options, next_branch, out);
-      }
+  /// The response from rest at r may settle on a stable orbit no branch followed here reached
+  /// (born at a grazing or a fold, not at a period doubling of a branch followed): at a ratio
+  /// where every continued orbit is unstable, or at any ratio with seeds_from_rest = every, or
+  /// where the first pass simulated a periodic response on a spent budget. Seed it there and
+  /// follow that orbit both ways, on a share of the budget of its own: one ratio's, or what the
+  /// piece has left if more.
+  void seed_from_rest(double r) {
+    // A seed's short run from rest may settle near an orbit the full run leaves again: with
+    // seeds_from_rest = every its ratio is simulated too.
+    const bool every = co_.seeds_from_rest == RestSeeds::every;
+    if (!every && std::find(seeded_.begin(), seeded_.end(), r) != seeded_.end()) return;
+    const auto pending = std::find_if(pending_.begin(), pending_.end(), [&](const Pending& p) { return p.ratio == r; });
+    const bool simulated = simulated_at(out_, r);
+    const bool none_stable = !has_stable_orbit(out_, r);
+    if (simulated ? pending == pending_.end() : !none_stable && !every) return;
+    long runs = std::max(budget_, static_cast<long>(co_.evaluations_per_ratio));
+    long events = std::max(event_budget_, static_cast<long>(co_.events_per_ratio));
+    const long runs_given = runs, events_given = events;
+    StroboscopicMap& map = family_.at(r);
+    std::optional<PeriodicOrbit> seed;
+    std::optional<FrfPoint> from_rest;
+    if (pending != pending_.end()) {
+      seed = shot_from(map, pending->state, pending->periodicity, r, runs, events);
+    } else if (every) {
+      from_rest = simulated_from_rest(map, r, runs, events, seed);
+    } else {
+      seed = periodic_orbit_from_rest(map, options_.steady, max_k_, options_.steady.max_periods / 4, options_.shooting,
+                                      runs, events);
+      if (seed) seed->parameter = r;
     }
-    budget -= given - allowance;
-    event_budget -= events_given - event_allowance;
+    if (seed && seed->stable) {
+      if (simulated) std::erase_if(out_, [&](const FrfPoint& p) { return !p.continued && p.ratio == r; });
+      if (simulated || none_stable || !on_stable_branch(out_, r, *seed)) follow(*seed, {+1, -1}, runs, events);
+    } else if (from_rest) {
+      // Not periodic, or not an orbit Newton converges to: the response from rest itself.
+      out_.push_back(std::move(*from_rest));
+    }
+    budget_ -= runs_given - runs;
+    event_budget_ -= events_given - events;
   }
-  return out;
+
+  /// The response from rest at r as the brute force simulates it; `seed` is the orbit shot from
+  /// its last state when it is periodic.
+  FrfPoint simulated_from_rest(StroboscopicMap& map, double r, long& runs, long& events,
+                               std::optional<PeriodicOrbit>& seed) const {
+    std::unique_ptr<Simulator> sim;
+    FrfPoint simulated = steady_state_point(model_, options_.amplitude, r, options_.steady, th_, sim);
+    if (simulated.periodicity > 0 && sim) {
+      Eigen::VectorXd x(2 * map.dofs());
+      x << sim->state().u, sim->state().v;
+      seed = shot_from(map, x, simulated.periodicity, r, runs, events);
+    }
+    return simulated;
+  }
+
+  const Model& model_;
+  const FrequencyResponseOptions& options_;
+  const Segment& segment_;
+  const std::function<void(int)>& ratios_done_;
+  TimeHistoryOptions th_;
+  FrequencyFamily family_;
+  ContinuationOptions co_;
+  int max_k_;
+  long budget_, event_budget_;
+  std::vector<FrfPoint> out_;
+  std::vector<double> seeded_;  // the ratios whose stable response from rest a branch starts from
+  std::vector<Pending> pending_;
+  int next_branch_ = 0;
+  double covered_ = -std::numeric_limits<double>::infinity();
+  int reported_ = 0;
+};
+
+std::vector<FrfPoint> continued_segment(const Model& model, const FrequencyResponseOptions& options,
+                                        const Segment& segment, const std::function<void(int)>& ratios_done) {
+  return PieceContinuation(model, options, segment, ratios_done).run();
 }
 
 }  // namespace

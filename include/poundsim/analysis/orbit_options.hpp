@@ -51,6 +51,14 @@ enum class BifurcationKind : std::uint8_t {
 
 
 
+/// The ratios of a frequency response by continuation that are also simulated from rest, to seed
+/// the stable orbits no continued branch reaches (coexisting responses born at a fold or a
+/// grazing rather than at a period doubling of a branch followed).
+enum class RestSeeds : std::uint8_t {
+  unstable,  ///< only the ratios where every continued orbit is unstable
+  every,     ///< every ratio: the response from rest is always among the stable orbits reported
+};
+
 /// Options of pseudo-arclength continuation. Step lengths are in the scaled space (w, p).
 struct ContinuationOptions {
   double initial_step = 0.05;
@@ -78,6 +86,10 @@ struct ContinuationOptions {
   /// the result does not depend on the threads. A branch that crosses into the next piece is
   /// followed there again from that piece's seed, under another branch id.
   int ratios_per_segment = 12;
+  /// Where the response from rest is simulated (up to a quarter of the steady state's
+  /// max_periods) and, when it settles on a stable orbit no branch has reached, continued both
+  /// ways on a ratio's budget. `every` costs about a simulated frequency response more.
+  RestSeeds seeds_from_rest = RestSeeds::every;
   /// The runs one continue_orbits call may make (the frequency response sets it from the above).
   long max_evaluations = 10'000'000;
   /// The events one continue_orbits call's runs may cross (the frequency response sets it from
@@ -107,6 +119,11 @@ struct ContinuationOptions {
                      "events the runs may cross per ratio; beyond, the remaining ratios are simulated"},
         IntegerField{"ratios_per_segment", &O::ratios_per_segment, 1, 1'000'000,
                      "the ratios continued as one piece, on its own budget and thread"},
+        ChoiceField{"seeds_from_rest", &O::seeds_from_rest,
+                    std::array{std::pair<std::string_view, RestSeeds>{"every", RestSeeds::every},
+                               std::pair<std::string_view, RestSeeds>{"unstable", RestSeeds::unstable}},
+                    "ratios simulated from rest to seed the stable orbits no branch reached: every ratio, or "
+                    "only where every continued orbit is unstable"},
     };
   }
   void validate() const;
