@@ -6,7 +6,8 @@ A pure refactor keeps every checksum; a change that moves results re-records the
 and says in its commit message what moved, by how much, and why. What is hashed: every CSV as
 written (one with columns named run_time…, wall clock, is re-written without them), every JSON
 document (its text) without the lines of its run-time fields (run_time_s and the version), the
-rows of every SQLite table (run-time columns and fields dropped). The source and output folders
+rows of every SQLite table (run-time columns and fields dropped), and the input.toml each run
+echoes (the configuration as read, which a change to the input layer must keep). The source and output folders
 are replaced by placeholders so that the checksums do not depend on where the repository lives.
 
     check_outputs.py POUNDSIM SOURCE_DIR WORK_DIR            compare
@@ -139,6 +140,8 @@ def checksums(poundsim, source, work):
                     text = canonical_csv(text)
                 elif file.endswith(".json"):
                     text = canonical_json_text(text)
+                elif file.endswith(".toml"):
+                    text = re.sub(r"poundsim \d+\.\d+\.\d+", "poundsim VERSION", text)
                 else:
                     continue  # pictures are drawn elsewhere
             files[file] = hashlib.sha256(text.encode()).hexdigest()
