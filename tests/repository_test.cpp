@@ -6,6 +6,7 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -69,6 +70,62 @@ TEST(Repository, LayersIncludeOnlyTheLayersBelow) {
     }
   }
   EXPECT_GT(files, 40);
+}
+
+// Docs, examples, comments and docstrings say what is true now; history lives in git. A
+// work-log marker anywhere in them fails: a session or stop number, a tracker reference (issue 12,
+// (#12)), a commit hash (seven or more hexadecimal digits with letters and digits, not 0x…), a
+// numbered log heading in Markdown ("## 3. …" outside code), or "used to" narrating an old
+// behaviour. The committed checksums and fuzz corpora are data, not prose, and are left out.
+TEST(Repository, NoWorkLogMarkersInDocsCodeOrDocstrings) {
+  namespace fs = std::filesystem;
+  const std::regex marker(
+      R"re(\b([Ss]ession|[Ss]top) [0-9]+\b|\b[Ii]ssues? #?[0-9]+\b|\(#[0-9]+\)|\bused to (fail|finish|crash)\b)re");
+  // A hexadecimal word, not part of a number (3.437285e-04) or of 0x…; an upstream source's
+  // commit in a provenance line ("owner/name at 3c5339f7") is where a file came from, not history.
+  const std::regex hash(R"re((^|[^0-9A-Za-z_.+-])([0-9a-f]{7,40})($|[^0-9A-Za-z_.+-]))re");
+  const std::regex provenance(R"re([\w.-]+/[\w.-]+ at [0-9a-f]{7,40})re");
+  const std::regex heading(R"re(^#{1,6} +[0-9]+[.)] )re");
+  const std::vector<std::string> roots{"README.md", "docs", "examples", "src", "include", "apps", "python",
+                                       "bench", "scripts", "fuzz", "tests", "cmake", "CMakeLists.txt"};
+  const auto scanned = [](const fs::path& path) {
+    const std::string name = path.filename().string(), ext = path.extension().string();
+    if (path.string().find("/corpus") != std::string::npos || name == "outputs.json") return false;
+    return ext == ".md" || ext == ".cpp" || ext == ".hpp" || ext == ".py" || ext == ".pyi" || ext == ".sh" ||
+           ext == ".toml" || ext == ".cmake" || name == "CMakeLists.txt";
+  };
+  int files = 0;
+  for (const std::string& root : roots) {
+    const fs::path top = fs::path(POUNDSIM_SOURCE_DIR) / root;
+    std::vector<fs::path> paths;
+    if (fs::is_regular_file(top)) paths.push_back(top);
+    for (const auto& e : fs::is_directory(top) ? fs::recursive_directory_iterator(top) : fs::recursive_directory_iterator())
+      if (e.is_regular_file() && scanned(e.path())) paths.push_back(e.path());
+    for (const fs::path& path : paths) {
+      const std::string relative = fs::relative(path, POUNDSIM_SOURCE_DIR).string();
+      if (relative == "tests/repository_test.cpp") continue;  // the patterns themselves
+      std::istringstream text(slurp(relative));
+      bool fenced = false;
+      int number = 0;
+      ++files;
+      for (std::string line; std::getline(text, line);) {
+        ++number;
+        if (line.starts_with("```")) fenced = !fenced;
+        std::smatch m;
+        EXPECT_FALSE(std::regex_search(line, marker)) << relative << ":" << number << ": " << line;
+        if (std::regex_search(line, m, hash) && !std::regex_search(line, provenance)) {
+          const std::string h = m[2];
+          const bool letters = h.find_first_of("abcdef") != std::string::npos;
+          const bool digits = h.find_first_of("0123456789") != std::string::npos;
+          EXPECT_FALSE(letters && digits) << relative << ":" << number << ": a commit hash? " << line;
+        }
+        if (path.extension() == ".md" && !fenced) {
+          EXPECT_FALSE(std::regex_search(line, heading)) << relative << ":" << number << ": " << line;
+        }
+      }
+    }
+  }
+  EXPECT_GT(files, 200);
 }
 
 }  // namespace
