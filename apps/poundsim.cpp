@@ -118,6 +118,21 @@ void stop_cleanly_on_signals() {
   }).detach();
 }
 
+/// What `poundsim check` says of a file that is valid: its analysis, model and, for a study or
+/// ensemble, how many points were read and validated. Bad input throws as `run` would.
+std::string check_input(const std::string& file, const std::vector<std::string>& overrides) {
+  using poundsim::io::AnalysisKind;
+  const poundsim::io::RunInput input = poundsim::io::read_input(file, overrides);
+  const AnalysisKind kind = input.analysis.kind;
+  std::string text = fmt::format("{}: valid: analysis.kind = \"{}\", {} frames, {} gap elements", file, to_string(kind),
+                                 input.model.frame_count(), input.model.gap_count());
+  if (kind == AnalysisKind::study || kind == AnalysisKind::ensemble) {
+    const std::size_t points = poundsim::io::point_inputs(input, kind).size();
+    text += fmt::format(", {} {} read and valid", points, kind == AnalysisKind::ensemble ? "records" : "points");
+  }
+  return text + "\n";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -140,6 +155,12 @@ int main(int argc, char** argv) {
   std::string max_points_text;  // checked below: CLI11's own check prints a 309-digit range
   run->add_option("--max-points", max_points_text,
                   "Study or ensemble: run at most this many new points, then stop (run again to go on)");
+
+  std::string check_file;
+  std::vector<std::string> check_overrides;
+  CLI::App* check = app.add_subcommand("check", "Validate MODEL.toml (and its records and study points) without running");
+  check->add_option("model", check_file, "Model file (TOML), see docs/input.md")->required();
+  check->add_option("--set", check_overrides, "Override an input key, as for run (repeatable)")->take_all();
 
   std::string database, export_file;
   CLI::App* exporter = app.add_subcommand("export", "Write the points of a study database as CSV");
@@ -189,6 +210,10 @@ int main(int argc, char** argv) {
         out.commit();
         fmt::print("wrote {}\n", verification_file);
       }
+      return 0;
+    }
+    if (check->parsed()) {
+      fmt::print("{}", check_input(check_file, check_overrides));
       return 0;
     }
     if (exporter->parsed()) {

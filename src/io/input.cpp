@@ -111,6 +111,29 @@ T bounded_integer(const toml::node& node, std::int64_t lo, std::int64_t hi, cons
   return static_cast<T>(v);
 }
 
+/// The number of single-character insertions, deletions, substitutions and swaps of neighbours
+/// that turn a into b (optimal string alignment), to tell a misspelt key from another key.
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+  std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+  for (std::size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+  for (std::size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t change = a[i - 1] == b[j - 1] ? 0 : 1;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + change});
+      if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+    }
+  }
+  return d[a.size()][b.size()];
+}
+
+/// Whether `typed` is close enough to `key` to be its misspelling: one edit in a short key, two
+/// up to eight characters, three beyond (a third of a long key's letters).
+bool misspelt(std::string_view typed, std::string_view key) {
+  const std::size_t allowed = key.size() <= 4 ? 1 : key.size() <= 8 ? 2 : 3;
+  return typed != key && edit_distance(typed, key) <= allowed;
+}
+
 /// Reads keys of one table, remembers which were read, and rejects the others in finish().
 class TableReader {
  public:
@@ -154,8 +177,24 @@ class TableReader {
   }
   const toml::node& require(std::string_view key) {
     const toml::node* node = find(key);
-    if (node == nullptr) origin_->fail(table_, key_path(key), "missing key");
+    if (node == nullptr) fail_missing(key);
     return *node;
+  }
+  /// A required key is absent: blamed on a key of the table that misspells it, if one does
+  /// (a misspelt key is unknown, and would otherwise be reported only after the missing one).
+  [[noreturn]] void fail_missing(std::string_view key, const std::string& detail = {}) const {
+    blame_misspelling(key);
+    origin_->fail(table_, key_path(key), detail.empty() ? "missing key" : "missing key (" + detail + ")");
+  }
+  /// Fails at a key of the table that is not declared and misspells the required `key`, if any.
+  void blame_misspelling(std::string_view key) const {
+    for (const auto& [given, node] : *table_) {
+      if (!is_declared(given.str()) && misspelt(given.str(), key)) {
+        origin_->fail(&node, key_path(given.str()),
+                      fmt::format("unknown {}; did you mean '{}'? ({} is required)", node.is_table() ? "table" : "key",
+                                  key, key_path(key)));
+      }
+    }
   }
 
   double number(std::string_view key) { return to_number(key, require(key)); }
@@ -286,8 +325,12 @@ class TableReader {
     if (declared_.empty()) throw std::logic_error(fmt::format("the reader of [{}] declares no keys", path_));
     for (const auto& [key, node] : *table_) {
       if (!used_.contains(std::string(key.str()))) {
-        origin_->fail(&node, key_path(key.str()),
-                      context.empty() ? "unknown key" : "unknown key " + context);
+        const std::string what = node.is_table() ? "unknown table" : "unknown key";
+        std::string message = context.empty() ? what : what + " " + context;
+        if (const std::optional<std::string_view> meant = nearest_declared(key.str())) {
+          message += fmt::format("; did you mean '{}'?", *meant);
+        }
+        origin_->fail(&node, key_path(key.str()), message);
       }
     }
   }
@@ -306,6 +349,21 @@ class TableReader {
   double to_number(std::string_view key, const toml::node& node) const {
     if (!node.is_number()) fail(key, fmt::format("expected a number, got a {}", type_name(node)));
     return check_finite(key, *node.value<double>());
+  }
+
+  [[nodiscard]] bool is_declared(std::string_view key) const {
+    return declared_.empty() ? used_.contains(std::string(key)) : declared_.contains(key);
+  }
+  /// The declared key nearest to `typed` when `typed` misspells it (the first of equals).
+  [[nodiscard]] std::optional<std::string_view> nearest_declared(std::string_view typed) const {
+    std::optional<std::string_view> best;
+    std::size_t best_distance = 0;
+    for (const std::string& key : declared_) {
+      if (!misspelt(typed, key)) continue;
+      const std::size_t distance = edit_distance(typed, key);
+      if (!best || distance < best_distance) best = key, best_distance = distance;
+    }
+    return best;
   }
 
   const toml::table* table_;
@@ -842,6 +900,7 @@ Model read_physical(TableReader& top, RunInput& run) {
       if (v.size() > 1 && n == 0) n = static_cast<int>(v.size());
     });
     if (n == 0) {
+      if (!storeys) f.blame_misspelling("storeys");
       if (!storeys) f.fail_table("missing key: storeys (or give per-floor arrays)");
     }
     floors += n;
@@ -1124,6 +1183,8 @@ void read_excitation(TableReader& t, const Model& model, const std::filesystem::
         if (t.has(key)) t.fail(key, "not with acceleration (the samples are the record)");
       }
       if (run.ensemble) t.fail("acceleration", "an ensemble takes its records from [ensemble]");
+      if (!t.has("units")) t.blame_misspelling("units");
+      if (!t.has("dt")) t.blame_misspelling("dt");
       if (!t.has("units")) t.fail_table("missing key: units (of the acceleration samples: \"g\", \"m/s2\" or \"cm/s2\")");
       if (!t.has("dt")) t.fail_table("missing key: dt (the interval of the acceleration samples)");
       o.dt = t.positive("dt", t.number("dt"));
@@ -1156,6 +1217,7 @@ void read_excitation(TableReader& t, const Model& model, const std::filesystem::
       if (format != "single") t.fail("dt", "only for format = \"single\" (the other formats carry their times)");
       o.dt = t.positive("dt", t.number("dt"));
     } else if (format == "single") {
+      t.blame_misspelling("dt");
       t.fail_table("missing key: dt (format = \"single\" has no times)");
     }
     if (t.has("column")) {
@@ -1660,6 +1722,7 @@ EnsembleScaling read_scaling(TableReader& t, int frames) {
   }
   switch (s.kind) {
     case ScalingKind::pga:
+      if (!s.target_g) t.blame_misspelling("target_g");
       if (!s.target_g) t.fail_table("missing key: target_g (the peak ground acceleration each record is scaled to)");
       only({"design", "period", "frame", "period_min", "period_max", "match", "fraction", "points"}, "not for kind = \"pga\"");
       break;
@@ -1671,6 +1734,7 @@ EnsembleScaling read_scaling(TableReader& t, int frames) {
       only({"period_min", "period_max", "match", "fraction", "points"}, "not for kind = \"sa\" (one period)");
       break;
     case ScalingKind::spectrum:
+      if (!s.design) t.blame_misspelling("design");
       if (!s.design) t.fail_table("missing key: design (the spectrum the suite's mean is matched to)");
       only({"target_g", "period"}, "not for kind = \"spectrum\" (the design spectrum is the target over a range)");
       if (s.period_min.has_value() != s.period_max.has_value()) {
@@ -1808,7 +1872,7 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
       if (run.excitation_info.kind == "record" && run.excitation_info.record_duration > 0) {
         run.analysis.duration = run.excitation_info.record_duration;
       } else if (!run.ensemble) {
-        analysis.fail("duration", "missing key (only a record's length can stand in for it)");
+        analysis.fail_missing("duration", "only a record's length can stand in for it");
       }
     }
     if (run.analysis.duration > 0 && run.analysis.options.dt > run.analysis.duration) {

@@ -397,10 +397,13 @@ StudyResult run_study(const RunInput& input, const std::filesystem::path& out_di
   return run_points(input, out_dir, options, AnalysisKind::study);
 }
 
-StudyResult run_ensemble(const RunInput& input, const std::filesystem::path& out_dir,
-                         const StudyRunOptions& options) {
+namespace {
+
+/// An ensemble as the study it is: one time history per record, over the record files (and, for a
+/// scaled suite, their factors as excitation.scale, a second list beside the files, so that the
+/// database and ensemble.csv keep each record's factor).
+RunInput ensemble_as_study(const RunInput& input, std::optional<SuiteScaling>& scaling) {
   if (!input.ensemble) throw InputError(fmt::format("{}: no [ensemble] table", input.source.string()));
-  // An ensemble is a study over the record file, one time history per record.
   RunInput as_study = input;
   StudySettings study;
   study.each = PointRun::time_history;
@@ -411,9 +414,6 @@ StudyResult run_ensemble(const RunInput& input, const std::filesystem::path& out
   records.key = "excitation.file";
   for (const auto& r : input.ensemble->records) records.values.push_back({r.string()});
   study.parameters.push_back(std::move(records));
-  // Scaled records run with their factors as excitation.scale, a second list beside the files:
-  // the database and ensemble.csv keep each record's factor.
-  std::optional<SuiteScaling> scaling;
   if (input.ensemble->scaling) {
     scaling = suite_scaling(input);
     StudyParameter scales;
@@ -422,6 +422,15 @@ StudyResult run_ensemble(const RunInput& input, const std::filesystem::path& out
     study.parameters.push_back(std::move(scales));
   }
   as_study.study = study;
+  return as_study;
+}
+
+}  // namespace
+
+StudyResult run_ensemble(const RunInput& input, const std::filesystem::path& out_dir,
+                         const StudyRunOptions& options) {
+  std::optional<SuiteScaling> scaling;
+  const RunInput as_study = ensemble_as_study(input, scaling);
   return run_points(as_study, out_dir, options, AnalysisKind::ensemble, scaling ? &*scaling : nullptr);
 }
 
@@ -526,6 +535,39 @@ void add_json_column(Table& table, std::string name, const std::vector<const jso
   }
 }
 
+}  // namespace
+
+std::vector<RunInput> point_inputs(const RunInput& given, AnalysisKind kind) {
+  std::optional<SuiteScaling> scaling;
+  const RunInput input = kind == AnalysisKind::ensemble && !given.study ? ensemble_as_study(given, scaling) : given;
+  const StudySettings& study = *input.study;
+  const std::vector<PointValues> all = study_points(study);
+  std::vector<RunInput> points;
+  points.reserve(all.size());
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    try {
+      points.push_back(with_settings(input, all[i]));
+    } catch (const InputError& e) {
+      std::string values;
+      for (const Setting& s : all[i]) values += fmt::format("{}{} = {}", values.empty() ? "" : ", ", s.key, to_text(s.value));
+      // An error that a parameter's override caused is reported where the file defines that
+      // parameter; any other names the file.
+      const std::string message = e.what();
+      std::string where = input.source.string();
+      for (const StudyParameter& p : study.parameters) {
+        if (!p.where.empty() && message.starts_with(fmt::format("{}: --set {}=", input.source.string(), p.key))) {
+          where = p.where;
+        }
+      }
+      throw InputError(fmt::format("{}: {} {} ({}): {}", where, kind == AnalysisKind::ensemble ? "ensemble record" : "study point",
+                                   i + 1, values, message));
+    }
+  }
+  return points;
+}
+
+namespace {
+
 StudyResult run_points(const RunInput& input, const std::filesystem::path& out_dir, const StudyRunOptions& options,
                        AnalysisKind kind, const SuiteScaling* scaling) {
   const std::string stem(to_string(kind));  // the files' names: study.sqlite, ensemble.csv
@@ -540,27 +582,9 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
     std::string baseline;
   };
   std::vector<Todo> todo;
-  for (std::size_t i = 0; i < all.size(); ++i) {
-    const long id = static_cast<long>(i);
-    try {
-      RunInput point = with_settings(input, all[i]);
-      std::string key = study.baseline ? baseline_key(point) : std::string();
-      todo.push_back({id, std::move(point), std::move(key)});
-    } catch (const InputError& e) {
-      std::string values;
-      for (const Setting& s : all[i]) values += fmt::format("{}{} = {}", values.empty() ? "" : ", ", s.key, to_text(s.value));
-      // An error that a parameter's override caused is reported where the file defines that
-      // parameter; any other names the file.
-      const std::string message = e.what();
-      std::string where = input.source.string();
-      for (const StudyParameter& p : study.parameters) {
-        if (!p.where.empty() && message.starts_with(fmt::format("{}: --set {}=", input.source.string(), p.key))) {
-          where = p.where;
-        }
-      }
-      throw InputError(fmt::format("{}: {} {} ({}): {}", where, kind == AnalysisKind::ensemble ? "ensemble record" : "study point",
-                                   id + 1, values, message));
-    }
+  for (RunInput& point : point_inputs(input, kind)) {
+    std::string key = study.baseline ? baseline_key(point) : std::string();
+    todo.push_back({static_cast<long>(todo.size()), std::move(point), std::move(key)});
   }
   // What one point (or bare-pounding reference) computes, wherever it runs: a task names it
   // (and carries its reference's peaks), the result is what the database stores. Both are CBOR,

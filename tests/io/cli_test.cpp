@@ -121,7 +121,7 @@ TEST_F(Cli, BadInputExitsWithCodeTwoAndWritesNothing) {
   const Result r = run("run " + model.string() + " --out " + out.string());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.output.find("bad.toml:"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("extra: unknown key"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("extra: unknown table"), std::string::npos) << r.output;
   EXPECT_EQ(slurp(out / "summary.json"), "old results\n");  // untouched
   EXPECT_FALSE(fs::exists(out / "history.csv"));
 
@@ -143,6 +143,39 @@ TEST_F(Cli, BadInputExitsWithCodeTwoAndWritesNothing) {
   EXPECT_EQ(missing.code, 2);
   EXPECT_NE(missing.output.find("nothing.toml: cannot open the model file"), std::string::npos);
   EXPECT_FALSE(fs::exists(out / "history.csv"));
+}
+
+// `poundsim check` reads and validates a file — its records and every study point or ensemble
+// record included — without running anything or writing a file; bad input exits 2 with run's
+// message.
+TEST_F(Cli, CheckValidatesWithoutRunning) {
+  const fs::path before = fs::current_path();
+  fs::current_path(dir_);
+  const Result study = run("check " + example("study_eta_mu.toml"));
+  EXPECT_EQ(study.code, 0) << study.output;
+  EXPECT_NE(study.output.find("valid: analysis.kind = \"study\", 2 frames, 1 gap elements, 20 points read and valid"),
+            std::string::npos)
+      << study.output;
+  const Result ensemble = run("check " + example("ensemble_fig2_frames.toml"));
+  EXPECT_EQ(ensemble.code, 0) << ensemble.output;
+  EXPECT_NE(ensemble.output.find("4 records read and valid"), std::string::npos) << ensemble.output;
+  EXPECT_TRUE(fs::is_empty(dir_));
+  // A study point that breaks a rule: μ < 0 at the third point, named with where the parameter is
+  // defined and its values.
+  std::string text = slurp(example("study_eta_mu.toml"));
+  text.replace(text.find("values = [0.0, 0.5, 1.0, 2.0]"), 30, "values = [0.0, 0.5, -1.0, 2.0]");
+  const Result point = run("check " + write("bad_point.toml", text).string());
+  EXPECT_EQ(point.code, 2) << point.output;
+  EXPECT_NE(point.output.find("study.parameter[2].key: study point 3 (model.dimensionless.eta = 0.0, model.dimensionless.mu = -1.0)"),
+            std::string::npos)
+      << point.output;
+  // A misspelt key, with --set as for run.
+  const Result misspelt = run("check " + example("fig2c_ratio0.8.toml") + " --set analysis.durtion=3");
+  EXPECT_EQ(misspelt.code, 2) << misspelt.output;
+  EXPECT_NE(misspelt.output.find("analysis.durtion: unknown key for kind = \"time_history\"; did you mean 'duration'?"),
+            std::string::npos)
+      << misspelt.output;
+  fs::current_path(before);
 }
 
 TEST_F(Cli, UnwritableOutputFailsWithCodeOne) {

@@ -251,7 +251,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"UnknownKey", replace(kDimensionless, "dt = 0.001", "dt = 0.001\nstep = 2"),
                  R"(^model\.toml:23:\d+: analysis\.step: unknown key for kind = "time_history"$)"},
         BadInput{"UnknownTopLevelKey", kDimensionless + "\n[outputs]\nx = 1\n",
-                 R"(^model\.toml:2\d:1: outputs: unknown key$)"},
+                 R"(^model\.toml:2\d:1: outputs: unknown table; did you mean 'output'\?$)"},
         BadInput{"WrongType", replace(kDimensionless, "dt = 0.001", "dt = \"fast\""),
                  R"(^model\.toml:22:6: analysis\.dt: expected a number, got a string$)"},
         BadInput{"NonPositiveMass", replace(kPhysical, "mass = 2.0e5", "mass = [2.0e5, 0.0]"),
@@ -483,7 +483,7 @@ TEST(InputMessages, NameThePlaceThatIsWrong) {
   const std::string empty = error_of("");
   EXPECT_EQ(empty.rfind("model.toml: missing the structure: [model]", 0), 0u) << empty;
   EXPECT_EQ(empty.find(": :"), std::string::npos) << empty;
-  EXPECT_EQ(error_of(kDimensionless, {"a.b=1"}), "model.toml: --set a.b=1: a: unknown key");
+  EXPECT_EQ(error_of(kDimensionless, {"a.b=1"}), "model.toml: --set a.b=1: a: unknown table");
   EXPECT_TRUE(has(error_of(kDimensionless, {"model.x=1e309"}),
                   "model.toml: --set model.x=1e309: model.x: the value is not valid TOML"));
   EXPECT_TRUE(has(error_of(kDimensionless, {"model.dimensionless.eta=1e309"}), "the value is not valid TOML"));

@@ -29,6 +29,11 @@ using PointValues = std::vector<Setting>;
 /// slowest), list (zipped) or random (uniform, or log-uniform, from the seed).
 std::vector<PointValues> study_points(const StudySettings& study);
 
+/// The input of every point of a study or ensemble (`kind`), in id order, read from its settings
+/// and so validated before anything runs: a point that breaks a rule is an InputError naming
+/// where its parameter is defined, the point, its values and the rule.
+std::vector<RunInput> point_inputs(const RunInput& input, AnalysisKind kind);
+
 /// A stable fingerprint of everything that determines a run's results (model, analysis,
 /// excitation, study or optimiser definition, the contents of its record files, the version):
 /// FNV-1a of its canonical description.
