@@ -1,5 +1,6 @@
 // Promises the repository makes about itself.
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -24,6 +25,19 @@ TEST(Repository, CiRunsTheReadmeTestCommand) {
   const std::string command = "./scripts/install-deps.sh && cmake --workflow --preset ci";
   EXPECT_NE(ci.find("\n" + command + "\n"), std::string::npos) << ci;
   EXPECT_NE(readme.find("\n" + command + "\n"), std::string::npos);
+}
+
+// The README says what poundsim is, gives the two set-up commands, one short example and the links;
+// the rest is in docs/ (the guide first).
+TEST(Repository, ReadmeIsShortAndLinksTheGuideReferenceAndExplanations) {
+  const std::string readme = slurp("README.md");
+  EXPECT_LE(std::count(readme.begin(), readme.end(), '\n'), 150);
+  for (const char* page : {"docs/guide.md", "docs/input.md", "docs/output.md", "docs/model.md", "docs/numerics.md",
+                           "docs/periodic-orbits.md", "docs/verification.md", "docs/architecture.md", "docs/python.md",
+                           "docs/studies.md", "docs/records.md", "docs/paper-reproduction.md"}) {
+    EXPECT_NE(readme.find(std::string("(") + page + ")"), std::string::npos) << page;
+    EXPECT_FALSE(slurp(page).empty()) << page;
+  }
 }
 
 TEST(Repository, ReadmeMainJobReproducesThePaper) {
