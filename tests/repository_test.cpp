@@ -36,7 +36,14 @@ TEST(Repository, ReadmeIsShortAndLinksTheGuideReferenceAndExplanations) {
                            "docs/periodic-orbits.md", "docs/verification.md", "docs/architecture.md", "docs/python.md",
                            "docs/studies.md", "docs/records.md", "docs/paper-reproduction.md"}) {
     EXPECT_NE(readme.find(std::string("(") + page + ")"), std::string::npos) << page;
-    EXPECT_FALSE(slurp(page).empty()) << page;
+    // Each page says what it is for in a paragraph under its title, before its first section.
+    const std::string text = slurp(page);
+    const std::size_t title_end = text.find('\n'), first_section = text.find("\n## ");
+    ASSERT_NE(title_end, std::string::npos) << page;
+    const std::string intro = text.substr(title_end, first_section == std::string::npos ? std::string::npos
+                                                                                        : first_section - title_end);
+    EXPECT_GT(std::count_if(intro.begin(), intro.end(), [](char c) { return c == ' '; }), 20)
+        << page << ": no paragraph says what the page is for";
   }
 }
 
