@@ -14,6 +14,7 @@
 
 #include "poundsim/analysis/time_history.hpp"
 #include "poundsim/units.hpp"
+#include "test_files.hpp"
 #include "test_models.hpp"
 
 namespace poundsim {
@@ -276,6 +277,17 @@ TEST(FiguresOfMerit, StrokeUseIsTheLargestShorteningOverTheStroke) {
   EXPECT_EQ(columns.count("max_stroke_use"), 0U);
   EXPECT_GT(bare.statistics.gaps[0].impacts, 0);
   EXPECT_EQ(columns.at("gap_force_1_1_N").value, bare.statistics.gaps[0].force.value);
+}
+
+// Every study column the figures declare is in the reference (docs/studies.md), as it writes
+// them (peak_V<f>_W, min_gap_<joint>_m); and the columns a point writes are the declared ones.
+TEST(FiguresOfMerit, EveryDeclaredColumnIsDocumented) {
+  const std::string docs = testing::slurp(std::string(POUNDSIM_SOURCE_DIR) + "/docs/studies.md");
+  const std::vector<std::string> declared = declared_figure_columns();
+  EXPECT_GT(declared.size(), 40u);
+  for (const std::string& column : declared) {
+    EXPECT_NE(docs.find("`" + column + "`"), std::string::npos) << column << " is not in docs/studies.md";
+  }
 }
 
 }  // namespace

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <tuple>
+#include <type_traits>
 
 #include <fmt/format.h>
 
@@ -17,135 +19,113 @@ namespace {
 
 double ratio(double value, double reference) { return reference > 0 ? value / reference : 0.0; }
 
-/// Calls f(out, in) for every figure of `in` and the same figure of `out` (whose arrays it sizes
-/// like in's), so that an ensemble's mean and maximum are taken figure by figure.
-template <class F>
-void zip_figures(TimeHistoryFigures& out, const TimeHistoryFigures& in, F&& f) {
-  f(out.energy_residual, in.energy_residual);
-  f(out.pga_g, in.pga_g);
-  out.frames.resize(in.frames.size());
-  for (std::size_t k = 0; k < in.frames.size(); ++k) {
-    FrameFigures& o = out.frames[k];
-    const FrameFigures& i = in.frames[k];
-    f(o.peak_V_W, i.peak_V_W);
-    f(o.free_peak_V_W, i.free_peak_V_W);
-    f(o.ratio_to_free, i.ratio_to_free);
-    f(o.peak_drift_m, i.peak_drift_m);
-    f(o.free_peak_drift_m, i.free_peak_drift_m);
-    f(o.peak_drift_ratio, i.peak_drift_ratio);
-    f(o.free_peak_drift_ratio, i.free_peak_drift_ratio);
-    f(o.peak_abs_acc_g, i.peak_abs_acc_g);
-    f(o.free_peak_abs_acc_g, i.free_peak_abs_acc_g);
-    f(o.residual_drift_m, i.residual_drift_m);
-    f(o.residual_drift_ratio, i.residual_drift_ratio);
-    f(o.hysteretic_energy_J, i.hysteretic_energy_J);
-    o.storey_heights = i.storey_heights;
-  }
-  out.floors.resize(in.floors.size());
-  for (std::size_t k = 0; k < in.floors.size(); ++k) {
-    FloorFigures& o = out.floors[k];
-    const FloorFigures& i = in.floors[k];
-    o.frame = i.frame;
-    o.floor = i.floor;
-    f(o.peak_u_m, i.peak_u_m);
-    f(o.free_peak_u_m, i.free_peak_u_m);
-    f(o.amp_u, i.amp_u);
-    f(o.amp_drift, i.amp_drift);
-    f(o.amp_acc, i.amp_acc);
-    f(o.peak_drift_m, i.peak_drift_m);
-    f(o.peak_drift_ratio, i.peak_drift_ratio);
-    f(o.peak_abs_acc_g, i.peak_abs_acc_g);
-    o.storey_height = i.storey_height;
-  }
-  out.joints.resize(in.joints.size());
-  for (std::size_t k = 0; k < in.joints.size(); ++k) {
-    out.joints[k].left_frame = in.joints[k].left_frame;
-    out.joints[k].floor = in.joints[k].floor;
-    out.joints[k].label = in.joints[k].label;
-    f(out.joints[k].min_gap_m, in.joints[k].min_gap_m);
-  }
-  out.gaps.resize(in.gaps.size());
-  for (std::size_t k = 0; k < in.gaps.size(); ++k) {
-    out.gaps[k].label = in.gaps[k].label;
-    out.gaps[k].has_stroke = in.gaps[k].has_stroke;
-    f(out.gaps[k].max_force_N, in.gaps[k].max_force_N);
-    f(out.gaps[k].stroke_use, in.gaps[k].stroke_use);
-  }
-  f(out.impacts, in.impacts);
-  f(out.max_impact_impulse_Ns, in.max_impact_impulse_Ns);
-  f(out.max_velocity_jump_m_s, in.max_velocity_jump_m_s);
-  f(out.max_gap_force_N, in.max_gap_force_N);
-  f(out.max_peak_V_W, in.max_peak_V_W);
-  f(out.max_ratio_to_free, in.max_ratio_to_free);
-  f(out.max_peak_drift_m, in.max_peak_drift_m);
-  f(out.max_peak_drift_ratio, in.max_peak_drift_ratio);
-  f(out.max_peak_abs_acc_g, in.max_peak_abs_acc_g);
-  f(out.max_residual_drift_m, in.max_residual_drift_m);
-  f(out.max_residual_drift_ratio, in.max_residual_drift_ratio);
-  f(out.max_stroke_use, in.max_stroke_use);
-  f(out.hysteretic_energy_J, in.hysteretic_energy_J);
+template <class T>
+inline constexpr bool is_vector = false;
+template <class T>
+inline constexpr bool is_vector<std::vector<T>> = true;
+
+/// Calls f(out, in) for every number of `in` and the same number of `out` (whose arrays it sizes
+/// like in's, its attributes copied), so that an ensemble's mean and maximum are taken figure by
+/// figure.
+template <DeclaredFigures S, class F>
+void zip_figures(S& out, const S& in, F&& f) {
+  std::apply(
+      [&](const auto&... field) {
+        const auto one = [&](const auto& declared) {
+          auto& o = out.*declared.member;
+          const auto& i = in.*declared.member;
+          using T = std::decay_t<decltype(o)>;
+          if constexpr (std::is_same_v<T, double>) {
+            f(o, i);
+          } else if constexpr (is_vector<T>) {
+            o.resize(i.size());
+            for (std::size_t k = 0; k < i.size(); ++k) zip_figures(o[k], i[k], f);
+          } else {
+            o = i;
+          }
+        };
+        (one(field), ...);
+      },
+      S::figures());
 }
 
-void add_columns(const TimeHistoryFigures& t, const std::string& prefix, bool counts,
-                 std::vector<FigureColumn>& out) {
-  const auto add = [&](std::string name, double value, bool count = false) {
-    out.push_back({prefix + name, value, counts && count});
-  };
-  add("energy_residual", t.energy_residual);
-  add("pga_g", t.pga_g);
-  bool drift_ratios = false, strokes = false;
-  for (std::size_t f = 0; f < t.frames.size(); ++f) {
-    const FrameFigures& frame = t.frames[f];
-    add(fmt::format("peak_V{}_W", f + 1), frame.peak_V_W);
-    add(fmt::format("free_peak_V{}_W", f + 1), frame.free_peak_V_W);
-    add(fmt::format("ratio_to_free_{}", f + 1), frame.ratio_to_free);
-    add(fmt::format("peak_drift_{}_m", f + 1), frame.peak_drift_m);
-    add(fmt::format("free_peak_drift_{}_m", f + 1), frame.free_peak_drift_m);
-    add(fmt::format("peak_abs_acc_{}_g", f + 1), frame.peak_abs_acc_g);
-    add(fmt::format("free_peak_abs_acc_{}_g", f + 1), frame.free_peak_abs_acc_g);
-    add(fmt::format("residual_drift_{}_m", f + 1), frame.residual_drift_m);
-    add(fmt::format("hysteretic_energy_{}_J", f + 1), frame.hysteretic_energy_J);
-    if (frame.storey_heights) {
-      drift_ratios = true;
-      add(fmt::format("peak_drift_ratio_{}", f + 1), frame.peak_drift_ratio);
-      add(fmt::format("free_peak_drift_ratio_{}", f + 1), frame.free_peak_drift_ratio);
-      add(fmt::format("residual_drift_ratio_{}", f + 1), frame.residual_drift_ratio);
-    }
+/// How a point's columns are written: a prefix (an ensemble's maxima: "max_"), whether counts
+/// keep no decimal point, and which of the conditional figures are columns.
+struct ColumnRules {
+  std::string prefix;
+  bool counts = true;
+  bool frf = false;
+  bool storey_heights = false;  ///< a frame has storey heights
+  bool stroke = false;          ///< an element has a stroke
+};
+
+// Where `{}` of a column goes: the frame's number, the floor's frame_floor, the joint's label.
+std::string place_of(const FrameFigures&, std::size_t k) { return std::to_string(k + 1); }
+std::string place_of(const FloorFigures& f, std::size_t) { return fmt::format("{}_{}", f.frame + 1, f.floor + 1); }
+std::string place_of(const JointFigures& j, std::size_t) { return j.label; }
+std::string place_of(const GapFigures& g, std::size_t) { return g.label; }
+
+// Whether a figure shown only `shown` is a column of s.
+bool own_heights(const FrameFigures& f) { return f.storey_heights; }
+bool own_heights(const FloorFigures& f) { return f.storey_height; }
+template <class S>
+bool own_heights(const S&) { return true; }
+bool own_stroke(const GapFigures& g) { return g.has_stroke; }
+template <class S>
+bool own_stroke(const S&) { return true; }
+
+template <class S>
+bool is_column(const S& s, Shown shown, const ColumnRules& rules) {
+  switch (shown) {
+    case Shown::always: return true;
+    case Shown::frf: return rules.frf;
+    case Shown::time_history: return !rules.frf;
+    case Shown::storey_heights: return !rules.frf && rules.storey_heights && own_heights(s);
+    case Shown::stroke: return !rules.frf && rules.stroke && own_stroke(s);
+    case Shown::never: return false;
   }
-  for (const FloorFigures& floor : t.floors) {
-    const std::string at = fmt::format("{}_{}", floor.frame + 1, floor.floor + 1);
-    add("peak_u_" + at + "_m", floor.peak_u_m);
-    add("free_peak_u_" + at + "_m", floor.free_peak_u_m);
-    add("amp_u_" + at, floor.amp_u);
-    add("amp_drift_" + at, floor.amp_drift);
-    add("amp_acc_" + at, floor.amp_acc);
-    add("peak_drift_" + at + "_m", floor.peak_drift_m);
-    add("peak_abs_acc_" + at + "_g", floor.peak_abs_acc_g);
-    if (floor.storey_height) add("peak_drift_ratio_" + at, floor.peak_drift_ratio);
-  }
-  for (const JointFigures& j : t.joints) add("min_gap_" + j.label + "_m", j.min_gap_m);
-  for (const GapFigures& g : t.gaps) {
-    add("gap_force_" + g.label + "_N", g.max_force_N);
-    if (g.has_stroke) {
-      strokes = true;
-      add("stroke_use_" + g.label, g.stroke_use);
-    }
-  }
-  add(std::string(column_names::max_peak_V_W), t.max_peak_V_W);
-  add(std::string(column_names::max_ratio_to_free), t.max_ratio_to_free);
-  add("impacts", t.impacts, true);
-  add("max_impact_impulse_Ns", t.max_impact_impulse_Ns);
-  add("max_velocity_jump_m_s", t.max_velocity_jump_m_s);
-  add("max_gap_force_N", t.max_gap_force_N);
-  add("max_peak_drift_m", t.max_peak_drift_m);
-  add("max_peak_abs_acc_g", t.max_peak_abs_acc_g);
-  add("max_residual_drift_m", t.max_residual_drift_m);
-  add("hysteretic_energy_J", t.hysteretic_energy_J);
-  if (drift_ratios) {
-    add("max_peak_drift_ratio", t.max_peak_drift_ratio);
-    add("max_residual_drift_ratio", t.max_residual_drift_ratio);
-  }
-  if (strokes) add("max_stroke_use", t.max_stroke_use);
+  return false;
+}
+
+/// Appends the columns of s, in declaration order; `place` fills the `{}` of its columns.
+template <DeclaredFigures S>
+void add_columns(const S& s, const std::string& place, const ColumnRules& rules, std::vector<FigureColumn>& out) {
+  std::apply(
+      [&](const auto&... field) {
+        const auto one = [&](const auto& declared) {
+          const auto& value = s.*declared.member;
+          using T = std::decay_t<decltype(value)>;
+          if constexpr (is_vector<T>) {
+            for (std::size_t k = 0; k < value.size(); ++k) add_columns(value[k], place_of(value[k], k), rules, out);
+          } else if constexpr (std::is_arithmetic_v<T> && !std::is_same_v<T, bool>) {
+            if (declared.column.empty() || !is_column(s, declared.shown, rules)) return;
+            out.push_back({rules.prefix + fmt::format(fmt::runtime(declared.column), place), static_cast<double>(value),
+                           rules.counts && declared.count});
+          }
+        };
+        (one(field), ...);
+      },
+      S::figures());
+}
+
+ColumnRules time_history_rules(const TimeHistoryFigures& t, std::string prefix, bool counts) {
+  ColumnRules rules{.prefix = std::move(prefix), .counts = counts, .frf = false, .storey_heights = false, .stroke = false};
+  rules.storey_heights = std::any_of(t.frames.begin(), t.frames.end(), [](const FrameFigures& f) { return f.storey_heights; });
+  rules.stroke = std::any_of(t.gaps.begin(), t.gaps.end(), [](const GapFigures& g) { return g.has_stroke; });
+  return rules;
+}
+
+/// The declared columns of S as the docs write them, `place` in their `{}`.
+template <DeclaredFigures S>
+void declared_columns(const std::string& place, std::vector<std::string>& out) {
+  std::apply(
+      [&](const auto&... field) {
+        const auto one = [&](const auto& declared) {
+          if (!declared.column.empty()) out.push_back(fmt::format(fmt::runtime(declared.column), place));
+        };
+        (one(field), ...);
+      },
+      S::figures());
 }
 
 /// The figures a point is compared by: a single response's, or an ensemble's mean.
@@ -229,22 +209,14 @@ std::vector<FigureColumn> PointFigures::columns() const {
       [&](const auto& r) {
         using R = std::decay_t<decltype(r)>;
         if constexpr (std::is_same_v<R, FrfFigures>) {
-          out.push_back({"points", static_cast<double>(r.points), true});
-          out.push_back({"non_periodic", static_cast<double>(r.non_periodic), true});
-          for (std::size_t f = 0; f < r.frames.size(); ++f) {
-            out.push_back({fmt::format("peak_V{}_W", f + 1), r.frames[f].peak_V_W});
-            out.push_back({fmt::format("peak_V{}_at", f + 1), r.frames[f].peak_at});
-            out.push_back({fmt::format("free_peak_V{}_W", f + 1), r.frames[f].free_peak_V_W});
-            out.push_back({fmt::format("ratio_to_free_{}", f + 1), r.frames[f].ratio_to_free});
-          }
-          out.push_back({std::string(column_names::max_peak_V_W), r.max_peak_V_W});
-          out.push_back({std::string(column_names::max_ratio_to_free), r.max_ratio_to_free});
+          add_columns(r, "", ColumnRules{.prefix = "", .counts = true, .frf = true, .storey_heights = false, .stroke = false}, out);
         } else if constexpr (std::is_same_v<R, TimeHistoryFigures>) {
-          add_columns(r, "", true, out);
+          add_columns(r, "", time_history_rules(r, "", true), out);
         } else {
           out.push_back({"records", static_cast<double>(r.records), true});
-          add_columns(r.mean, "", false, out);  // a mean of counts need not be whole
-          add_columns(r.max, "max_", false, out);
+          // A mean of counts need not be whole.
+          add_columns(r.mean, "", time_history_rules(r.mean, "", false), out);
+          add_columns(r.max, "", time_history_rules(r.max, "max_", false), out);
         }
       },
       response);
@@ -265,6 +237,17 @@ std::vector<FigureColumn> PointFigures::columns() const {
       out.push_back({"max_ratio_to_bare_acc", bare->max_ratio_to_bare_acc});
     }
   }
+  return out;
+}
+
+std::vector<std::string> declared_figure_columns() {
+  std::vector<std::string> out;
+  declared_columns<FrfFigures>("", out);
+  declared_columns<TimeHistoryFigures>("", out);
+  declared_columns<FrameFigures>("<f>", out);
+  declared_columns<FloorFigures>("<f>_<i>", out);
+  declared_columns<JointFigures>("<joint>", out);
+  declared_columns<GapFigures>("<joint>", out);
   return out;
 }
 

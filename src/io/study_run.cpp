@@ -30,21 +30,16 @@
 #include "poundsim/units.hpp"
 
 namespace poundsim {
-// Every field of a record's figures, declared once (the ranks of an MPI job exchange them).
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(FrameFigures, peak_V_W, free_peak_V_W, ratio_to_free, peak_at, peak_drift_m,
-                                   free_peak_drift_m, peak_drift_ratio, free_peak_drift_ratio, peak_abs_acc_g,
-                                   free_peak_abs_acc_g, residual_drift_m, residual_drift_ratio, hysteretic_energy_J,
-                                   storey_heights)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(FloorFigures, frame, floor, peak_u_m, free_peak_u_m, amp_u, amp_drift, amp_acc,
-                                   peak_drift_m, peak_drift_ratio, peak_abs_acc_g, storey_height)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(JointFigures, left_frame, floor, min_gap_m, label)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(GapFigures, max_force_N, stroke_use, has_stroke, label)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(TimeHistoryFigures, energy_residual, pga_g, frames, floors, joints, gaps, impacts,
-                                   max_impact_impulse_Ns, max_velocity_jump_m_s, max_gap_force_N, max_peak_V_W, max_ratio_to_free,
-                                   max_peak_drift_m, max_peak_drift_ratio, max_peak_abs_acc_g, max_residual_drift_m,
-                                   max_residual_drift_ratio, max_stroke_use, hysteretic_energy_J)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(FrfFigures, points, non_periodic, frames, max_peak_V_W, max_ratio_to_free)
-NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(EnsembleFigures, records, mean, max)
+// A record's figures as the ranks of an MPI job and the study database exchange them: every
+// declared field under its key (figures_of_merit.hpp).
+template <DeclaredFigures S>
+void to_json(nlohmann::json& j, const S& s) {
+  std::apply([&](const auto&... field) { ((j[std::string(field.key)] = s.*field.member), ...); }, S::figures());
+}
+template <DeclaredFigures S>
+void from_json(const nlohmann::json& j, S& s) {
+  std::apply([&](const auto&... field) { (j.at(std::string(field.key)).get_to(s.*field.member), ...); }, S::figures());
+}
 NLOHMANN_DEFINE_TYPE_NON_INTRUSIVE(BareComparison, bare_peak_V_W, ratio_to_bare, max_ratio_to_bare, time_history,
                                    bare_peak_drift_m, ratio_to_bare_drift, bare_peak_abs_acc_g, ratio_to_bare_acc,
                                    max_ratio_to_bare_drift, max_ratio_to_bare_acc)

@@ -6,10 +6,12 @@
 /// The optimiser minimises one of them (max_peak_V_W, max_ratio_to_free); `columns()` names
 /// every figure as the study table's column, which io writes to the database and CSV.
 
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <variant>
 #include <vector>
 
@@ -18,6 +20,47 @@
 #include "poundsim/model/model.hpp"
 
 namespace poundsim {
+
+/// Where a declared figure is a study column.
+enum class Shown : std::uint8_t {
+  always,          ///< every point's
+  frf,             ///< a frequency response's only
+  time_history,    ///< a time history's only
+  storey_heights,  ///< a time history's, where storey heights make drift ratios
+  stroke,          ///< a time history's, where an element has a stroke
+  never,           ///< carried by the records (a frame's number, a label), not a column
+};
+
+/// A field of a point's figures, declared once: the member, its key in the records that MPI
+/// ranks and study databases exchange (the member's name), its study column — `{}` stands for
+/// the frame ("2"), the floor ("2_5") or the joint's label — its unit, its meaning, when it is
+/// a column and whether it is a count (written without a decimal point). The records, the
+/// study columns, an ensemble's means and maxima and the column list in docs/studies.md all
+/// come from these declarations (figures_of_merit.cpp, io/study_run.cpp).
+template <class S, class T>
+struct FigureField {
+  std::string_view key;
+  T S::*member;
+  std::string_view column = {};
+  std::string_view unit = {};
+  std::string_view meaning = {};
+  Shown shown = Shown::always;
+  bool count = false;
+};
+template <class S, class T>
+FigureField(std::string_view, T S::*) -> FigureField<S, T>;
+template <class S, class T>
+FigureField(std::string_view, T S::*, std::string_view, std::string_view, std::string_view) -> FigureField<S, T>;
+template <class S, class T>
+FigureField(std::string_view, T S::*, std::string_view, std::string_view, std::string_view, Shown)
+    -> FigureField<S, T>;
+template <class S, class T>
+FigureField(std::string_view, T S::*, std::string_view, std::string_view, std::string_view, Shown, bool)
+    -> FigureField<S, T>;
+
+/// A struct whose fields are declared as figures.
+template <class S>
+concept DeclaredFigures = requires { S::figures(); };
 
 /// One frame (columns peak_V{f}_W, free_peak_V{f}_W, ratio_to_free_{f}, peak_V{f}_at; a time
 /// history's also peak_drift_{f}_m, peak_abs_acc_{f}_g, residual_drift_{f}_m,
@@ -40,6 +83,35 @@ struct FrameFigures {
   double residual_drift_m = 0.0, residual_drift_ratio = 0.0;
   double hysteretic_energy_J = 0.0;  ///< Dissipated by its yielding storeys [J].
   bool storey_heights = false;       ///< Whether it has storey heights, so drift ratios.
+
+  static constexpr auto figures() {
+    using F = FrameFigures;
+    using enum Shown;
+    return std::tuple{
+        FigureField{"peak_V_W", &F::peak_V_W, "peak_V{}_W", "", "peak base shear ÷ W"},
+        FigureField{"peak_at", &F::peak_at, "peak_V{}_at", "", "ω̄/ω₁ of the peak", frf},
+        FigureField{"free_peak_V_W", &F::free_peak_V_W, "free_peak_V{}_W", "", "the same without gap elements"},
+        FigureField{"ratio_to_free", &F::ratio_to_free, "ratio_to_free_{}", "", "peak ÷ free peak"},
+        FigureField{"peak_drift_m", &F::peak_drift_m, "peak_drift_{}_m", "m", "largest storey drift", time_history},
+        FigureField{"free_peak_drift_m", &F::free_peak_drift_m, "free_peak_drift_{}_m", "m",
+                    "the same without gap elements", time_history},
+        FigureField{"peak_abs_acc_g", &F::peak_abs_acc_g, "peak_abs_acc_{}_g", "g", "largest absolute floor acceleration",
+                    time_history},
+        FigureField{"free_peak_abs_acc_g", &F::free_peak_abs_acc_g, "free_peak_abs_acc_{}_g", "g",
+                    "the same without gap elements", time_history},
+        FigureField{"residual_drift_m", &F::residual_drift_m, "residual_drift_{}_m", "m", "largest drift at the end",
+                    time_history},
+        FigureField{"hysteretic_energy_J", &F::hysteretic_energy_J, "hysteretic_energy_{}_J", "J",
+                    "dissipated by its yielding storeys", time_history},
+        FigureField{"peak_drift_ratio", &F::peak_drift_ratio, "peak_drift_ratio_{}", "", "largest drift ÷ storey height",
+                    storey_heights},
+        FigureField{"free_peak_drift_ratio", &F::free_peak_drift_ratio, "free_peak_drift_ratio_{}", "",
+                    "the same without gap elements", storey_heights},
+        FigureField{"residual_drift_ratio", &F::residual_drift_ratio, "residual_drift_ratio_{}", "",
+                    "residual drift ÷ storey height", storey_heights},
+        FigureField{"storey_heights", &F::storey_heights, "", "", "", never},
+    };
+  }
 };
 
 /// One floor of a time history: peaks with the gap elements and without, and their ratios
@@ -53,6 +125,25 @@ struct FloorFigures {
   double amp_u = 0.0, amp_drift = 0.0, amp_acc = 0.0;
   double peak_drift_m = 0.0, peak_drift_ratio = 0.0, peak_abs_acc_g = 0.0;
   bool storey_height = false;  ///< Whether its storey has a height, so a drift ratio.
+
+  static constexpr auto figures() {
+    using F = FloorFigures;
+    using enum Shown;
+    return std::tuple{
+        FigureField{"frame", &F::frame, "", "", "", never},
+        FigureField{"floor", &F::floor, "", "", "", never},
+        FigureField{"peak_u_m", &F::peak_u_m, "peak_u_{}_m", "m", "peak displacement"},
+        FigureField{"free_peak_u_m", &F::free_peak_u_m, "free_peak_u_{}_m", "m", "the same without gap elements"},
+        FigureField{"amp_u", &F::amp_u, "amp_u_{}", "", "displacement ÷ the free floor's"},
+        FigureField{"amp_drift", &F::amp_drift, "amp_drift_{}", "", "storey drift ÷ the free storey's"},
+        FigureField{"amp_acc", &F::amp_acc, "amp_acc_{}", "", "absolute acceleration ÷ the free floor's"},
+        FigureField{"peak_drift_m", &F::peak_drift_m, "peak_drift_{}_m", "m", "its storey's peak drift"},
+        FigureField{"peak_abs_acc_g", &F::peak_abs_acc_g, "peak_abs_acc_{}_g", "g", "peak absolute acceleration"},
+        FigureField{"peak_drift_ratio", &F::peak_drift_ratio, "peak_drift_ratio_{}", "", "peak drift ÷ storey height",
+                    storey_heights},
+        FigureField{"storey_height", &F::storey_height, "", "", "", never},
+    };
+  }
 };
 
 /// One gap element: its largest force (gap_force_{label}_N) and, for an element with a stroke
@@ -63,6 +154,17 @@ struct GapFigures {
   double stroke_use = 0.0;
   bool has_stroke = false;
   std::string label;  ///< joint_label of its ends.
+
+  static constexpr auto figures() {
+    using F = GapFigures;
+    using enum Shown;
+    return std::tuple{
+        FigureField{"max_force_N", &F::max_force_N, "gap_force_{}_N", "N", "largest force"},
+        FigureField{"stroke_use", &F::stroke_use, "stroke_use_{}", "", "largest shortening ÷ ε", stroke},
+        FigureField{"has_stroke", &F::has_stroke, "", "", "", never},
+        FigureField{"label", &F::label, "", "", "", never},
+    };
+  }
 };
 
 /// One pair of neighbouring floors: the free frames' largest approach past closing, the joint a
@@ -71,6 +173,17 @@ struct JointFigures {
   int left_frame = 0, floor = 0;  ///< 0-based.
   double min_gap_m = 0.0;
   std::string label;  ///< Its name in the columns (joint_label): "1_3", or "1_5_4" at a struck left column.
+
+  static constexpr auto figures() {
+    using F = JointFigures;
+    using enum Shown;
+    return std::tuple{
+        FigureField{"left_frame", &F::left_frame, "", "", "", never},
+        FigureField{"floor", &F::floor, "", "", "", never},
+        FigureField{"min_gap_m", &F::min_gap_m, "min_gap_{}_m", "m", "the free frames' largest approach"},
+        FigureField{"label", &F::label, "", "", "", never},
+    };
+  }
 };
 
 /// A frequency response over a band of ω̄/ω₁.
@@ -80,6 +193,19 @@ struct FrfFigures {
   std::vector<FrameFigures> frames;
   double max_peak_V_W = 0.0;       ///< The larger of the frames' peak_V_W.
   double max_ratio_to_free = 0.0;  ///< The larger of their ratio_to_free.
+
+  static constexpr auto figures() {
+    using F = FrfFigures;
+    using enum Shown;
+    return std::tuple{
+        FigureField{"points", &F::points, "points", "", "frequencies in the band", always, true},
+        FigureField{"non_periodic", &F::non_periodic, "non_periodic", "", "of which not periodic", always, true},
+        FigureField{"frames", &F::frames},
+        FigureField{"max_peak_V_W", &F::max_peak_V_W, "max_peak_V_W", "", "the larger of the frames' peak V/W"},
+        FigureField{"max_ratio_to_free", &F::max_ratio_to_free, "max_ratio_to_free", "",
+                    "the larger of their ratios to the free frames"},
+    };
+  }
 };
 
 /// A time history.
@@ -104,6 +230,40 @@ struct TimeHistoryFigures {
   double max_residual_drift_m = 0.0, max_residual_drift_ratio = 0.0;
   double max_stroke_use = 0.0;
   double hysteretic_energy_J = 0.0;  ///< Of every yielding storey [J].
+
+  static constexpr auto figures() {
+    using F = TimeHistoryFigures;
+    using enum Shown;
+    return std::tuple{
+        FigureField{"energy_residual", &F::energy_residual, "energy_residual", "", "largest relative residual of the balance"},
+        FigureField{"pga_g", &F::pga_g, "pga_g", "g", "the record's peak ground acceleration"},
+        FigureField{"frames", &F::frames},
+        FigureField{"floors", &F::floors},
+        FigureField{"joints", &F::joints},
+        FigureField{"gaps", &F::gaps},
+        FigureField{"max_peak_V_W", &F::max_peak_V_W, "max_peak_V_W", "", "the larger of the frames' peak V/W"},
+        FigureField{"max_ratio_to_free", &F::max_ratio_to_free, "max_ratio_to_free", "",
+                    "the larger of their ratios to the free frames"},
+        FigureField{"impacts", &F::impacts, "impacts", "", "number of impacts", always, true},
+        FigureField{"max_impact_impulse_Ns", &F::max_impact_impulse_Ns, "max_impact_impulse_Ns", "N·s",
+                    "largest impulse of one impact"},
+        FigureField{"max_velocity_jump_m_s", &F::max_velocity_jump_m_s, "max_velocity_jump_m_s", "m/s",
+                    "largest jump of a floor's velocity at a rigid impact"},
+        FigureField{"max_gap_force_N", &F::max_gap_force_N, "max_gap_force_N", "N", "largest element force"},
+        FigureField{"max_peak_drift_m", &F::max_peak_drift_m, "max_peak_drift_m", "m", "the worse frame's peak drift"},
+        FigureField{"max_peak_abs_acc_g", &F::max_peak_abs_acc_g, "max_peak_abs_acc_g", "g",
+                    "the worse frame's peak absolute acceleration"},
+        FigureField{"max_residual_drift_m", &F::max_residual_drift_m, "max_residual_drift_m", "m",
+                    "the worse frame's residual drift"},
+        FigureField{"hysteretic_energy_J", &F::hysteretic_energy_J, "hysteretic_energy_J", "J",
+                    "dissipated by every yielding storey"},
+        FigureField{"max_peak_drift_ratio", &F::max_peak_drift_ratio, "max_peak_drift_ratio", "",
+                    "the worse frame's peak drift ratio", storey_heights},
+        FigureField{"max_residual_drift_ratio", &F::max_residual_drift_ratio, "max_residual_drift_ratio", "",
+                    "the worse frame's residual drift ratio", storey_heights},
+        FigureField{"max_stroke_use", &F::max_stroke_use, "max_stroke_use", "", "the largest element's stroke use", stroke},
+    };
+  }
 };
 
 /// An ensemble of time histories (one per record): the mean and the maximum of every figure
@@ -111,6 +271,11 @@ struct TimeHistoryFigures {
 struct EnsembleFigures {
   long records = 0;
   TimeHistoryFigures mean, max;
+
+  static constexpr auto figures() {
+    using F = EnsembleFigures;
+    return std::tuple{FigureField{"records", &F::records}, FigureField{"mean", &F::mean}, FigureField{"max", &F::max}};
+  }
 };
 
 /// The point against bare pounding at its joints (columns bare_peak_V{f}_W, ratio_to_bare_{f},
@@ -162,6 +327,10 @@ struct PointFigures {
   /// The figure of column `name`; nothing when the point has no such column.
   [[nodiscard]] std::optional<double> figure(std::string_view name) const;
 };
+
+/// Every declared study column of a point's figures, as docs/studies.md writes it: `<f>` for the
+/// frame, `<f>_<i>` for the floor, `<joint>` for a joint's label (peak_V<f>_W, min_gap_<joint>_m).
+[[nodiscard]] std::vector<std::string> declared_figure_columns();
 
 /// The figures of a frequency response of `model` over lo ≤ ω̄/ω₁ ≤ hi (band_peaks).
 [[nodiscard]] FrfFigures frf_figures(const Model& model, const std::vector<FrfPoint>& response, double lo,
