@@ -112,13 +112,6 @@ json describe_excitation(const ExcitationInfo& info) {
 }
 }  // namespace
 
-double modal_correlation(double omega_a, double zeta_a, double omega_b, double zeta_b) {
-  const double r = omega_b / omega_a;
-  const double numerator = 8 * std::sqrt(zeta_a * zeta_b) * (zeta_a + r * zeta_b) * std::pow(r, 1.5);
-  const double denominator = (1 - r * r) * (1 - r * r) + 4 * zeta_a * zeta_b * r * (1 + r * r) +
-                             4 * (zeta_a * zeta_a + zeta_b * zeta_b) * r * r;
-  return denominator > 0 ? numerator / denominator : 1.0;
-}
 
 namespace {
 /// Whether some frame's storeys follow a law other than the linear storey: their columns and
@@ -292,40 +285,8 @@ json storey_response(const TimeHistoryResult& result, const std::vector<Link>& l
 }  // namespace
 
 std::vector<FloorSeparation> separations(const TimeHistoryResult& result) {
-  std::vector<FloorSeparation> out;
-  if (!result.free) return out;
-  const ResponseStatistics& free = *result.free;
-  const DofLayout& layout = result.layout;
-  std::vector<FundamentalMode> modes;
-  for (const Frame& fr : result.model.frames) modes.push_back(fundamental_mode(fr));
-  for (std::size_t k = 0; k < free.neighbours.size(); ++k) {
-    const NeighbourResponse& nb = free.neighbours[k];
-    const int f = nb.left_frame, i = nb.floor;
-    // A column point's peak is bounded by its floors' peaks interpolated to its height (the
-    // codes interpolate displacements over a storey likewise).
-    const auto peak_at = [&](int frame, int floor, bool column) {
-      const double above = free.floors[static_cast<std::size_t>(layout.dof(frame, floor))].displacement.value;
-      if (!column) return above;
-      const double w = nb.column->weight;
-      const double below = floor == 0 ? 0.0 : free.floors[static_cast<std::size_t>(layout.dof(frame, floor - 1))].displacement.value;
-      return w * above + (1 - w) * below;
-    };
-    FloorSeparation sep;
-    sep.index = k;
-    sep.neighbour = &nb;
-    sep.min_gap = std::max(0.0, nb.max_approach);
-    sep.left_peak = peak_at(f, i, nb.column && nb.column->struck == Side::left);
-    sep.right_peak = peak_at(f + 1, nb.right_floor, nb.column && nb.column->struck == Side::right);
-    const FundamentalMode& a = modes[static_cast<std::size_t>(f)];
-    const FundamentalMode& b = modes[static_cast<std::size_t>(f + 1)];
-    sep.correlation = modal_correlation(a.omega, a.damping_ratio, b.omega, b.damping_ratio);
-    const double u1 = sep.left_peak, u2 = sep.right_peak;
-    sep.absolute_sum = u1 + u2;
-    sep.srss = std::hypot(u1, u2);
-    sep.ddc = std::sqrt(std::max(0.0, u1 * u1 + u2 * u2 - 2 * sep.correlation * u1 * u2));
-    out.push_back(sep);
-  }
-  return out;
+  if (!result.free) return {};
+  return poundsim::separations(result.model, result.layout, *result.free);
 }
 
 json to_json(const TimeHistoryResult& result) {
@@ -390,12 +351,11 @@ json to_json(const TimeHistoryResult& result) {
     const NeighbourResponse& nb = *sep.neighbour;
     const int f = nb.left_frame, i = nb.floor;
     min_gap[sep.index] = sep.min_gap;
-    // The 0.7 SRSS of floors at the same levels does not apply to a slab facing a column.
-    const json same_levels = nb.column ? json(nullptr) : json(0.7 * sep.srss);
+    const json same_levels = sep.srss_same_levels ? json(*sep.srss_same_levels) : json(nullptr);
     json rules{{"absolute_sum_m", sep.absolute_sum}, {"srss_m", sep.srss}, {"srss_same_floor_levels_m", same_levels},
                {"ddc_m", sep.ddc}};
     json over{{"absolute_sum", ratio(sep.absolute_sum, sep.min_gap)}, {"srss", ratio(sep.srss, sep.min_gap)},
-              {"srss_same_floor_levels", nb.column ? json(nullptr) : ratio(0.7 * sep.srss, sep.min_gap)},
+              {"srss_same_floor_levels", sep.srss_same_levels ? json(ratio(*sep.srss_same_levels, sep.min_gap)) : json(nullptr)},
               {"ddc", ratio(sep.ddc, sep.min_gap)}};
     json entry{{"frames", {f + 1, f + 2}}, {"floor", i + 1},
                {"min_gap_m", sep.min_gap}, {"min_gap_time_s", nb.max_approach_time},

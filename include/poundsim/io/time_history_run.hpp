@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "poundsim/analysis/separation.hpp"
 #include "poundsim/analysis/time_history.hpp"
 #include "poundsim/io/input.hpp"
 #include "poundsim/integrate/simulator.hpp"
@@ -47,15 +48,8 @@ TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem:
 /// summary.json (docs/output.md).
 nlohmann::json to_json(const TimeHistoryResult& result);
 
-/// The separation at one pair of facing floors, from the frames' free responses: the smallest
-/// gap that avoids contact (exact for linear frames up to the integrator) and the code rules
-/// built from the free peaks (absolute sum, SRSS, the double difference combination with the
-/// fundamental modes' correlation) [m]. Empty without a free run.
-struct FloorSeparation {
-  std::size_t index = 0;                       ///< In ResponseStatistics::neighbours
-  const NeighbourResponse* neighbour = nullptr; ///< The free run's, in `result.free`
-  double min_gap = 0, left_peak = 0, right_peak = 0, correlation = 0, absolute_sum = 0, srss = 0, ddc = 0;
-};
+/// The separation at every pair of facing floors (analysis/separation.hpp) from the run's free
+/// response; empty without a free run.
 [[nodiscard]] std::vector<FloorSeparation> separations(const TimeHistoryResult& result);
 
 /// The warning when the run's energy balance does not close well enough to trust it
@@ -65,10 +59,6 @@ std::optional<std::string> energy_warning(const TimeHistoryResult& result);
 /// The console report: peaks, impacts, energy balance, the files written into `out_dir`.
 std::string report(const TimeHistoryResult& result, const std::filesystem::path& out_dir);
 
-/// The correlation coefficient of two modes (ω [rad/s], ζ) under broad-band excitation
-/// (Der Kiureghian's CQC coefficient), used by the double-difference combination (DDC) of
-/// separation distances: Δ = √(u_A² + u_B² − 2ρ u_A u_B).
-double modal_correlation(double omega_a, double zeta_a, double omega_b, double zeta_b);
 
 /// Frame and floor (1-based) of every DOF, for column names and reports.
 std::string dof_label(const DofLayout& layout, int dof);
