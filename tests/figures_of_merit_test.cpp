@@ -283,11 +283,22 @@ TEST(FiguresOfMerit, StrokeUseIsTheLargestShorteningOverTheStroke) {
 // them (peak_V<f>_W, min_gap_<joint>_m); and the columns a point writes are the declared ones.
 TEST(FiguresOfMerit, EveryDeclaredColumnIsDocumented) {
   const std::string docs = testing::slurp(std::string(POUNDSIM_SOURCE_DIR) + "/docs/studies.md");
-  const std::vector<std::string> declared = declared_figure_columns();
+  const std::vector<DeclaredColumn> declared = declared_figure_columns();
   EXPECT_GT(declared.size(), 40u);
-  for (const std::string& column : declared) {
-    EXPECT_NE(docs.find("`" + column + "`"), std::string::npos) << column << " is not in docs/studies.md";
+  for (const DeclaredColumn& c : declared) {
+    EXPECT_NE(docs.find("`" + c.column + "`"), std::string::npos) << c.column << " is not in docs/studies.md";
+    EXPECT_FALSE(c.meaning.empty()) << c.column;
   }
+  // Units come from the declarations, for an instance of a pattern and for an ensemble's maximum.
+  EXPECT_EQ(declared_unit("peak_drift_2_m"), "m");
+  EXPECT_EQ(declared_unit("peak_drift_ratio_2_5"), "1");
+  EXPECT_EQ(declared_unit("stroke_use_1_3"), "1");
+  EXPECT_EQ(declared_unit("max_peak_drift_m"), "m");
+  EXPECT_EQ(declared_unit("max_max_impact_impulse_Ns"), "N·s");
+  EXPECT_EQ(declared_unit("impacts"), "");
+  EXPECT_EQ(declared_unit("max_velocity_jump_m_s"), "m/s");
+  EXPECT_EQ(declared_unit("model.dimensionless.eta"), std::nullopt);
+  EXPECT_EQ(declared_unit("ratio_to_bare_1"), std::nullopt);
 }
 
 }  // namespace

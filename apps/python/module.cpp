@@ -31,6 +31,7 @@
 #include <nlohmann/json.hpp>
 
 #include "poundsim/analysis/channels.hpp"
+#include "poundsim/analysis/figures_of_merit.hpp"
 #include "poundsim/analysis/progress.hpp"
 #include "poundsim/error.hpp"
 #include "poundsim/io/continuation_run.hpp"
@@ -636,6 +637,15 @@ PYBIND11_MODULE(_core, m) {
       .def(py::init<>())
       .def("update", &TimeLeft::update, py::arg("done"), py::arg("total"), py::arg("elapsed"),
            "Seconds left with `done` of `total` items at `elapsed` s since the first update; None before a rate.");
+  m.def(
+      "declared_unit",
+      [](const std::string& column) -> std::optional<std::string> {
+        const std::optional<std::string_view> unit = declared_unit(column);
+        return unit ? std::optional<std::string>(*unit) : std::nullopt;
+      },
+      py::arg("column"),
+      "The declared unit of a study column of a point's figures (analysis/figures_of_merit.hpp: \"1\" a ratio, "
+      "\"\" a count), or None for a column no figure declares.");
   m.def("readable_duration", &readable_duration, py::arg("seconds"), "\"45 s\", \"3 min 20 s\", \"2 h 05 min\".");
   m.def("run_study", &run_study, py::arg("input"), py::arg("out"), py::arg("max_points") = 0,
         py::arg("progress") = py::none(), py::arg("progress_interval") = 0.1,

@@ -193,7 +193,14 @@ def column_unit(name: str) -> str:
     if re.match(r"(amplification|rule_over_min_gap)\.", name):
         return "1"
     name = name.rsplit(".", 1)[-1]
-    # The rules of io::column_unit (study_run.hpp), which tables from the extension carry.
+    # A figure of merit's declared unit (analysis/figures_of_merit.hpp), when the extension is
+    # there; else, and for other columns, the rules of io::column_unit (study_run.hpp).
+    try:
+        from . import _core
+    except ImportError:
+        _core = None
+    if _core is not None and (declared := _core.declared_unit(name)) is not None:
+        return declared
     for suffix, unit in (("_rad_s", "rad/s"), ("_m_s2", "m/s2"), ("_m_s", "m/s"), ("_m", "m"), ("_s", "s"),
                          ("_Ns", "N·s"), ("_N", "N"), ("_J", "J"), ("_g", "g"), ("_W", "1"), ("_at", "1")):
         if name.endswith(suffix):

@@ -117,15 +117,43 @@ ColumnRules time_history_rules(const TimeHistoryFigures& t, std::string prefix, 
 
 /// The declared columns of S as the docs write them, `place` in their `{}`.
 template <DeclaredFigures S>
-void declared_columns(const std::string& place, std::vector<std::string>& out) {
+void declared_columns(const std::string& place, std::vector<DeclaredColumn>& out) {
   std::apply(
       [&](const auto&... field) {
         const auto one = [&](const auto& declared) {
-          if (!declared.column.empty()) out.push_back(fmt::format(fmt::runtime(declared.column), place));
+          if (!declared.column.empty()) {
+            out.push_back({fmt::format(fmt::runtime(declared.column), place), declared.unit, declared.meaning});
+          }
         };
         (one(field), ...);
       },
       S::figures());
+}
+
+/// Whether `column` is an instance of the declared pattern (its `{}` any non-empty text).
+bool instance_of(std::string_view column, std::string_view pattern) {
+  const std::size_t hole = pattern.find("{}");
+  if (hole == std::string_view::npos) return column == pattern;
+  const std::string_view before = pattern.substr(0, hole), after = pattern.substr(hole + 2);
+  return column.size() > before.size() + after.size() && column.starts_with(before) && column.ends_with(after);
+}
+
+/// The unit of the first declared pattern of S that `column` is an instance of, exact names first.
+template <DeclaredFigures S>
+std::optional<std::string_view> unit_among(std::string_view column, bool with_holes) {
+  std::optional<std::string_view> unit;
+  std::apply(
+      [&](const auto&... field) {
+        const auto one = [&](const auto& declared) {
+          const bool holed = declared.column.find("{}") != std::string_view::npos;
+          if (!unit && !declared.column.empty() && holed == with_holes && instance_of(column, declared.column)) {
+            unit = declared.unit;
+          }
+        };
+        (one(field), ...);
+      },
+      S::figures());
+  return unit;
 }
 
 /// The figures a point is compared by: a single response's, or an ensemble's mean.
@@ -240,8 +268,20 @@ std::vector<FigureColumn> PointFigures::columns() const {
   return out;
 }
 
-std::vector<std::string> declared_figure_columns() {
-  std::vector<std::string> out;
+std::optional<std::string_view> declared_unit(std::string_view column) {
+  for (const bool holes : {false, true}) {
+    for (const auto& unit : {unit_among<FrfFigures>(column, holes), unit_among<TimeHistoryFigures>(column, holes),
+                             unit_among<FrameFigures>(column, holes), unit_among<FloorFigures>(column, holes),
+                             unit_among<JointFigures>(column, holes), unit_among<GapFigures>(column, holes)}) {
+      if (unit) return unit;
+    }
+  }
+  if (column.starts_with("max_")) return declared_unit(column.substr(4));  // an ensemble's maximum
+  return std::nullopt;
+}
+
+std::vector<DeclaredColumn> declared_figure_columns() {
+  std::vector<DeclaredColumn> out;
   declared_columns<FrfFigures>("", out);
   declared_columns<TimeHistoryFigures>("", out);
   declared_columns<FrameFigures>("<f>", out);

@@ -759,7 +759,8 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
 }  // namespace
 
 std::string column_unit(std::string_view name) {
-  // Longest suffix first: _m_s2 before _m_s before _m.
+  if (const std::optional<std::string_view> declared = declared_unit(name)) return std::string(*declared);
+  // A column no figure declares (a parameter, a ratio to bare pounding). Longest suffix first: _m_s2 before _m_s before _m.
   for (const auto& [suffix, unit] : std::initializer_list<std::pair<std::string_view, std::string_view>>{
            {"_rad_s", "rad/s"}, {"_m_s2", "m/s2"}, {"_m_s", "m/s"}, {"_m", "m"}, {"_s", "s"}, {"_Ns", "N·s"},
            {"_N", "N"}, {"_J", "J"}, {"_g", "g"}, {"_W", "1"}, {"_at", "1"}}) {

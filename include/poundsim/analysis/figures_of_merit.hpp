@@ -33,8 +33,9 @@ enum class Shown : std::uint8_t {
 
 /// A field of a point's figures, declared once: the member, its key in the records that MPI
 /// ranks and study databases exchange (the member's name), its study column — `{}` stands for
-/// the frame ("2"), the floor ("2_5") or the joint's label — its unit, its meaning, when it is
-/// a column and whether it is a count (written without a decimal point). The records, the
+/// the frame ("2"), the floor ("2_5") or the joint's label — its unit ("1" for a ratio, "" for a
+/// count), its meaning, when it is a column and whether it is a count (written without a
+/// decimal point). The records, the
 /// study columns, an ensemble's means and maxima and the column list in docs/studies.md all
 /// come from these declarations (figures_of_merit.cpp, io/study_run.cpp).
 template <class S, class T>
@@ -88,10 +89,10 @@ struct FrameFigures {
     using F = FrameFigures;
     using enum Shown;
     return std::tuple{
-        FigureField{"peak_V_W", &F::peak_V_W, "peak_V{}_W", "", "peak base shear ÷ W"},
-        FigureField{"peak_at", &F::peak_at, "peak_V{}_at", "", "ω̄/ω₁ of the peak", frf},
-        FigureField{"free_peak_V_W", &F::free_peak_V_W, "free_peak_V{}_W", "", "the same without gap elements"},
-        FigureField{"ratio_to_free", &F::ratio_to_free, "ratio_to_free_{}", "", "peak ÷ free peak"},
+        FigureField{"peak_V_W", &F::peak_V_W, "peak_V{}_W", "1", "peak base shear ÷ W"},
+        FigureField{"peak_at", &F::peak_at, "peak_V{}_at", "1", "ω̄/ω₁ of the peak", frf},
+        FigureField{"free_peak_V_W", &F::free_peak_V_W, "free_peak_V{}_W", "1", "the same without gap elements"},
+        FigureField{"ratio_to_free", &F::ratio_to_free, "ratio_to_free_{}", "1", "peak ÷ free peak"},
         FigureField{"peak_drift_m", &F::peak_drift_m, "peak_drift_{}_m", "m", "largest storey drift", time_history},
         FigureField{"free_peak_drift_m", &F::free_peak_drift_m, "free_peak_drift_{}_m", "m",
                     "the same without gap elements", time_history},
@@ -103,11 +104,11 @@ struct FrameFigures {
                     time_history},
         FigureField{"hysteretic_energy_J", &F::hysteretic_energy_J, "hysteretic_energy_{}_J", "J",
                     "dissipated by its yielding storeys", time_history},
-        FigureField{"peak_drift_ratio", &F::peak_drift_ratio, "peak_drift_ratio_{}", "", "largest drift ÷ storey height",
+        FigureField{"peak_drift_ratio", &F::peak_drift_ratio, "peak_drift_ratio_{}", "1", "largest drift ÷ storey height",
                     storey_heights},
-        FigureField{"free_peak_drift_ratio", &F::free_peak_drift_ratio, "free_peak_drift_ratio_{}", "",
+        FigureField{"free_peak_drift_ratio", &F::free_peak_drift_ratio, "free_peak_drift_ratio_{}", "1",
                     "the same without gap elements", storey_heights},
-        FigureField{"residual_drift_ratio", &F::residual_drift_ratio, "residual_drift_ratio_{}", "",
+        FigureField{"residual_drift_ratio", &F::residual_drift_ratio, "residual_drift_ratio_{}", "1",
                     "residual drift ÷ storey height", storey_heights},
         FigureField{"storey_heights", &F::storey_heights, "", "", "", never},
     };
@@ -134,12 +135,12 @@ struct FloorFigures {
         FigureField{"floor", &F::floor, "", "", "", never},
         FigureField{"peak_u_m", &F::peak_u_m, "peak_u_{}_m", "m", "peak displacement"},
         FigureField{"free_peak_u_m", &F::free_peak_u_m, "free_peak_u_{}_m", "m", "the same without gap elements"},
-        FigureField{"amp_u", &F::amp_u, "amp_u_{}", "", "displacement ÷ the free floor's"},
-        FigureField{"amp_drift", &F::amp_drift, "amp_drift_{}", "", "storey drift ÷ the free storey's"},
-        FigureField{"amp_acc", &F::amp_acc, "amp_acc_{}", "", "absolute acceleration ÷ the free floor's"},
+        FigureField{"amp_u", &F::amp_u, "amp_u_{}", "1", "displacement ÷ the free floor's"},
+        FigureField{"amp_drift", &F::amp_drift, "amp_drift_{}", "1", "storey drift ÷ the free storey's"},
+        FigureField{"amp_acc", &F::amp_acc, "amp_acc_{}", "1", "absolute acceleration ÷ the free floor's"},
         FigureField{"peak_drift_m", &F::peak_drift_m, "peak_drift_{}_m", "m", "its storey's peak drift"},
         FigureField{"peak_abs_acc_g", &F::peak_abs_acc_g, "peak_abs_acc_{}_g", "g", "peak absolute acceleration"},
-        FigureField{"peak_drift_ratio", &F::peak_drift_ratio, "peak_drift_ratio_{}", "", "peak drift ÷ storey height",
+        FigureField{"peak_drift_ratio", &F::peak_drift_ratio, "peak_drift_ratio_{}", "1", "peak drift ÷ storey height",
                     storey_heights},
         FigureField{"storey_height", &F::storey_height, "", "", "", never},
     };
@@ -160,7 +161,7 @@ struct GapFigures {
     using enum Shown;
     return std::tuple{
         FigureField{"max_force_N", &F::max_force_N, "gap_force_{}_N", "N", "largest force"},
-        FigureField{"stroke_use", &F::stroke_use, "stroke_use_{}", "", "largest shortening ÷ ε", stroke},
+        FigureField{"stroke_use", &F::stroke_use, "stroke_use_{}", "1", "largest shortening ÷ ε", stroke},
         FigureField{"has_stroke", &F::has_stroke, "", "", "", never},
         FigureField{"label", &F::label, "", "", "", never},
     };
@@ -201,8 +202,8 @@ struct FrfFigures {
         FigureField{"points", &F::points, "points", "", "frequencies in the band", always, true},
         FigureField{"non_periodic", &F::non_periodic, "non_periodic", "", "of which not periodic", always, true},
         FigureField{"frames", &F::frames},
-        FigureField{"max_peak_V_W", &F::max_peak_V_W, "max_peak_V_W", "", "the larger of the frames' peak V/W"},
-        FigureField{"max_ratio_to_free", &F::max_ratio_to_free, "max_ratio_to_free", "",
+        FigureField{"max_peak_V_W", &F::max_peak_V_W, "max_peak_V_W", "1", "the larger of the frames' peak V/W"},
+        FigureField{"max_ratio_to_free", &F::max_ratio_to_free, "max_ratio_to_free", "1",
                     "the larger of their ratios to the free frames"},
     };
   }
@@ -235,14 +236,14 @@ struct TimeHistoryFigures {
     using F = TimeHistoryFigures;
     using enum Shown;
     return std::tuple{
-        FigureField{"energy_residual", &F::energy_residual, "energy_residual", "", "largest relative residual of the balance"},
+        FigureField{"energy_residual", &F::energy_residual, "energy_residual", "1", "largest relative residual of the balance"},
         FigureField{"pga_g", &F::pga_g, "pga_g", "g", "the record's peak ground acceleration"},
         FigureField{"frames", &F::frames},
         FigureField{"floors", &F::floors},
         FigureField{"joints", &F::joints},
         FigureField{"gaps", &F::gaps},
-        FigureField{"max_peak_V_W", &F::max_peak_V_W, "max_peak_V_W", "", "the larger of the frames' peak V/W"},
-        FigureField{"max_ratio_to_free", &F::max_ratio_to_free, "max_ratio_to_free", "",
+        FigureField{"max_peak_V_W", &F::max_peak_V_W, "max_peak_V_W", "1", "the larger of the frames' peak V/W"},
+        FigureField{"max_ratio_to_free", &F::max_ratio_to_free, "max_ratio_to_free", "1",
                     "the larger of their ratios to the free frames"},
         FigureField{"impacts", &F::impacts, "impacts", "", "number of impacts", always, true},
         FigureField{"max_impact_impulse_Ns", &F::max_impact_impulse_Ns, "max_impact_impulse_Ns", "N·s",
@@ -257,11 +258,11 @@ struct TimeHistoryFigures {
                     "the worse frame's residual drift"},
         FigureField{"hysteretic_energy_J", &F::hysteretic_energy_J, "hysteretic_energy_J", "J",
                     "dissipated by every yielding storey"},
-        FigureField{"max_peak_drift_ratio", &F::max_peak_drift_ratio, "max_peak_drift_ratio", "",
+        FigureField{"max_peak_drift_ratio", &F::max_peak_drift_ratio, "max_peak_drift_ratio", "1",
                     "the worse frame's peak drift ratio", storey_heights},
-        FigureField{"max_residual_drift_ratio", &F::max_residual_drift_ratio, "max_residual_drift_ratio", "",
+        FigureField{"max_residual_drift_ratio", &F::max_residual_drift_ratio, "max_residual_drift_ratio", "1",
                     "the worse frame's residual drift ratio", storey_heights},
-        FigureField{"max_stroke_use", &F::max_stroke_use, "max_stroke_use", "", "the largest element's stroke use", stroke},
+        FigureField{"max_stroke_use", &F::max_stroke_use, "max_stroke_use", "1", "the largest element's stroke use", stroke},
     };
   }
 };
@@ -328,9 +329,18 @@ struct PointFigures {
   [[nodiscard]] std::optional<double> figure(std::string_view name) const;
 };
 
-/// Every declared study column of a point's figures, as docs/studies.md writes it: `<f>` for the
-/// frame, `<f>_<i>` for the floor, `<joint>` for a joint's label (peak_V<f>_W, min_gap_<joint>_m).
-[[nodiscard]] std::vector<std::string> declared_figure_columns();
+/// A declared study column: its name as docs/studies.md writes it — `<f>` for the frame,
+/// `<f>_<i>` for the floor, `<joint>` for a joint's label (peak_V<f>_W, min_gap_<joint>_m) —
+/// its unit and its meaning.
+struct DeclaredColumn {
+  std::string column;
+  std::string_view unit, meaning;
+};
+[[nodiscard]] std::vector<DeclaredColumn> declared_figure_columns();
+
+/// The declared unit of a study column of a point's figures (peak_drift_2_m: "m"; an
+/// ensemble's maxima, max_<name>, the unit of <name>); none for a column no figure declares.
+[[nodiscard]] std::optional<std::string_view> declared_unit(std::string_view column);
 
 /// The figures of a frequency response of `model` over lo ≤ ω̄/ω₁ ≤ hi (band_peaks).
 [[nodiscard]] FrfFigures frf_figures(const Model& model, const std::vector<FrfPoint>& response, double lo,

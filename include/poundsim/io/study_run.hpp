@@ -146,10 +146,11 @@ std::string report(const StudyResult& result, const std::filesystem::path& out_d
 /// status, the parameters, the figures of merit (by name), run_time_s, error.
 [[nodiscard]] Table study_table(const std::vector<std::string>& parameters, const std::vector<StudyDatabase::Row>& rows);
 
-/// The unit of a study or optimisation column from its name's SI suffix (_m, _m_s, _m_s2, _s, _N,
-/// _Ns, _J, _g, _rad_s; _W, _at, amp_… and names with the word "ratio", "over" or
-/// "amplification": "1"), "" otherwise. python/poundsim/results.py's column_unit follows the
-/// same rules for the files it reads (python/tests/test_analyses.py compares the two).
+/// The unit of a study or optimisation column: a figure's declared unit (declared_unit), else
+/// from its name's SI suffix (_m, _m_s, _m_s2, _s, _N, _Ns, _J, _g, _rad_s; _W, _at, amp_… and
+/// names with the word "ratio", "over" or "amplification": "1"), "" otherwise.
+/// python/poundsim/results.py's column_unit reads the same declarations (poundsim._core's
+/// figure_columns) for the files it reads (python/tests/test_analyses.py compares the two).
 [[nodiscard]] std::string column_unit(std::string_view name);
 
 /// Writes the points of a study database as CSV: id, status, parameters, metrics, error, run time.
