@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstddef>
 #include <functional>
 #include <initializer_list>
 #include <optional>
@@ -381,6 +382,45 @@ StroboscopicMap& ParameterFamily::difference_at(double p) {
 
 namespace {
 
+/// The fixed tuning of continue_orbits: its step control, its restarts, and its tests for a
+/// branch that stalls, closes on itself or comes back to the doubling it was born at. Not input
+/// keys: the continuation's options (ContinuationOptions) set its scales, these the ratios to them.
+struct ContinuationTuning {
+  /// Two section states are the same point (of a doubling, or of a crossing) within this
+  /// fraction of the state's size (at least 1).
+  static constexpr double same_state = 1e-3;
+  /// A doubling is the one already switched at (or met) within this many max_parameter_step in p.
+  static constexpr double same_doubling_steps = 2;
+  /// With the exact F_p Newton converges quadratically: a corrector whose residual does not fall
+  /// below this factor of the last one (after its first correction) is stopped.
+  static constexpr double contraction_exact_fp = 0.5;
+  /// With a chord F_p (a model parameter) Newton is only linear: only a residual that grows stops it.
+  static constexpr double contraction_chord_fp = 1.0;
+  /// The step after the corrector failed: retried this much shorter.
+  static constexpr double failed_step_factor = 0.5;
+  /// Newton converged in at most this many iterations: the next step is longer by step_growth.
+  static constexpr int fast_iterations = 3;
+  static constexpr double step_growth = 1.5;
+  /// Newton needed at least this many iterations: the next step is shorter by slow_step_factor.
+  static constexpr int slow_iterations = 6;
+  static constexpr double slow_step_factor = 0.5;
+  /// A period-2k orbit whose max |P^k(w) − w| (scaled) is below this is a period-k orbit: the
+  /// branch came back to the one it doubled from.
+  static constexpr double met_difference = 1e-6;
+  /// Across that crossing |D| before + |D| after is at most this many chords of the step.
+  static constexpr double met_chord_factor = 3;
+  /// A branch comes back to its first point (an isola) only after going farther from it than
+  /// this many times the last step.
+  static constexpr double isola_reach_steps = 4;
+  /// A branch stalls when the point this many points back is within stall_parameter_fraction ×
+  /// max_parameter_step in p and within stall_points × min_step × stall_state_margin in the state.
+  static constexpr std::size_t stall_points = 50;
+  static constexpr double stall_parameter_fraction = 0.01;
+  static constexpr double stall_state_margin = 10;
+  /// Restarts of one branch across points the corrector cannot pass.
+  static constexpr int max_restarts = 20;
+};
+
 /// F(w, p) = D P^k(D⁻¹w; p) − w with its derivatives, for one branch.
 class BranchProblem {
  public:
@@ -599,7 +639,8 @@ std::optional<SwitchedBranch> switched_branch(OrbitFamily& family, const Periodi
   const Eigen::Index m = w0.size();
   const double size = std::max(1.0, w0.cwiseAbs().maxCoeff());
   BranchProblem problem(family, 2 * k, options, result);
-  const double contraction = family.frequency_rate() ? 0.5 : 1.0;
+  const double contraction = family.frequency_rate() ? ContinuationTuning::contraction_exact_fp
+                                                     : ContinuationTuning::contraction_chord_fp;
   Eigen::VectorXd tangent = Eigen::VectorXd::Zero(m + 1);
   tangent.head(m) = phi;
   for (const double h : {1e-2, 1e-3, 1e-1}) {
@@ -753,8 +794,6 @@ std::optional<PeriodicOrbit> shot_at(OrbitFamily& family, double p, const Eigen:
   return std::move(shot.orbit);
 }
 
-/// Restarts of one branch across points the corrector cannot pass.
-constexpr int kMaxRestarts = 20;
 
 /// The branch beyond a point where the corrector failed at the smallest step: the orbit one
 /// parameter step (max_parameter_step, onward along the tangent) past `last`, shot from its
@@ -806,334 +845,489 @@ std::optional<PeriodicOrbit> orbit_at_edge(OrbitFamily& family, const PeriodicOr
   return shot;
 }
 
+/// The doubling a period-2k branch was switched at: not switched at again.
+struct Doubling {
+  double parameter;
+  Eigen::VectorXd w;
+  int periodicity;  ///< k of the period-k branch
+};
+
+/// Where a period-2k branch crossed the period-k one (came back to a doubling): a doubling there
+/// is not switched at again.
+struct Meeting {
+  double parameter;   ///< the period-2k branch's last point before the crossing
+  Eigen::VectorXd w;  ///< the crossing, estimated from the points either side
+  double radius;      ///< the estimate's uncertainty
+  int periodicity;    ///< 2k
+};
+
+/// What the branches of one continue_orbits call share: its inputs, the counts and branches it
+/// returns, the branches still to follow, and the doublings switched at and crossings met.
+struct Tracing {
+  OrbitFamily& family;
+  const ShootingOptions& shooting;
+  const ContinuationOptions& options;
+  double p_min;
+  double p_max;
+  ContinuationResult result;
+  std::vector<PendingBranch> pending;
+  std::vector<Doubling> switched;
+  std::vector<Meeting> meetings;
+
+  /// True when the runs or their events reached the budget: nothing more is followed.
+  [[nodiscard]] bool budget_spent() const {
+    return result.map_evaluations >= options.max_evaluations || result.events >= options.max_events;
+  }
+};
+
+/// The k scaled states on the section of a period-k orbit (its state and the k − 1 it runs
+/// through): a branch followed as period k may hold any of them, so the same doubling reached
+/// along two branches may be at two of its states.
+std::vector<Eigen::VectorXd> phases(Tracing& t, const PeriodicOrbit& orbit) {
+  std::vector<Eigen::VectorXd> out{scaled_state(t.family, orbit)};
+  StroboscopicMap& map = t.family.at(orbit.parameter);
+  const Scaling s{t.family.length_scale(), map.omega()};
+  Eigen::VectorXd x(2 * orbit.u.size());
+  x << orbit.u, orbit.v;
+  for (int j = 1; j < orbit.periodicity; ++j) {
+    try {
+      x = map.evaluate(x, 1);
+    } catch (const std::exception&) {
+      break;
+    }
+    ++t.result.map_evaluations;
+    out.push_back(s.to_scaled(x));
+  }
+  return out;
+}
+
+/// True when the doubling `at` (its section states `states`) was already switched at, or a
+/// period-2k branch came back to it: its period-2k branch is followed once only.
+bool already_followed(const Tracing& t, const PeriodicOrbit& at, const std::vector<Eigen::VectorXd>& states) {
+  using T = ContinuationTuning;
+  const double size = std::max(1.0, states.front().cwiseAbs().maxCoeff());
+  const double window = T::same_doubling_steps * t.options.max_parameter_step;
+  for (const Eigen::VectorXd& w : states) {
+    for (const Doubling& d : t.switched) {
+      if (d.periodicity == at.periodicity && std::abs(d.parameter - at.parameter) <= window &&
+          (d.w - w).cwiseAbs().maxCoeff() <= T::same_state * size) {
+        return true;
+      }
+    }
+    for (const Meeting& meeting : t.meetings) {
+      if (meeting.periodicity == 2 * at.periodicity &&
+          (meeting.w - w).norm() <= meeting.radius + T::same_state * size &&
+          std::abs(at.parameter - meeting.parameter) <= window) {
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+/// Turns the doubling job into the period-2k branch born at its doubling (located, else the
+/// orbit beside it) and queues the same branch the other way; false when a branch already did or
+/// came back there, the budget is spent, or no period-2k orbit could be started.
+bool switched_to_doubled(Tracing& t, PendingBranch& job) {
+  if (t.budget_spent()) return false;
+  const std::vector<Eigen::VectorXd> states = phases(t, job.start);
+  if (already_followed(t, job.start, states)) return false;
+  t.switched.push_back({job.start.parameter, states.front(), job.start.periodicity});
+  std::optional<SwitchedBranch> born;
+  if (job.located) born = switched_branch(t.family, job.start, t.shooting, t.options, t.result);
+  if (born) {
+    job.start = std::move(born->start);
+    job.tangent = std::move(born->tangent);
+    // Back towards the doubling too: where the map is smooth the branch crosses the period-k
+    // one at once and ends; where it is not (a grazing at the doubling), it may go on.
+    t.pending.insert(t.pending.begin(),
+                     PendingBranch{job.start, job.parent, job.direction, -job.tangent, false, false, {}});
+  } else {
+    // The corrector found no period-2k orbit near the doubling: shoot one at the unstable
+    // side's parameter instead, and follow it both ways.
+    std::optional<PeriodicOrbit> doubled;
+    try {
+      doubled = doubled_orbit(t.family, job.unstable, t.shooting, t.result);
+    } catch (const std::exception&) {
+      doubled.reset();
+    }
+    if (!doubled) return false;  // no period-2k orbit could be started: the branch is not followed
+    job.start = *doubled;
+    job.direction = 1;
+    t.pending.insert(t.pending.begin(), PendingBranch{*doubled, job.parent, -1, {}, false, false, {}});
+  }
+  job.doubling = false;
+  return true;
+}
+
+/// One branch followed by pseudo-arclength continuation from a pending job: its points so far
+/// and the predictor-corrector's state (the last point, the tangent there, the step size).
+class BranchWalk {
+ public:
+  BranchWalk(Tracing& t, const PendingBranch& job)
+      : t_(t), k_(job.start.periodicity), problem_(t.family, k_, t.options, t.result) {
+    branch_.id = static_cast<int>(t.result.branches.size());
+    branch_.periodicity = k_;
+    branch_.parent = job.parent;
+  }
+
+  /// The branch followed from the job until it ends, or has the most points a branch may have.
+  Branch walked(const PendingBranch& job) {
+    if (started(job)) {
+      while (static_cast<int>(branch_.points.size()) < t_.options.max_points) {
+        if (!advanced()) break;
+      }
+      if (branch_.ended.empty()) branch_.ended = "reached the most points of a branch";
+    }
+    return std::move(branch_);
+  }
+
+ private:
+  bool started(const PendingBranch& job);
+  bool advanced();
+  bool went_on(const PeriodicOrbit& before, PeriodicOrbit& orbit, const Eigen::VectorXd& trial,
+               const Eigen::VectorXd& next_tangent, int iterations);
+  bool after_failed_corrector();
+  bool restarted();
+  void end_at_edge();
+  void classify(const PeriodicOrbit& before, PeriodicOrbit& orbit, const Eigen::VectorXd& next_tangent) const;
+  bool met_doubled_from(const PeriodicOrbit& before, PeriodicOrbit& orbit, const Eigen::VectorXd& trial);
+  std::optional<PeriodicOrbit> located(const PeriodicOrbit& before, PeriodicOrbit& orbit);
+  bool closed(const Eigen::VectorXd& trial, const Eigen::VectorXd& next_tangent);
+  void adapt_step(bool grazed, int iterations);
+  [[nodiscard]] bool stalled(const PeriodicOrbit& orbit) const;
+  void queue_doubling(const PeriodicOrbit& before, const PeriodicOrbit& orbit,
+                      const std::optional<PeriodicOrbit>& at);
+
+  Tracing& t_;
+  Branch branch_;
+  int k_;  ///< the branch's periodicity
+  BranchProblem problem_;
+  // F, F_w, F_p at the last evaluation, and why the last run failed: kept from step to step,
+  // as a corrector that fails without a run failing reports the last run that did.
+  Eigen::VectorXd f_, fp_;
+  Eigen::MatrixXd fw_;
+  std::string failure_;
+  Eigen::Index m_ = 0;    ///< the scaled state's size
+  Eigen::VectorXd w_;     ///< the last point's scaled state
+  double p_ = 0;          ///< the last point's parameter
+  Eigen::VectorXd tangent_;  ///< the unit tangent in (w, p) at the last point
+  double step_ = 0;       ///< the next step's arclength
+  int restarts_ = 0;
+  Eigen::VectorXd first_;          ///< the first point in (w, p): an isola comes back to it
+  Eigen::VectorXd first_tangent_;  ///< the tangent there
+  double contraction_ = 1;         ///< the corrector's factor (ContinuationTuning)
+  double farthest_ = 0;            ///< the farthest the branch went from its first point
+};
+
+/// Takes the job's orbit as the first point, with the tangent from F_w, F_p there (oriented by
+/// the job); false when its run fails or the tangent is not defined: the branch ends there.
+bool BranchWalk::started(const PendingBranch& job) {
+  PeriodicOrbit current = job.start;
+  {
+    StroboscopicMap& map = t_.family.at(current.parameter);
+    const Scaling s = problem_.scaling(map);
+    Eigen::VectorXd x(2 * current.u.size());
+    x << current.u, current.v;
+    w_ = s.to_scaled(x);
+  }
+  if (!problem_.evaluate(w_, current.parameter, f_, fw_, fp_, current, failure_)) {
+    branch_.ended = "the starting orbit's run failed: " + failure_;
+    return false;
+  }
+  m_ = w_.size();
+  Eigen::VectorXd seed = Eigen::VectorXd::Zero(m_ + 1);
+  seed(m_) = job.direction;
+  if (job.tangent.size() == m_ + 1) seed = job.tangent;
+  tangent_ = branch_tangent(fw_, fp_, seed);
+  branch_.points.push_back(current);
+  if (!tangent_.allFinite()) {
+    branch_.ended = "the branch's tangent is not defined at its start (a singular Jacobian)";
+    return false;
+  }
+  step_ = t_.options.initial_step;
+  p_ = current.parameter;
+  restarts_ = 0;
+  first_.resize(m_ + 1);
+  first_ << w_, p_;
+  first_tangent_ = tangent_;
+  contraction_ = t_.family.frequency_rate() ? ContinuationTuning::contraction_exact_fp
+                                            : ContinuationTuning::contraction_chord_fp;
+  farthest_ = 0;
+  return true;
+}
+
+/// One step along the branch: predicted along the tangent, corrected, classified against the
+/// point before; false when the branch ends here (budget, range, corrector, tangent, crossing).
+bool BranchWalk::advanced() {
+  const ContinuationOptions& options = t_.options;
+  if (t_.budget_spent()) {
+    branch_.ended = "the budget of map runs or of their events is spent";
+    t_.pending.clear();
+    return false;
+  }
+  if (p_ < t_.p_min || p_ > t_.p_max) {
+    end_at_edge();
+    return false;
+  }
+  if (std::abs(tangent_(m_)) * step_ > options.max_parameter_step) {
+    step_ = options.max_parameter_step / std::abs(tangent_(m_));
+  }
+  Eigen::VectorXd z(m_ + 1);
+  z << w_, p_;
+  const Eigen::VectorXd predicted = z + step_ * tangent_;
+  Eigen::VectorXd trial;
+  PeriodicOrbit orbit;
+  int iterations = 0;
+  const bool converged = corrected(problem_, predicted, tangent_, step_, p_, contraction_, t_.shooting, options,
+                                   t_.result, trial, orbit, f_, fw_, fp_, iterations, failure_);
+  if (!converged) return after_failed_corrector();
+  orbit.iterations = iterations;
+  orbit.residual = f_.cwiseAbs().maxCoeff();
+  const Eigen::VectorXd next_tangent = branch_tangent(fw_, fp_, tangent_);
+  if (!next_tangent.allFinite()) {
+    branch_.points.push_back(orbit);
+    branch_.points.back().bifurcation = BifurcationKind::end;
+    branch_.ended = "the branch's tangent is not defined (a singular Jacobian)";
+    return false;
+  }
+  const PeriodicOrbit before = branch_.points.back();  // a copy: the pushes below may move the points
+  classify(before, orbit, next_tangent);
+  if (met_doubled_from(before, orbit, trial)) return false;
+  return went_on(before, orbit, trial, next_tangent, iterations);
+}
+
+/// Keeps the corrected orbit (and the bifurcation located before it), moves the branch's state
+/// to it and adapts the step; false when the branch closed on itself or stalled for good.
+bool BranchWalk::went_on(const PeriodicOrbit& before, PeriodicOrbit& orbit, const Eigen::VectorXd& trial,
+                         const Eigen::VectorXd& next_tangent, int iterations) {
+  const bool grazed = orbit.bifurcation == BifurcationKind::grazing;
+  const BifurcationKind found = orbit.bifurcation;
+  const std::optional<PeriodicOrbit> at = located(before, orbit);
+  branch_.points.push_back(orbit);
+  if (closed(trial, next_tangent)) return false;
+  w_ = trial.head(m_);
+  p_ = trial(m_);
+  // Across a grazing the map's derivative jumps: the old tangent is no guide, take the new one
+  // and start again with small steps.
+  tangent_ = next_tangent;
+  adapt_step(grazed, iterations);
+  if (stalled(orbit)) {
+    // A singularity the corrector cannot pass: restart beyond it, or end the branch.
+    if (restarted()) return true;
+    branch_.points.back().bifurcation = BifurcationKind::end;
+    branch_.ended = "stalled: the corrector cannot pass a singularity of the map";
+    return false;
+  }
+  if (found == BifurcationKind::period_doubling && 2 * k_ <= t_.options.max_periodicity) {
+    queue_doubling(before, orbit, at);
+  }
+  return true;
+}
+
+/// After the corrector failed: a smaller step, or — below the smallest — a restart beyond the
+/// point, else the branch ends there. False when it ends.
+bool BranchWalk::after_failed_corrector() {
+  step_ *= ContinuationTuning::failed_step_factor;
+  if (step_ < t_.options.min_step) {
+    // The corrector cannot pass a point where the map is not smooth (a grazing, a lock):
+    // restart beyond it, shooting one parameter step further from the last orbit.
+    if (restarted()) return true;
+    branch_.ended = failure_.empty() ? "Newton failed below the smallest step" : "a run failed: " + failure_;
+    branch_.points.back().bifurcation = BifurcationKind::end;
+    return false;
+  }
+  return true;
+}
+
+/// Goes on beyond a point the corrector cannot pass (a grazing, a lock), from an orbit shot one
+/// parameter step further, with the initial step; false when restarts are used up or none lands.
+bool BranchWalk::restarted() {
+  if (restarts_ >= ContinuationTuning::max_restarts) return false;
+  ++restarts_;
+  PeriodicOrbit beyond;
+  Eigen::VectorXd w_beyond, t_beyond;
+  if (!restart_across(t_.family, problem_, branch_.points.back(), tangent_, t_.shooting, t_.options, t_.result,
+                      beyond, w_beyond, t_beyond)) {
+    return false;
+  }
+  beyond.bifurcation = BifurcationKind::grazing;
+  branch_.points.push_back(beyond);
+  ++t_.result.restarts;
+  w_ = w_beyond;
+  p_ = beyond.parameter;
+  tangent_ = t_beyond;
+  step_ = t_.options.initial_step;
+  return true;
+}
+
+/// Ends a branch that left the parameter range on the range's edge: the orbit there, shot from
+/// between its last two points, goes before the last (which lies outside).
+void BranchWalk::end_at_edge() {
+  branch_.ended = "left the parameter range";
+  if (branch_.points.size() < 2) return;
+  if (auto edge = orbit_at_edge(t_.family, branch_.points[branch_.points.size() - 2], branch_.points.back(),
+                                p_ < t_.p_min ? t_.p_min : t_.p_max, t_.shooting, t_.result)) {
+    branch_.points.insert(branch_.points.end() - 1, std::move(*edge));
+  }
+}
+
+/// Flags what changed between `before` and the corrected `orbit`: the tangent's turn in p or a
+/// multiplier through +1 (a fold), through −1, a complex pair through the circle, the events.
+void BranchWalk::classify(const PeriodicOrbit& before, PeriodicOrbit& orbit,
+                          const Eigen::VectorXd& next_tangent) const {
+  if (next_tangent(m_) * tangent_(m_) < 0) {
+    orbit.bifurcation = BifurcationKind::fold;
+  } else if (real_below_minus_one(before.multipliers) != real_below_minus_one(orbit.multipliers)) {
+    orbit.bifurcation = BifurcationKind::period_doubling;
+  } else if (complex_outside(before.multipliers) != complex_outside(orbit.multipliers)) {
+    orbit.bifurcation = BifurcationKind::neimark_sacker;
+  } else if (before.events != orbit.events || before.impacts != orbit.impacts) {
+    orbit.bifurcation = BifurcationKind::grazing;
+  } else if (real_above_one(before.multipliers) != real_above_one(orbit.multipliers)) {
+    orbit.bifurcation = BifurcationKind::fold;
+  }
+}
+
+/// True (and the branch ended, the crossing recorded) when this period-2k branch came back to
+/// a period doubling of the period-k branch it was born from.
+bool BranchWalk::met_doubled_from(const PeriodicOrbit& before, PeriodicOrbit& orbit, const Eigen::VectorXd& trial) {
+  using T = ContinuationTuning;
+  const bool turned = orbit.bifurcation == BifurcationKind::fold;
+  if (k_ % 2 != 0 || !(turned || (branch_.parent >= 0 && orbit.bifurcation != BifurcationKind::none))) return false;
+  // There (as fixed points of P^{2k} the two branches cross) it would go on as the same orbits
+  // shifted by k periods — its mirror image, turning back in p like a fold — or as the period-k
+  // orbits run twice: it ends. Near the crossing w ≈ w* + aφ, φ the doubling's eigenvector, and
+  // D = P^k(w) − w ≈ −2aφ: the branch crossed between two points where D points opposite ways
+  // and is no longer than the step between them (a fold of the branch itself keeps D's
+  // direction and its size); w* ≈ w + D/2 from either side.
+  const Eigen::VectorXd w_after = trial.head(m_);
+  const std::optional<Eigen::VectorXd> after = return_difference(t_.family, orbit, k_ / 2, t_.result);
+  bool met = after && after->cwiseAbs().maxCoeff() < T::met_difference;
+  Eigen::VectorXd crossing = w_after;
+  double radius = after ? after->norm() : 0.0;
+  if (after && !met && turned) {
+    const std::optional<Eigen::VectorXd> ahead = return_difference(t_.family, before, k_ / 2, t_.result);
+    if (ahead) {
+      const double chord = (w_after - w_).norm();
+      met = ahead->dot(*after) < 0 && ahead->norm() + after->norm() <= T::met_chord_factor * chord;
+      crossing = 0.5 * ((w_ + 0.5 * *ahead) + (w_after + 0.5 * *after));
+      radius = std::max(ahead->norm(), after->norm());
+    }
+  }
+  if (!met) return false;
+  orbit.bifurcation = BifurcationKind::period_doubling;
+  t_.meetings.push_back({before.parameter, crossing, radius, k_});
+  branch_.points.push_back(orbit);
+  branch_.ended = "met the branch it doubled from";
+  return true;
+}
+
+/// A period doubling or Neimark–Sacker flagged at `orbit` (only the first point past it),
+/// located between `before` and it and kept on the branch (orbit's flag then cleared).
+std::optional<PeriodicOrbit> BranchWalk::located(const PeriodicOrbit& before, PeriodicOrbit& orbit) {
+  if (orbit.bifurcation != BifurcationKind::period_doubling && orbit.bifurcation != BifurcationKind::neimark_sacker) {
+    return std::nullopt;
+  }
+  std::optional<PeriodicOrbit> at =
+      refined_bifurcation(t_.family, before, orbit, orbit.bifurcation, t_.shooting, t_.result);
+  if (at) {
+    branch_.points.push_back(*at);
+    orbit.bifurcation = BifurcationKind::none;
+  }
+  return at;
+}
+
+/// True (and the branch ended) when the last step's chord passed the first point going the way
+/// the branch started, having gone further from it than a few steps: an isola, that would go
+/// round again. The chord, not its end: steps grow as Newton converges fast, and one that passes
+/// the first point need not land within a step of it; a branch that folds back and passes its
+/// first point the other way is not closing.
+bool BranchWalk::closed(const Eigen::VectorXd& trial, const Eigen::VectorXd& next_tangent) {
+  Eigen::VectorXd last(m_ + 1);
+  last << w_, p_;
+  const Eigen::VectorXd chord = trial - last;
+  const double this_step = chord.norm();
+  const double along = this_step > 0 ? std::clamp((first_ - last).dot(chord) / chord.squaredNorm(), 0.0, 1.0) : 0.0;
+  const double from_start = (trial - first_).norm();
+  const double chord_from_start = (last + along * chord - first_).norm();
+  farthest_ = std::max(farthest_, from_start);
+  if (farthest_ > ContinuationTuning::isola_reach_steps * this_step && chord_from_start <= this_step &&
+      next_tangent.dot(first_tangent_) > 0) {
+    branch_.ended = "closed on itself (an isola or a loop)";
+    return true;
+  }
+  return false;
+}
+
+/// The next step's size: back to small steps across a grazing, larger when Newton converged in
+/// few iterations, smaller when it needed many.
+void BranchWalk::adapt_step(bool grazed, int iterations) {
+  using T = ContinuationTuning;
+  const ContinuationOptions& options = t_.options;
+  if (grazed) {
+    step_ = std::max(options.min_step, std::min(step_, options.initial_step));
+  } else if (iterations <= T::fast_iterations) {
+    step_ = std::min(options.max_step, step_ * T::step_growth);
+  } else if (iterations >= T::slow_iterations) {
+    step_ *= T::slow_step_factor;
+  }
+}
+
+/// True when the branch creeps: over its last stall_points points it moved (almost) neither in
+/// the parameter nor in the state, stepping at about the smallest size — it sits on a
+/// singularity the corrector cannot pass.
+bool BranchWalk::stalled(const PeriodicOrbit& orbit) const {
+  using T = ContinuationTuning;
+  if (branch_.points.size() <= T::stall_points) return false;
+  const PeriodicOrbit& back = branch_.points[branch_.points.size() - T::stall_points - 1];
+  Eigen::VectorXd xb(2 * back.u.size()), xo(2 * orbit.u.size());
+  xb << back.u, back.v;
+  xo << orbit.u, orbit.v;
+  const Scaling s{t_.family.length_scale(), orbit.omega};
+  return std::abs(back.parameter - orbit.parameter) < T::stall_parameter_fraction * t_.options.max_parameter_step &&
+         (s.to_scaled(xb) - s.to_scaled(xo)).norm() <
+             static_cast<double>(T::stall_points) * t_.options.min_step * T::stall_state_margin;
+}
+
+/// Queues the period-2k branch born at the doubling just passed, switched to when its turn
+/// comes: from the located doubling `at`, or where it could not be located, shot beside it from
+/// the period-k orbit on its unstable side (the fallback).
+void BranchWalk::queue_doubling(const PeriodicOrbit& before, const PeriodicOrbit& orbit,
+                                const std::optional<PeriodicOrbit>& at) {
+  const PeriodicOrbit& unstable =
+      real_below_minus_one(orbit.multipliers) > real_below_minus_one(before.multipliers) ? orbit : before;
+  t_.pending.push_back({at ? *at : unstable, branch_.id, 1, {}, true, at.has_value(), unstable});
+}
+
+/// Records the peaks of every continued orbit that has none (a shot orbit's were recorded at
+/// its convergence): one run each, after the branches, so only the orbits kept are run.
+void record_missing_amplitudes(OrbitFamily& family, ContinuationResult& result) {
+  for (Branch& branch : result.branches) {
+    for (PeriodicOrbit& orbit : branch.points) {
+      if (!orbit.amplitudes.base_shear.empty()) continue;
+      record_amplitudes(family.at(orbit.parameter), orbit);
+      ++result.map_evaluations;
+    }
+  }
+}
+
 }  // namespace
 
 ContinuationResult continue_orbits(OrbitFamily& family, const PeriodicOrbit& start, double p_min, double p_max,
                                    int direction, const ShootingOptions& shooting, const ContinuationOptions& options) {
   shooting.validate();
   options.validate();
-  ContinuationResult result;
-  std::vector<PendingBranch> pending{{start, -1, direction >= 0 ? 1 : -1, {}, false, false, {}}};
-  // The period doublings the period-2k branches were switched at, and the pairs of points between
-  // which a period-2k branch crossed the period-k one (came back to a doubling): a doubling at
-  // either is not switched at again.
-  struct Doubling {
-    double parameter;
-    Eigen::VectorXd w;
-    int periodicity;  ///< k of the period-k branch
-  };
-  struct Meeting {
-    double parameter;  ///< the period-2k branch's last point before the crossing
-    Eigen::VectorXd w;  ///< the crossing, estimated from the points either side
-    double radius;      ///< the estimate's uncertainty
-    int periodicity;    ///< 2k
-  };
-  std::vector<Doubling> switched;
-  std::vector<Meeting> meetings;
-  // A period-k orbit is k states on the section (its state and the k − 1 it runs through), and a
-  // branch followed as period k may hold any of them: the same doubling reached along two
-  // branches may be at two of its states.
-  const auto phases = [&](const PeriodicOrbit& orbit) {
-    std::vector<Eigen::VectorXd> out{scaled_state(family, orbit)};
-    StroboscopicMap& map = family.at(orbit.parameter);
-    const Scaling s{family.length_scale(), map.omega()};
-    Eigen::VectorXd x(2 * orbit.u.size());
-    x << orbit.u, orbit.v;
-    for (int j = 1; j < orbit.periodicity; ++j) {
-      try {
-        x = map.evaluate(x, 1);
-      } catch (const std::exception&) {
-        break;
-      }
-      ++result.map_evaluations;
-      out.push_back(s.to_scaled(x));
-    }
-    return out;
-  };
-  const auto already_followed = [&](const PeriodicOrbit& at, const std::vector<Eigen::VectorXd>& states) {
-    const double size = std::max(1.0, states.front().cwiseAbs().maxCoeff());
-    for (const Eigen::VectorXd& w : states) {
-      for (const Doubling& d : switched) {
-        if (d.periodicity == at.periodicity && std::abs(d.parameter - at.parameter) <= 2 * options.max_parameter_step &&
-            (d.w - w).cwiseAbs().maxCoeff() <= 1e-3 * size) {
-          return true;
-        }
-      }
-      for (const Meeting& meeting : meetings) {
-        if (meeting.periodicity == 2 * at.periodicity && (meeting.w - w).norm() <= meeting.radius + 1e-3 * size &&
-            std::abs(at.parameter - meeting.parameter) <= 2 * options.max_parameter_step) {
-          return true;
-        }
-      }
-    }
-    return false;
-  };
-  while (!pending.empty()) {
-    PendingBranch job = pending.front();
-    pending.erase(pending.begin());
-    if (job.doubling) {
-      // Switch to the period-2k branch born at the period doubling job.start (located, else the
-      // orbit beside it), unless a branch already did or came back there.
-      if (result.map_evaluations >= options.max_evaluations || result.events >= options.max_events) continue;
-      const std::vector<Eigen::VectorXd> states = phases(job.start);
-      if (already_followed(job.start, states)) continue;
-      switched.push_back({job.start.parameter, states.front(), job.start.periodicity});
-      std::optional<SwitchedBranch> born;
-      if (job.located) born = switched_branch(family, job.start, shooting, options, result);
-      if (born) {
-        job.start = std::move(born->start);
-        job.tangent = std::move(born->tangent);
-        // Back towards the doubling too: where the map is smooth the branch crosses the period-k
-        // one at once and ends; where it is not (a grazing at the doubling), it may go on.
-        pending.insert(pending.begin(), PendingBranch{job.start, job.parent, job.direction, -job.tangent, false, false, {}});
-      } else {
-        // The corrector found no period-2k orbit near the doubling: shoot one at the unstable
-        // side's parameter instead, and follow it both ways.
-        std::optional<PeriodicOrbit> doubled;
-        try {
-          doubled = doubled_orbit(family, job.unstable, shooting, result);
-        } catch (const std::exception&) {
-          doubled.reset();
-        }
-        if (!doubled) continue;  // no period-2k orbit could be started: the branch is not followed
-        job.start = *doubled;
-        job.direction = 1;
-        pending.insert(pending.begin(), PendingBranch{*doubled, job.parent, -1, {}, false, false, {}});
-      }
-      job.doubling = false;
-    }
-    Branch branch;
-    branch.id = static_cast<int>(result.branches.size());
-    branch.periodicity = job.start.periodicity;
-    branch.parent = job.parent;
-    const int k = branch.periodicity;
-    BranchProblem problem(family, k, options, result);
-
-    // The first point: F_w, F_p there give the tangent.
-    PeriodicOrbit current = job.start;
-    Eigen::VectorXd f, fp;
-    Eigen::MatrixXd fw;
-    std::string failure;
-    Eigen::VectorXd w;
-    {
-      StroboscopicMap& map = family.at(current.parameter);
-      const Scaling s = problem.scaling(map);
-      Eigen::VectorXd x(2 * current.u.size());
-      x << current.u, current.v;
-      w = s.to_scaled(x);
-    }
-    if (!problem.evaluate(w, current.parameter, f, fw, fp, current, failure)) {
-      branch.ended = "the starting orbit's run failed: " + failure;
-      result.branches.push_back(std::move(branch));
-      continue;
-    }
-    const Eigen::Index m = w.size();
-    Eigen::VectorXd seed = Eigen::VectorXd::Zero(m + 1);
-    seed(m) = job.direction;
-    if (job.tangent.size() == m + 1) seed = job.tangent;
-    Eigen::VectorXd tangent = branch_tangent(fw, fp, seed);
-    branch.points.push_back(current);
-    if (!tangent.allFinite()) {
-      branch.ended = "the branch's tangent is not defined at its start (a singular Jacobian)";
-      result.branches.push_back(std::move(branch));
-      continue;
-    }
-    double step = options.initial_step;
-    double p = current.parameter;
-    int restarts = 0;
-    Eigen::VectorXd first(m + 1);
-    first << w, p;
-    const Eigen::VectorXd first_tangent = tangent;
-    const double contraction = family.frequency_rate() ? 0.5 : 1.0;
-    double farthest = 0;
-    // Across a point the corrector cannot pass (a grazing, a lock): the branch goes on beyond it.
-    const auto restarted = [&] {
-      if (restarts >= kMaxRestarts) return false;
-      ++restarts;
-      PeriodicOrbit beyond;
-      Eigen::VectorXd w_beyond, t_beyond;
-      if (!restart_across(family, problem, branch.points.back(), tangent, shooting, options, result, beyond, w_beyond,
-                          t_beyond)) {
-        return false;
-      }
-      beyond.bifurcation = BifurcationKind::grazing;
-      branch.points.push_back(beyond);
-      ++result.restarts;
-      w = w_beyond;
-      p = beyond.parameter;
-      tangent = t_beyond;
-      step = options.initial_step;
-      return true;
-    };
-
-    while (static_cast<int>(branch.points.size()) < options.max_points) {
-      if (result.map_evaluations >= options.max_evaluations || result.events >= options.max_events) {
-        branch.ended = "the budget of map runs or of their events is spent";
-        pending.clear();
-        break;
-      }
-      if (p < p_min || p > p_max) {
-        branch.ended = "left the parameter range";
-        if (branch.points.size() >= 2) {
-          // End on the range's edge: the orbit there, shot from between the last two points.
-          if (auto edge = orbit_at_edge(family, branch.points[branch.points.size() - 2], branch.points.back(),
-                                        p < p_min ? p_min : p_max, shooting, result)) {
-            branch.points.insert(branch.points.end() - 1, std::move(*edge));
-          }
-        }
-        break;
-      }
-      if (std::abs(tangent(m)) * step > options.max_parameter_step) step = options.max_parameter_step / std::abs(tangent(m));
-      Eigen::VectorXd z(m + 1);
-      z << w, p;
-      const Eigen::VectorXd predicted = z + step * tangent;
-      Eigen::VectorXd trial;
-      PeriodicOrbit orbit;
-      int iterations = 0;
-      const bool converged = corrected(problem, predicted, tangent, step, p, contraction, shooting, options, result,
-                                       trial, orbit, f, fw, fp, iterations, failure);
-      if (!converged) {
-        step *= 0.5;
-        if (step < options.min_step) {
-          // The corrector cannot pass a point where the map is not smooth (a grazing, a lock):
-          // restart beyond it, shooting one parameter step further from the last orbit.
-          if (restarted()) continue;
-          branch.ended = failure.empty() ? "Newton failed below the smallest step" : "a run failed: " + failure;
-          branch.points.back().bifurcation = BifurcationKind::end;
-          break;
-        }
-        continue;
-      }
-      orbit.iterations = iterations;
-      orbit.residual = f.cwiseAbs().maxCoeff();
-      const Eigen::VectorXd next_tangent = branch_tangent(fw, fp, tangent);
-      if (!next_tangent.allFinite()) {
-        branch.points.push_back(orbit);
-        branch.points.back().bifurcation = BifurcationKind::end;
-        branch.ended = "the branch's tangent is not defined (a singular Jacobian)";
-        break;
-      }
-      const PeriodicOrbit before = branch.points.back();  // a copy: the push below may move the points
-      if (next_tangent(m) * tangent(m) < 0) {
-        orbit.bifurcation = BifurcationKind::fold;
-      } else if (real_below_minus_one(before.multipliers) != real_below_minus_one(orbit.multipliers)) {
-        orbit.bifurcation = BifurcationKind::period_doubling;
-      } else if (complex_outside(before.multipliers) != complex_outside(orbit.multipliers)) {
-        orbit.bifurcation = BifurcationKind::neimark_sacker;
-      } else if (before.events != orbit.events || before.impacts != orbit.impacts) {
-        orbit.bifurcation = BifurcationKind::grazing;
-      } else if (real_above_one(before.multipliers) != real_above_one(orbit.multipliers)) {
-        orbit.bifurcation = BifurcationKind::fold;
-      }
-      const bool turned = orbit.bifurcation == BifurcationKind::fold;
-      if (k % 2 == 0 && (turned || (branch.parent >= 0 && orbit.bifurcation != BifurcationKind::none))) {
-        // A period-2k branch that comes back to a period doubling of a period-k branch crosses it
-        // there (as fixed points of P^{2k} the two branches cross) and would go on as the same
-        // orbits shifted by k periods — its mirror image, turning back in p like a fold — or as
-        // the period-k orbits run twice: it ends there. Near the crossing w ≈ w* + aφ, φ the
-        // doubling's eigenvector, and D = P^k(w) − w ≈ −2aφ: the branch crossed between two
-        // points where D points opposite ways and is no longer than the step between them (a fold
-        // of the branch itself keeps D's direction and its size).
-        const Eigen::VectorXd w_after = trial.head(m);
-        const std::optional<Eigen::VectorXd> after = return_difference(family, orbit, k / 2, result);
-        bool met = after && after->cwiseAbs().maxCoeff() < 1e-6;
-        Eigen::VectorXd crossing = w_after;
-        double radius = after ? after->norm() : 0.0;
-        if (after && !met && turned) {
-          const std::optional<Eigen::VectorXd> ahead = return_difference(family, before, k / 2, result);
-          if (ahead) {
-            const double chord = (w_after - w).norm();
-            met = ahead->dot(*after) < 0 && ahead->norm() + after->norm() <= 3 * chord;
-            crossing = 0.5 * ((w + 0.5 * *ahead) + (w_after + 0.5 * *after));
-            radius = std::max(ahead->norm(), after->norm());
-          }
-        }
-        if (met) {
-          orbit.bifurcation = BifurcationKind::period_doubling;
-          meetings.push_back({before.parameter, crossing, radius, k});
-          branch.points.push_back(orbit);
-          branch.ended = "met the branch it doubled from";
-          break;
-        }
-      }
-      const bool grazed = orbit.bifurcation == BifurcationKind::grazing;
-      const BifurcationKind found = orbit.bifurcation;
-      std::optional<PeriodicOrbit> located;
-      if (orbit.bifurcation == BifurcationKind::period_doubling || orbit.bifurcation == BifurcationKind::neimark_sacker) {
-        // Locate it: the flagged orbit is only the first past it.
-        located = refined_bifurcation(family, before, orbit, orbit.bifurcation, shooting, result);
-        if (located) {
-          branch.points.push_back(*located);
-          orbit.bifurcation = BifurcationKind::none;
-        }
-      }
-      branch.points.push_back(orbit);
-      // An isola: the branch comes back to its first point (having gone further from it than a
-      // few steps), going the way it started, and would go round again. Measured to the chord of
-      // the last step, not to its end: the steps grow as Newton converges fast, and a step that
-      // passes the first point need not land within a step of it. A branch that folds back and
-      // passes its first point the other way is not closing.
-      Eigen::VectorXd last(m + 1);
-      last << w, p;
-      const Eigen::VectorXd chord = trial - last;
-      const double this_step = chord.norm();
-      const double along = this_step > 0 ? std::clamp((first - last).dot(chord) / chord.squaredNorm(), 0.0, 1.0) : 0.0;
-      const double from_start = (trial - first).norm();
-      const double chord_from_start = (last + along * chord - first).norm();
-      farthest = std::max(farthest, from_start);
-      if (farthest > 4 * this_step && chord_from_start <= this_step && next_tangent.dot(first_tangent) > 0) {
-        branch.ended = "closed on itself (an isola or a loop)";
-        break;
-      }
-      w = trial.head(m);
-      p = trial(m);
-      // Across a grazing the map's derivative jumps: the old tangent is no guide, take the new one
-      // and start again with small steps.
-      tangent = next_tangent;
-      if (grazed) {
-        step = std::max(options.min_step, std::min(step, options.initial_step));
-      } else if (iterations <= 3) {
-        step = std::min(options.max_step, step * 1.5);
-      } else if (iterations >= 6) {
-        step *= 0.5;
-      }
-      // A branch that creeps (steps at the smallest size for many points without moving in the
-      // parameter or the state) sits on a singularity the corrector cannot pass: restart beyond
-      // it, or end it.
-      if (branch.points.size() > 50) {
-        const PeriodicOrbit& back = branch.points[branch.points.size() - 51];
-        Eigen::VectorXd xb(2 * back.u.size()), xo(2 * orbit.u.size());
-        xb << back.u, back.v;
-        xo << orbit.u, orbit.v;
-        const Scaling s{family.length_scale(), orbit.omega};
-        if (std::abs(back.parameter - orbit.parameter) < 0.01 * options.max_parameter_step &&
-            (s.to_scaled(xb) - s.to_scaled(xo)).norm() < 50 * options.min_step * 10) {
-          if (restarted()) continue;
-          branch.points.back().bifurcation = BifurcationKind::end;
-          branch.ended = "stalled: the corrector cannot pass a singularity of the map";
-          break;
-        }
-      }
-      if (found == BifurcationKind::period_doubling && 2 * k <= options.max_periodicity) {
-        // The period-2k branch born here is switched to when its turn comes, from the located
-        // doubling; where it could not be located, shot beside it from the period-k orbit on its
-        // unstable side (the fallback).
-        const PeriodicOrbit& unstable =
-            real_below_minus_one(orbit.multipliers) > real_below_minus_one(before.multipliers) ? orbit : before;
-        pending.push_back({located ? *located : unstable, branch.id, 1, {}, true, located.has_value(), unstable});
-      }
-    }
-    if (branch.ended.empty()) branch.ended = "reached the most points of a branch";
-    result.branches.push_back(std::move(branch));
+  Tracing t{family, shooting, options, p_min, p_max, {}, {{start, -1, direction >= 0 ? 1 : -1, {}, false, false, {}}},
+            {}, {}};
+  while (!t.pending.empty()) {
+    PendingBranch job = t.pending.front();
+    t.pending.erase(t.pending.begin());
+    if (job.doubling && !switched_to_doubled(t, job)) continue;
+    t.result.branches.push_back(BranchWalk(t, job).walked(job));
   }
-  for (Branch& branch : result.branches) {
-    for (PeriodicOrbit& orbit : branch.points) {
-      if (!orbit.amplitudes.base_shear.empty()) continue;  // shot: recorded at its convergence
-      record_amplitudes(family.at(orbit.parameter), orbit);
-      ++result.map_evaluations;
-    }
-  }
-  return result;
+  record_missing_amplitudes(family, t.result);
+  return std::move(t.result);
 }
 
 // ---- frequency responses by continuation ----------------------------------------------------
