@@ -697,6 +697,196 @@ void serve_optimization(const RunInput& input, io::PointDistribution& ranks) {
   ranks.serve_until_finished([&](const std::string& task) { return compute_task(input, task, last); });
 }
 
+namespace {
+
+/// A Pareto front by the ε-constraint method: the front's objective minimised under the main
+/// constraints (the main optimum when it is the same figure), then under each limit of the second
+/// figure — given, or spaced between the two anchors' values — each point the best design of every
+/// evaluation the runs made for its goal.
+ParetoResult trace_front(Stages& stages, const OptimizeSettings& s, Problem& problem, const Goal& main_goal,
+                         const Evaluation& first_optimum, std::size_t front_objective, std::size_t front_metric,
+                         std::vector<OptimizationStage>& ran) {
+  ParetoResult front;
+  // The front's objective minimised under the constraints alone: the main optimum, or its own.
+  Goal front_goal{.objective = front_objective, .bounds = main_goal.bounds, .label = "pareto_objective."};
+  const Evaluation front_optimum =
+      front_objective == 0 ? first_optimum : optimise(stages, s, problem, front_goal, first_optimum.x, ran);
+  std::vector<double> limits = s.pareto->limits;
+  if (limits.empty()) {
+    // The ε-constraint method between the two anchors: the second figure at the objective's
+    // optimum (its largest useful limit) and its own least value.
+    Goal anchor{.objective = front_metric, .bounds = main_goal.bounds, .label = "pareto_metric."};
+    const Evaluation least = optimise(stages, s, problem, anchor, front_optimum.x, ran);
+    const double hi = front_optimum.metrics[front_metric], lo = least.metrics[front_metric];
+    if (!std::isfinite(hi) || !std::isfinite(lo)) {
+      throw SimulationError(fmt::format("optimize.pareto: {} is not a figure of the anchors' designs ({}, {}): no "
+                                        "limits between them", s.pareto->metric, lo, hi));
+    }
+    // Anchors that agree leave no trade-off: the front is the objective's optimum alone.
+    const int points = hi > lo ? s.pareto->points : 1;
+    for (int j = 0; j + 1 < points; ++j) limits.push_back(lo + (hi - lo) * j / (points - 1));
+  }
+  std::vector<Goal> goals;
+  for (std::size_t j = 0; j < limits.size(); ++j) {
+    Goal goal = front_goal;
+    goal.bounds.push_back({front_metric, limits[j], true});
+    goal.label = fmt::format("pareto[{}].", j + 1);
+    static_cast<void>(optimise(stages, s, problem, goal, front_optimum.x, ran));
+    goals.push_back(std::move(goal));
+  }
+  goals.push_back(front_goal);
+  // Each point is its goal's best design of every evaluation the runs made (a later run may
+  // have found a better one for an earlier limit).
+  front.objective = s.pareto->objective;
+  front.metric = s.pareto->metric;
+  for (std::size_t j = 0; j < goals.size(); ++j) {
+    const Evaluation& e = *problem.best(goals[j]);
+    front.points.push_back({.limit = j < limits.size() ? std::optional<double>(limits[j]) : std::nullopt,
+                            .optimum = e.x,
+                            .objective = e.metrics[front_objective],
+                            .metric = e.metrics[front_metric],
+                            .feasible = problem.feasible(e, goals[j])});
+  }
+  mark_dominated(front.points);
+  return front;
+}
+
+/// evaluations.csv: every evaluation in order — its stage, variables, figures (the objective's
+/// first), whether it meets the constraints, its status and error.
+io::Table evaluation_table(const Problem& problem, const OptimizeSettings& s, const std::vector<std::string>& metrics,
+                           const Goal& main_goal) {
+  io::Table table;
+  const std::size_t n = s.variables.size();
+  const std::vector<Evaluation>& all = problem.evaluations();
+  auto& number = table.integers("evaluation");
+  auto& stage = table.texts("stage");
+  for (std::size_t k = 0; k < all.size(); ++k) {
+    number.push_back(static_cast<std::int64_t>(k + 1));
+    stage.push_back(all[k].stage);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    auto& values = table.numbers(s.variables[i].key, io::column_unit(s.variables[i].key));
+    for (const Evaluation& e : all) values.push_back(e.x[i]);
+  }
+  for (std::size_t m = 0; m < metrics.size(); ++m) {
+    auto& values = table.numbers(m == 0 ? "objective" : metrics[m], io::column_unit(metrics[m]));
+    for (const Evaluation& e : all) values.push_back(e.status == "done" ? e.metrics[m] : kNone);  // none: an empty field
+  }
+  if (!main_goal.bounds.empty()) {
+    auto& feasible = table.integers("feasible");
+    for (const Evaluation& e : all) feasible.push_back(problem.feasible(e, main_goal) ? 1 : 0);
+  }
+  auto& status = table.texts("status");
+  auto& error = table.texts("error");
+  for (const Evaluation& e : all) {
+    status.push_back(e.status);
+    error.push_back(e.error);
+  }
+  return table;
+}
+
+/// pareto.csv: each point of the front — its limit, both figures, feasibility, dominance and
+/// its design.
+io::Table pareto_table_of(const ParetoResult& front, const OptimizeSettings& s) {
+  const std::size_t n = s.variables.size();
+  io::Table t;
+  auto& point = t.integers("point");
+  auto& limit = t.numbers("limit", io::column_unit(front.metric));
+  auto& objective = t.numbers(front.objective, io::column_unit(front.objective));
+  auto& metric = t.numbers(front.metric, io::column_unit(front.metric));
+  auto& feasible = t.integers("feasible");
+  auto& dominated = t.integers("dominated");
+  for (std::size_t j = 0; j < front.points.size(); ++j) {
+    const ParetoPoint& p = front.points[j];
+    point.push_back(static_cast<std::int64_t>(j + 1));
+    limit.push_back(p.limit.value_or(kNone));  // the objective's own optimum: no limit
+    objective.push_back(p.objective);
+    metric.push_back(p.metric);
+    feasible.push_back(p.feasible ? 1 : 0);
+    dominated.push_back(p.dominated ? 1 : 0);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    auto& values = t.numbers(s.variables[i].key, io::column_unit(s.variables[i].key));
+    for (const ParetoPoint& p : front.points) values.push_back(p.optimum[i]);
+  }
+  return t;
+}
+
+/// The variables' bounds and scales into `space`, and the starting design: each variable's start,
+/// else the middle of its range as NLopt searches it (the geometric mean on a log scale).
+std::vector<double> search_space(const OptimizeSettings& s, SearchSpace& space) {
+  std::vector<double> x;
+  for (const OptimizeVariable& v : s.variables) {
+    space.lower.push_back(v.min);
+    space.upper.push_back(v.max);
+    space.log.push_back(v.log);
+    x.push_back(v.start.value_or(v.log ? std::sqrt(v.min * v.max) : 0.5 * (v.min + v.max)));
+  }
+  return x;
+}
+
+/// The optimum's response against bare pounding: bare pounding's figures, and for a frequency
+/// response both responses as tables (optimum_frf.csv, bare_frf.csv), the bare one's figures from
+/// the same sweep.
+struct OptimumAgainstBare {
+  PointFigures bare_figures;
+  std::optional<io::Table> optimum_frf, bare_frf;
+};
+OptimumAgainstBare against_bare(const RunInput& best_point, const OptimizeSettings& s,
+                                const std::function<void(int, int)>& still) {
+  OptimumAgainstBare out;
+  if (s.each == PointRun::frf) {
+    FrequencyResponseOptions o = frequency_response_options(best_point);
+    o.threads = s.threads;
+    o.progress = still;
+    out.optimum_frf = io::frf_table(best_point.model, frequency_response(best_point.model, o));
+    const Model bare = bare_pounding_model(best_point);
+    const std::vector<FrfPoint> bare_response = frequency_response(bare, o);
+    out.bare_frf = io::frf_table(bare, bare_response);
+    out.bare_figures.response = frf_figures(bare, bare_response, s.band_min, s.band_max);
+  } else {
+    out.bare_figures = baseline_figures(best_point, s.threads);
+  }
+  return out;
+}
+
+/// The starting point is rejected: reported where the file defines the variable whose value was
+/// rejected, else at the file, with every variable's value.
+[[noreturn]] void reject_start(const Evaluation& first, const OptimizeSettings& s, const RunInput& input,
+                               const std::vector<double>& x) {
+  std::string where = input.source.string(), values;
+  for (std::size_t i = 0; i < s.variables.size(); ++i) {
+    const OptimizeVariable& v = s.variables[i];
+    values += fmt::format("{}{} = {}", i == 0 ? "" : ", ", v.key, toml_float(x[i]));
+    if (!v.where.empty() && first.error.starts_with(fmt::format("{}: --set {}=", input.source.string(), v.key))) {
+      where = v.where;
+    }
+  }
+  throw InputError(fmt::format("{}: the starting point ({}) is rejected: {}", where, values, first.error));
+}
+
+/// The figures the objective, the constraints and the front name must be figures of an
+/// evaluation that ran (`done`).
+void require_figures(const Evaluation& done, const OptimizeSettings& s, const RunInput& input) {
+  require_figure(s.objective, s.objective_where, done, s, input);
+  for (const io::OptimizeConstraint& c : s.constraints) require_figure(c.metric, c.where, done, s, input);
+  if (s.pareto) {
+    require_figure(s.pareto->objective, s.pareto->objective_where.empty() ? s.objective_where : s.pareto->objective_where,
+                   done, s, input);
+    require_figure(s.pareto->metric, s.pareto->where, done, s, input);
+  }
+}
+
+/// What identifies an optimisation's database beside the input's fingerprint: its file, kind,
+/// what each evaluation runs and its variables.
+json database_definition(const RunInput& input, const OptimizeSettings& s) {
+  json keys = json::array();
+  for (const OptimizeVariable& v : s.variables) keys.push_back(v.key);
+  return json{{"input", input.source.string()}, {"kind", "optimize"}, {"each", to_string(s.each)}, {"variables", keys}};
+}
+
+}  // namespace
+
 OptimizationResult run_optimization(const RunInput& input, const std::filesystem::path& out_dir,
                                     const std::function<void(int, int)>& progress, io::PointDistribution* ranks) {
   if (ranks != nullptr && ranks->ranks() < 2) ranks = nullptr;
@@ -709,16 +899,8 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
   if (!global && !local) throw InputError(fmt::format("{}: optimize: both stages are \"none\"", input.source.string()));
   refuse_accelerations_without_impacts(s, input);
   const auto start = std::chrono::steady_clock::now();
-  const std::size_t n = s.variables.size();
   Stages stages;
-  std::vector<double> x;
-  for (const OptimizeVariable& v : s.variables) {
-    stages.space.lower.push_back(v.min);
-    stages.space.upper.push_back(v.max);
-    stages.space.log.push_back(v.log);
-    // The middle of the range as NLopt searches it: the geometric mean on a log scale.
-    x.push_back(v.start.value_or(v.log ? std::sqrt(v.min * v.max) : 0.5 * (v.min + v.max)));
-  }
+  std::vector<double> x = search_space(s, stages.space);
   // Both algorithms are resolved first, so that a bad name is reported before any evaluation.
   if (global) stages.global.emplace(algorithm(s.global_algorithm, input, "global"), s.global_algorithm);
   if (local) stages.local.emplace(algorithm(s.local_algorithm, input, "local"), s.local_algorithm);
@@ -749,12 +931,7 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
   std::error_code absent;
   const bool folder_existed = std::filesystem::exists(out_dir, absent);
   OutputTransaction out(out_dir);  // creates the folder for the database too
-  const json definition{{"input", input.source.string()}, {"kind", "optimize"}, {"each", to_string(s.each)},
-                        {"variables", [&] {
-                           json keys = json::array();
-                           for (const OptimizeVariable& v : s.variables) keys.push_back(v.key);
-                           return keys;
-                         }()}};
+  const json definition = database_definition(input, s);
   const std::filesystem::path database_path = out_dir / database_name;
   const bool resuming = std::filesystem::exists(database_path, absent);
   std::optional<io::StudyDatabase> database(std::in_place, database_path, fingerprint(input), definition);
@@ -766,84 +943,21 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
     ran.clear();
     pareto.reset();
     const Evaluation& first = problem(x, "start");
-    if (first.status == "rejected") {
-      // Reported where the file defines the variable whose value was rejected, else at the file.
-      std::string where = input.source.string(), values;
-      for (std::size_t i = 0; i < n; ++i) {
-        const OptimizeVariable& v = s.variables[i];
-        values += fmt::format("{}{} = {}", i == 0 ? "" : ", ", v.key, toml_float(x[i]));
-        if (!v.where.empty() && first.error.starts_with(fmt::format("{}: --set {}=", input.source.string(), v.key))) {
-          where = v.where;
-        }
-      }
-      throw InputError(fmt::format("{}: the starting point ({}) is rejected: {}", where, values, first.error));
-    }
+    if (first.status == "rejected") reject_start(first, s, input, x);
     // The figures named must be figures of an evaluation: of the start, or (when it failed) of the
     // first evaluation that ran, checked once the search is over.
-    const auto require_figures = [&](const Evaluation& done) {
-      require_figure(s.objective, s.objective_where, done, s, input);
-      for (const io::OptimizeConstraint& c : s.constraints) require_figure(c.metric, c.where, done, s, input);
-      if (s.pareto) {
-        require_figure(s.pareto->objective, s.pareto->objective_where.empty() ? s.objective_where : s.pareto->objective_where,
-                       done, s, input);
-        require_figure(s.pareto->metric, s.pareto->where, done, s, input);
-      }
-    };
     const bool start_ran = first.status == "done";
-    if (start_ran) require_figures(first);
+    if (start_ran) require_figures(first, s, input);
     nlopt::srand(s.seed);
     // Kept by value: the evaluations grow as the front's runs go on.
     const Evaluation first_optimum = optimise(stages, s, problem, main_goal, x, ran);
     if (!start_ran && !problem.waiting()) {
       const auto done = std::find_if(problem.evaluations().begin(), problem.evaluations().end(),
                                      [](const Evaluation& e) { return e.status == "done"; });
-      require_figures(*done);  // optimise found one, or threw
+      require_figures(*done, s, input);  // optimise found one, or threw
     }
 
-    if (s.pareto) {
-      // The front's objective minimised under the constraints alone: the main optimum, or its own.
-      Goal front_goal{.objective = front_objective, .bounds = main_goal.bounds, .label = "pareto_objective."};
-      const Evaluation front_optimum =
-          front_objective == 0 ? first_optimum : optimise(stages, s, problem, front_goal, first_optimum.x, ran);
-      std::vector<double> limits = s.pareto->limits;
-      if (limits.empty()) {
-        // The ε-constraint method between the two anchors: the second figure at the objective's
-        // optimum (its largest useful limit) and its own least value.
-        Goal anchor{.objective = front_metric, .bounds = main_goal.bounds, .label = "pareto_metric."};
-        const Evaluation least = optimise(stages, s, problem, anchor, front_optimum.x, ran);
-        const double hi = front_optimum.metrics[front_metric], lo = least.metrics[front_metric];
-        if (!std::isfinite(hi) || !std::isfinite(lo)) {
-          throw SimulationError(fmt::format("optimize.pareto: {} is not a figure of the anchors' designs ({}, {}): no "
-                                            "limits between them", s.pareto->metric, lo, hi));
-        }
-        // Anchors that agree leave no trade-off: the front is the objective's optimum alone.
-        const int points = hi > lo ? s.pareto->points : 1;
-        for (int j = 0; j + 1 < points; ++j) limits.push_back(lo + (hi - lo) * j / (points - 1));
-      }
-      std::vector<Goal> goals;
-      for (std::size_t j = 0; j < limits.size(); ++j) {
-        Goal goal = front_goal;
-        goal.bounds.push_back({front_metric, limits[j], true});
-        goal.label = fmt::format("pareto[{}].", j + 1);
-        static_cast<void>(optimise(stages, s, problem, goal, front_optimum.x, ran));
-        goals.push_back(std::move(goal));
-      }
-      goals.push_back(front_goal);
-      // Each point is its goal's best design of every evaluation the runs made (a later run may
-      // have found a better one for an earlier limit).
-      pareto.emplace();
-      pareto->objective = s.pareto->objective;
-      pareto->metric = s.pareto->metric;
-      for (std::size_t j = 0; j < goals.size(); ++j) {
-        const Evaluation& e = *problem.best(goals[j]);
-        pareto->points.push_back({.limit = j < limits.size() ? std::optional<double>(limits[j]) : std::nullopt,
-                                  .optimum = e.x,
-                                  .objective = e.metrics[front_objective],
-                                  .metric = e.metrics[front_metric],
-                                  .feasible = problem.feasible(e, goals[j])});
-      }
-      mark_dominated(pareto->points);
-    }
+    if (s.pareto) pareto = trace_front(stages, s, problem, main_goal, first_optimum, front_objective, front_metric, ran);
   };
   try {
     // The starting point is computed first, so that a bad key or figure is reported before any search.
@@ -876,8 +990,6 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
 
   // The optimum's response against bare pounding and the free frames.
   const RunInput best_point = with_settings(input, point_values(s, optimum.x));
-  PointFigures bare_figures;
-  std::optional<io::Table> optimum_frf, bare_frf;
   // The responses below report as the last evaluation did, so that a caller's progress (which
   // may stop the run: RunStopped) is still asked while they run.
   const auto evaluations_done = static_cast<int>(problem.evaluations().size());
@@ -885,71 +997,10 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
     if (progress) progress(evaluations_done, budget);
   };
   still(0, 0);
-  if (s.each == PointRun::frf) {
-    // Both responses are written out, so the bare one's metrics come from the same sweep.
-    FrequencyResponseOptions o = frequency_response_options(best_point);
-    o.threads = s.threads;
-    o.progress = still;
-    optimum_frf = io::frf_table(best_point.model, frequency_response(best_point.model, o));
-    const Model bare = bare_pounding_model(best_point);
-    const std::vector<FrfPoint> bare_response = frequency_response(bare, o);
-    bare_frf = io::frf_table(bare, bare_response);
-    bare_figures.response = frf_figures(bare, bare_response, s.band_min, s.band_max);
-  } else {
-    bare_figures = baseline_figures(best_point, s.threads);
-  }
-  io::Table table;
-  {
-    const std::vector<Evaluation>& all = problem.evaluations();
-    auto& number = table.integers("evaluation");
-    auto& stage = table.texts("stage");
-    for (std::size_t k = 0; k < all.size(); ++k) {
-      number.push_back(static_cast<std::int64_t>(k + 1));
-      stage.push_back(all[k].stage);
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-      auto& values = table.numbers(s.variables[i].key, io::column_unit(s.variables[i].key));
-      for (const Evaluation& e : all) values.push_back(e.x[i]);
-    }
-    for (std::size_t m = 0; m < metrics.size(); ++m) {
-      auto& values = table.numbers(m == 0 ? "objective" : metrics[m], io::column_unit(metrics[m]));
-      for (const Evaluation& e : all) values.push_back(e.status == "done" ? e.metrics[m] : kNone);  // none: an empty field
-    }
-    if (!main_goal.bounds.empty()) {
-      auto& feasible = table.integers("feasible");
-      for (const Evaluation& e : all) feasible.push_back(problem.feasible(e, main_goal) ? 1 : 0);
-    }
-    auto& status = table.texts("status");
-    auto& error = table.texts("error");
-    for (const Evaluation& e : all) {
-      status.push_back(e.status);
-      error.push_back(e.error);
-    }
-  }
+  OptimumAgainstBare against = against_bare(best_point, s, still);
+  io::Table table = evaluation_table(problem, s, metrics, main_goal);
   std::optional<io::Table> pareto_table;
-  if (pareto) {
-    io::Table t;
-    auto& point = t.integers("point");
-    auto& limit = t.numbers("limit", io::column_unit(pareto->metric));
-    auto& objective = t.numbers(pareto->objective, io::column_unit(pareto->objective));
-    auto& metric = t.numbers(pareto->metric, io::column_unit(pareto->metric));
-    auto& feasible = t.integers("feasible");
-    auto& dominated = t.integers("dominated");
-    for (std::size_t j = 0; j < pareto->points.size(); ++j) {
-      const ParetoPoint& p = pareto->points[j];
-      point.push_back(static_cast<std::int64_t>(j + 1));
-      limit.push_back(p.limit.value_or(kNone));  // the objective's own optimum: no limit
-      objective.push_back(p.objective);
-      metric.push_back(p.metric);
-      feasible.push_back(p.feasible ? 1 : 0);
-      dominated.push_back(p.dominated ? 1 : 0);
-    }
-    for (std::size_t i = 0; i < n; ++i) {
-      auto& values = t.numbers(s.variables[i].key, io::column_unit(s.variables[i].key));
-      for (const ParetoPoint& p : pareto->points) values.push_back(p.optimum[i]);
-    }
-    pareto_table = std::move(t);
-  }
+  if (pareto) pareto_table = pareto_table_of(*pareto, s);
   const double run_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   OptimizationResult result{.source = input.source,
                             .title = input.title,
@@ -958,9 +1009,9 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
                             .objective = optimum.metrics[0],
                             .feasible = problem.feasible(optimum, main_goal),
                             .constraints = constraint_outcomes(s, *optimum.figures),
-                            .bare_constraints = constraint_outcomes(s, bare_figures),
+                            .bare_constraints = constraint_outcomes(s, against.bare_figures),
                             .optimum_figures = *optimum.figures,
-                            .bare_figures = std::move(bare_figures),
+                            .bare_figures = std::move(against.bare_figures),
                             .metric = s.objective,
                             .meaning = figure_meaning(s.objective),
                             .stages = std::move(ran),
@@ -969,8 +1020,8 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
                             .computed = problem.computed(),
                             .run_time = run_time,
                             .evaluation_table = std::move(table),
-                            .optimum_frf = std::move(optimum_frf),
-                            .bare_frf = std::move(bare_frf),
+                            .optimum_frf = std::move(against.optimum_frf),
+                            .bare_frf = std::move(against.bare_frf),
                             .pareto = std::move(pareto),
                             .pareto_table = std::move(pareto_table)};
   if (result.optimum_frf) write_csv(out.open("optimum_frf.csv"), *result.optimum_frf);
