@@ -1432,24 +1432,33 @@ FrfPoint frf_point(StroboscopicMap& map, double amplitude, const PeriodicOrbit& 
 
 namespace {
 
-/// Whether a stable orbit lies at ratio r among the points: a simulated point there, a continued
-/// one there, or two consecutive points of a branch either side of r one of which is stable (a
-/// branch's stability changes only at a bifurcation, located as a point of its own).
-bool has_stable_orbit(const std::vector<FrfPoint>& points, double r) {
+/// Whether the response at ratio r was simulated (no orbit converged there).
+bool simulated_at(const std::vector<FrfPoint>& points, double r) {
+  return std::any_of(points.begin(), points.end(), [&](const FrfPoint& p) { return !p.continued && p.ratio == r; });
+}
+
+/// Whether visit(a, b, t) holds for a continued orbit at ratio r: a continued point there (b = a,
+/// t = 0), or two consecutive points a, b of a branch either side of r, t of the way from a to b.
+template <class Visit>
+bool any_continued_at(const std::vector<FrfPoint>& points, double r, const Visit& visit) {
   for (std::size_t i = 0; i < points.size(); ++i) {
     const FrfPoint& a = points[i];
-    if (a.ratio == r && (a.stable || !a.continued)) return true;
-    if (!a.continued || i + 1 == points.size()) continue;
+    if (!a.continued) continue;
+    if (a.ratio == r && visit(a, a, 0.0)) return true;
+    if (i + 1 == points.size()) continue;
     const FrfPoint& b = points[i + 1];
-    if (!b.continued || b.branch_id != a.branch_id) continue;
-    if ((a.ratio - r) * (b.ratio - r) < 0 && (a.stable || b.stable)) return true;
+    if (!b.continued || b.branch_id != a.branch_id || !((a.ratio - r) * (b.ratio - r) < 0)) continue;
+    if (visit(a, b, (r - a.ratio) / (b.ratio - a.ratio))) return true;
   }
   return false;
 }
 
-/// Whether the response at ratio r was simulated (no orbit converged there).
-bool simulated_at(const std::vector<FrfPoint>& points, double r) {
-  return std::any_of(points.begin(), points.end(), [&](const FrfPoint& p) { return !p.continued && p.ratio == r; });
+/// Whether a stable orbit lies at ratio r among the points: a simulated point there, a continued
+/// one there, or two consecutive points of a branch either side of r one of which is stable (a
+/// branch's stability changes only at a bifurcation, located as a point of its own).
+bool has_stable_orbit(const std::vector<FrfPoint>& points, double r) {
+  return simulated_at(points, r) ||
+         any_continued_at(points, r, [](const FrfPoint& a, const FrfPoint& b, double) { return a.stable || b.stable; });
 }
 
 /// Whether `orbit`, shot at ratio r, lies on a stable side of a continued branch: a point at r,
@@ -1469,18 +1478,10 @@ bool on_stable_branch(const std::vector<FrfPoint>& points, double r, const Perio
     }
     return true;
   };
-  const int k = orbit.periodicity;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    const FrfPoint& a = points[i];
-    if (!a.continued) continue;
-    if (a.ratio == r && a.stable && a.periodicity == k && same(a.interacting, a.interacting, 0)) return true;
-    if (i + 1 == points.size()) continue;
-    const FrfPoint& b = points[i + 1];
-    if (!b.continued || b.branch_id != a.branch_id || !((a.ratio - r) * (b.ratio - r) < 0)) continue;
-    if (!(a.stable || b.stable) || std::max(a.periodicity, b.periodicity) != k) continue;
-    if (same(a.interacting, b.interacting, (r - a.ratio) / (b.ratio - a.ratio))) return true;
-  }
-  return false;
+  return any_continued_at(points, r, [&](const FrfPoint& a, const FrfPoint& b, double t) {
+    return (a.stable || b.stable) && std::max(a.periodicity, b.periodicity) == orbit.periodicity &&
+           same(a.interacting, b.interacting, t);
+  });
 }
 
 /// One piece of a frequency response by continuation: the ratios [first, last) of the sorted
@@ -1598,19 +1599,16 @@ class PieceContinuation {
       // No periodic orbit from here (quasi-periodic, chaotic, or beyond Newton): simulate. Where
       // the simulation settles on a periodic response, shoot it from there (a longer transient
       // than the seed's) and continue it after all — now if the budget allows, else later.
-      std::unique_ptr<Simulator> sim;
-      FrfPoint simulated = steady_state_point(model_, options_.amplitude, r, options_.steady, th_, sim);
-      if (simulated.periodicity > 0 && sim) {
-        Eigen::VectorXd x(2 * map.dofs());
-        x << sim->state().u, sim->state().v;
+      FromRest simulated = simulated_from_rest(map, r);
+      if (simulated.state) {
         if (budget_ > 0 && event_budget_ > 0) {
-          seed = shot_from(map, x, simulated.periodicity, r, budget_, event_budget_);
+          seed = shot_from(map, *simulated.state, simulated.point.periodicity, r, budget_, event_budget_);
         } else {
-          pending_.push_back({r, std::move(x), simulated.periodicity});
+          pending_.push_back({r, std::move(*simulated.state), simulated.point.periodicity});
         }
       }
       if (!seed) {
-        out_.push_back(std::move(simulated));
+        out_.push_back(std::move(simulated.point));
         covered_ = r;
         report();
         return;
@@ -1645,7 +1643,9 @@ class PieceContinuation {
     if (pending != pending_.end()) {
       seed = shot_from(map, pending->state, pending->periodicity, r, runs, events);
     } else if (every) {
-      from_rest = simulated_from_rest(map, r, runs, events, seed);
+      FromRest run = simulated_from_rest(map, r);
+      if (run.state) seed = shot_from(map, *run.state, run.point.periodicity, r, runs, events);
+      from_rest = std::move(run.point);
     } else {
       seed = periodic_orbit_from_rest(map, options_.steady, max_k_, options_.steady.max_periods / 4, options_.shooting,
                                       runs, events);
@@ -1662,18 +1662,21 @@ class PieceContinuation {
     event_budget_ -= events_given - events;
   }
 
-  /// The response from rest at r as the brute force simulates it; `seed` is the orbit shot from
-  /// its last state when it is periodic.
-  FrfPoint simulated_from_rest(StroboscopicMap& map, double r, long& runs, long& events,
-                               std::optional<PeriodicOrbit>& seed) const {
+  /// The response from rest at r as the brute force simulates it, and its last state on the
+  /// Poincaré section when it is periodic (where an orbit is shot from).
+  struct FromRest {
+    FrfPoint point;
+    std::optional<Eigen::VectorXd> state;
+  };
+  FromRest simulated_from_rest(const StroboscopicMap& map, double r) const {
     std::unique_ptr<Simulator> sim;
-    FrfPoint simulated = steady_state_point(model_, options_.amplitude, r, options_.steady, th_, sim);
-    if (simulated.periodicity > 0 && sim) {
+    FromRest out{steady_state_point(model_, options_.amplitude, r, options_.steady, th_, sim), std::nullopt};
+    if (out.point.periodicity > 0 && sim) {
       Eigen::VectorXd x(2 * map.dofs());
       x << sim->state().u, sim->state().v;
-      seed = shot_from(map, x, simulated.periodicity, r, runs, events);
+      out.state = std::move(x);
     }
-    return simulated;
+    return out;
   }
 
   const Model& model_;

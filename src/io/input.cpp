@@ -186,6 +186,12 @@ class TableReader {
     blame_misspelling(key);
     origin_->fail(table_, key_path(key), detail.empty() ? "missing key" : "missing key (" + detail + ")");
   }
+  /// A required key is absent: fails with `message` at the table, unless a key of the table
+  /// misspells it (blame_misspelling).
+  [[noreturn]] void fail_table_missing(std::string_view key, const std::string& message) const {
+    blame_misspelling(key);
+    fail_table(message);
+  }
   /// Fails at a key of the table that is not declared and misspells the required `key`, if any.
   void blame_misspelling(std::string_view key) const {
     for (const auto& [given, node] : *table_) {
@@ -900,8 +906,7 @@ Model read_physical(TableReader& top, RunInput& run) {
       if (v.size() > 1 && n == 0) n = static_cast<int>(v.size());
     });
     if (n == 0) {
-      if (!storeys) f.blame_misspelling("storeys");
-      if (!storeys) f.fail_table("missing key: storeys (or give per-floor arrays)");
+      if (!storeys) f.fail_table_missing("storeys", "missing key: storeys (or give per-floor arrays)");
     }
     floors += n;
     if (floors > limits::floors) {
@@ -1217,8 +1222,7 @@ void read_excitation(TableReader& t, const Model& model, const std::filesystem::
       if (format != "single") t.fail("dt", "only for format = \"single\" (the other formats carry their times)");
       o.dt = t.positive("dt", t.number("dt"));
     } else if (format == "single") {
-      t.blame_misspelling("dt");
-      t.fail_table("missing key: dt (format = \"single\" has no times)");
+      t.fail_table_missing("dt", "missing key: dt (format = \"single\" has no times)");
     }
     if (t.has("column")) {
       if (format != "columns" && format != "auto") t.fail("column", "only for column files");
@@ -1722,8 +1726,7 @@ EnsembleScaling read_scaling(TableReader& t, int frames) {
   }
   switch (s.kind) {
     case ScalingKind::pga:
-      if (!s.target_g) t.blame_misspelling("target_g");
-      if (!s.target_g) t.fail_table("missing key: target_g (the peak ground acceleration each record is scaled to)");
+      if (!s.target_g) t.fail_table_missing("target_g", "missing key: target_g (the peak ground acceleration each record is scaled to)");
       only({"design", "period", "frame", "period_min", "period_max", "match", "fraction", "points"}, "not for kind = \"pga\"");
       break;
     case ScalingKind::sa:
@@ -1734,8 +1737,7 @@ EnsembleScaling read_scaling(TableReader& t, int frames) {
       only({"period_min", "period_max", "match", "fraction", "points"}, "not for kind = \"sa\" (one period)");
       break;
     case ScalingKind::spectrum:
-      if (!s.design) t.blame_misspelling("design");
-      if (!s.design) t.fail_table("missing key: design (the spectrum the suite's mean is matched to)");
+      if (!s.design) t.fail_table_missing("design", "missing key: design (the spectrum the suite's mean is matched to)");
       only({"target_g", "period"}, "not for kind = \"spectrum\" (the design spectrum is the target over a range)");
       if (s.period_min.has_value() != s.period_max.has_value()) {
         t.fail(s.period_min ? "period_min" : "period_max", "give both ends of the range, or neither ([0.2 T₁, 2 T₁])");

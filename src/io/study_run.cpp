@@ -532,11 +532,11 @@ void add_json_column(Table& table, std::string name, const std::vector<const jso
 
 }  // namespace
 
-std::vector<RunInput> point_inputs(const RunInput& given, AnalysisKind kind) {
-  std::optional<SuiteScaling> scaling;
-  const RunInput input = kind == AnalysisKind::ensemble && !given.study ? ensemble_as_study(given, scaling) : given;
+namespace {
+
+/// Each point's input: the settings `all` (study_points of input's study) applied to `input`.
+std::vector<RunInput> points_of(const RunInput& input, const std::vector<PointValues>& all, AnalysisKind kind) {
   const StudySettings& study = *input.study;
-  const std::vector<PointValues> all = study_points(study);
   std::vector<RunInput> points;
   points.reserve(all.size());
   for (std::size_t i = 0; i < all.size(); ++i) {
@@ -561,6 +561,17 @@ std::vector<RunInput> point_inputs(const RunInput& given, AnalysisKind kind) {
   return points;
 }
 
+}  // namespace
+
+std::vector<RunInput> point_inputs(const RunInput& input, AnalysisKind kind) {
+  if (kind == AnalysisKind::ensemble && !input.study) {
+    std::optional<SuiteScaling> scaling;
+    const RunInput as_study = ensemble_as_study(input, scaling);
+    return points_of(as_study, study_points(*as_study.study), kind);
+  }
+  return points_of(input, study_points(*input.study), kind);
+}
+
 namespace {
 
 StudyResult run_points(const RunInput& input, const std::filesystem::path& out_dir, const StudyRunOptions& options,
@@ -577,7 +588,7 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
     std::string baseline;
   };
   std::vector<Todo> todo;
-  for (RunInput& point : point_inputs(input, kind)) {
+  for (RunInput& point : points_of(input, all, kind)) {
     std::string key = study.baseline ? baseline_key(point) : std::string();
     todo.push_back({static_cast<long>(todo.size()), std::move(point), std::move(key)});
   }
