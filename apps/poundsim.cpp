@@ -26,6 +26,7 @@
 #include "poundsim/analysis/progress.hpp"
 #include "poundsim/error.hpp"
 #include "poundsim/io/input.hpp"
+#include "poundsim/io/schema.hpp"
 #include "poundsim/io/continuation_run.hpp"
 #include "poundsim/io/frequency_response_run.hpp"
 #include "poundsim/optimize/optimize_run.hpp"
@@ -162,6 +163,10 @@ int main(int argc, char** argv) {
   check->add_option("model", check_file, "Model file (TOML), see docs/input.md")->required();
   check->add_option("--set", check_overrides, "Override an input key, as for run (repeatable)")->take_all();
 
+  std::string schema_file;
+  CLI::App* schema = app.add_subcommand("schema", "Write the JSON Schema of model files (for editors: docs/input.md)");
+  schema->add_option("--out,-o", schema_file, "File to write (default: standard output)");
+
   std::string database, export_file;
   CLI::App* exporter = app.add_subcommand("export", "Write the points of a study database as CSV");
   exporter->add_option("database", database, "study.sqlite of a study")->required();
@@ -214,6 +219,17 @@ int main(int argc, char** argv) {
     }
     if (check->parsed()) {
       fmt::print("{}", check_input(check_file, check_overrides));
+      return 0;
+    }
+    if (schema->parsed()) {
+      if (schema_file.empty()) {
+        fmt::print("{}", poundsim::io::input_schema());
+        return 0;
+      }
+      const std::filesystem::path path(schema_file);
+      poundsim::io::OutputTransaction out(poundsim::io::folder_of(path));
+      out.open(path.filename().string()).text(poundsim::io::input_schema());
+      out.commit();
       return 0;
     }
     if (exporter->parsed()) {

@@ -8,7 +8,7 @@ packages=(
   libeigen3-dev libtomlplusplus-dev nlohmann-json3-dev libcli11-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libsqlite3-dev libsqlitecpp-dev libnlopt-dev libnlopt-cxx-dev
-  python3 python3-dev python3-matplotlib python3-numpy python3-pandas python3-pytest pybind11-dev
+  python3 python3-dev python3-matplotlib python3-numpy python3-pandas python3-pytest python3-jsonschema pybind11-dev
   clang-14 libclang-rt-14-dev
   libopenmpi-dev openmpi-bin
 )

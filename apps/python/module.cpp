@@ -38,6 +38,7 @@
 #include "poundsim/io/frequency_response_run.hpp"
 #include "poundsim/io/input.hpp"
 #include "poundsim/io/output_files.hpp"
+#include "poundsim/io/schema.hpp"
 #include "poundsim/io/study_run.hpp"
 #include "poundsim/io/table.hpp"
 #include "poundsim/io/time_history_run.hpp"
@@ -646,6 +647,8 @@ PYBIND11_MODULE(_core, m) {
       py::arg("column"),
       "The declared unit of a study column of a point's figures (analysis/figures_of_merit.hpp: \"1\" a ratio, "
       "\"\" a count), or None for a column no figure declares.");
+  m.def("input_schema", &poundsim::io::input_schema,
+        "The JSON Schema (draft 7) of a model file, as `poundsim schema` writes it (io/schema.hpp).");
   m.def("readable_duration", &readable_duration, py::arg("seconds"), "\"45 s\", \"3 min 20 s\", \"2 h 05 min\".");
   m.def("run_study", &run_study, py::arg("input"), py::arg("out"), py::arg("max_points") = 0,
         py::arg("progress") = py::none(), py::arg("progress_interval") = 0.1,

@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -109,14 +110,50 @@ struct PerStoreyField {
   std::string_view item = "storey";  ///< What the i-th value belongs to, in messages: "floor 2: …"
 };
 
-/// A key read by its table's own rules (a list, a sub-table, a key whose default depends on
-/// others): declared so that the table's keys are all in one place, documented and checked.
+/// The shape of a value a file gives for a key read by its table's own rules (CustomField): what
+/// the input's JSON Schema (io/schema.hpp) admits for it. The table's reader checks the rest.
+enum class Shape : std::uint8_t {
+  any,                ///< anything the reader's rules admit
+  number,             ///< a number
+  integer,            ///< an integer
+  text,               ///< a string
+  numbers,            ///< an array of numbers
+  number_or_numbers,  ///< a number, or an array of numbers
+  integers,           ///< an array of integers
+  texts,              ///< an array of strings
+  rows,               ///< an array of arrays of numbers
+  scalars,            ///< an array of numbers, strings or booleans
+};
+
+/// A key read by its table's own rules (a list, a key whose default depends on others): declared
+/// so that the table's keys are all in one place, documented and checked.
 template <class S>
 struct CustomField {
   std::string_view key;
   std::string_view meaning;
-  /// A table or an array of tables ([key], [[table.key]]), documented in a section of its own.
-  bool is_table = false;
+  Shape shape = Shape::any;
+  std::span<const std::string_view> names = {};  ///< A text's admitted values (none: any).
+};
+
+/// A sub-table ([key]) or an array of tables ([[key]]) whose keys the structs Child... declare.
+template <class S, class... Child>
+struct TableField {
+  std::string_view key;
+  std::string_view meaning;
+  bool array = false;     ///< [[key]]: one table or more
+  bool required = false;  ///< Every file gives it.
+};
+
+/// The tag that chooses a law of the closed set Laws (model/law.hpp's GapLaw or
+/// StoreyLawParameters): the table holds the chosen law's declared parameters besides its own
+/// keys. The first law is the default.
+template <class S, class Laws>
+struct LawField {
+  std::string_view key;
+  std::string_view meaning;
+  /// The table inherits a law from its parent (an override): without the tag it may hold any
+  /// law's parameters, and none is required.
+  bool inherits = false;
 };
 
 /// The name of `value` in a closed set of named values ("?" if it has none).
@@ -176,6 +213,17 @@ inline constexpr bool is_custom_field = false;
 template <class S>
 inline constexpr bool is_custom_field<CustomField<S>> = true;
 template <class F>
+inline constexpr bool is_table_field = false;
+template <class S, class... C>
+inline constexpr bool is_table_field<TableField<S, C...>> = true;
+template <class F>
+inline constexpr bool is_law_field = false;
+template <class S, class L>
+inline constexpr bool is_law_field<LawField<S, L>> = true;
+/// A field its table's reader reads by rules of its own, not by the generic reader.
+template <class F>
+inline constexpr bool has_own_rules = is_custom_field<F> || is_table_field<F> || is_law_field<F>;
+template <class F>
 inline constexpr bool is_bool_field = false;
 template <class S>
 inline constexpr bool is_bool_field<BoolField<S>> = true;
@@ -210,7 +258,7 @@ std::vector<std::string_view> declared_keys() {
 }
 
 /// The value of `field` in `s` as a message shows it: "1e-10 s", "8", "\"force\"" (not for a
-/// CustomField, which names no member).
+/// field read by its table's own rules, which names no member).
 template <class S>
 std::string field_value_text(const NumberField<S>& field, const S& s) {
   return field.unit.empty() ? fmt::format("{}", s.*field.member)
@@ -262,7 +310,7 @@ std::optional<std::string> first_violation(const S& s) {
                               field.unit, field.range.describe());
         }
       }
-    } else if constexpr (!is_bool_field<Field> && !is_custom_field<Field>) {
+    } else if constexpr (!is_bool_field<Field> && !has_own_rules<Field>) {
       if (field.name_of(s.*field.member).empty()) found = fmt::format("{} has no name", field.key);
     }
   });

@@ -60,8 +60,8 @@ except ImportError as missing:  # the results and plots still work
         """The integration failed."""
 
 __all__ = ["Continuation", "FrequencyResponse", "Input", "InputError", "Model", "Optimization", "SimulationError", "Study",
-           "Summary", "Table", "TimeHistory", "__version__", "from_dict", "harmonic", "load", "loads", "read",
-           "record", "run", "stiffness_check"]
+           "Summary", "Table", "TimeHistory", "__version__", "from_dict", "harmonic", "input_schema", "load", "loads",
+           "read", "record", "run", "stiffness_check"]
 
 
 def _extension():
@@ -90,6 +90,14 @@ def from_dict(document: dict, name: str = "model", base_dir: str | os.PathLike =
     NumPy arrays as lists): the keys and rules of docs/input.md, the same messages, with `name`
     in place of the file. `Input.to_dict()` gives such a document back."""
     return _extension().from_dict(document, name, base_dir, list(settings))
+
+
+def input_schema() -> dict:
+    """The JSON Schema (draft 7) of a model file, as a dict: every key of every table with its type,
+    range or names, default, unit and meaning (what `poundsim schema` writes). A document that
+    from_dict accepts is valid against it; the rules between keys stay the reader's."""
+    import json
+    return json.loads(_extension().input_schema())
 
 
 def _console_progress(unit: str, clock: Callable[[], float] = time.monotonic) -> Callable[[float, float], None]:

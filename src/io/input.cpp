@@ -391,7 +391,7 @@ template <Configuration S>
 void read_fields(TableReader& t, S& s, Presence presence = Presence::as_declared) {
   for_each_field<S>([&](const auto& field) {
     using Field = std::decay_t<decltype(field)>;
-    if constexpr (!is_custom_field<Field>) {  // a custom field is read by the table's own rules
+    if constexpr (!has_own_rules<Field>) {  // read by the table's own rules
       if (!t.has(field.key)) {
         if constexpr (is_number_field<Field> || is_choice_field<Field>) {
           if (field.required && presence == Presence::as_declared) t.require(field.key);
@@ -412,7 +412,7 @@ void read_fields(TableReader& t, S& s, Presence presence = Presence::as_declared
       });
     } else if constexpr (is_bool_field<Field>) {
       s.*field.member = t.boolean_or(field.key, s.*field.member);
-    } else if constexpr (!is_custom_field<Field>) {
+    } else if constexpr (!has_own_rules<Field>) {
       const std::string name = t.string(field.key);
       const auto value = field.parse(name);
       if (!value) {
@@ -957,7 +957,7 @@ Model read_physical(TableReader& top, RunInput& run) {
   }
   TableReader gaps = top.table("gap_elements");
   gaps.declare<keys::GapElements>();
-  const std::string pairing = gaps.choice("pairing", {"floor", "height", "listed"}, std::string("floor"));
+  const std::string pairing = gaps.choice("pairing", names::pairing, std::string("floor"));
   std::vector<FloorPair> pairs;
   if (pairing == "floor") {
     check_floor_heights(frames, frame_tables);
@@ -1146,7 +1146,7 @@ void read_excitation(TableReader& t, const Model& model, const std::filesystem::
                      const Origin& origin, RunInput& run) {
   t.declare<keys::Excitation>();
   ExcitationInfo& info = run.excitation_info;
-  info.kind = t.choice("kind", {"harmonic", "record", "none"});
+  info.kind = t.choice("kind", names::excitation_kind);
   info.omega1 = reference_frequency(model);
   const std::string context = fmt::format("for kind = \"{}\"", info.kind);
   if (info.kind == "harmonic") {
@@ -1164,11 +1164,11 @@ void read_excitation(TableReader& t, const Model& model, const std::filesystem::
   } else if (info.kind == "record") {
     RecordOptions o;
     o.gravity = standard_gravity;
-    const std::string format = t.choice("format", {"auto", "at2", "cosmos", "columns", "single"}, std::string("auto"));
+    const std::string format = t.choice("format", names::record_format, std::string("auto"));
     for (const auto& [name, value] : record_format_names) {
       if (name == format) o.format = value;
     }
-    o.units = t.has("units") ? t.choice("units", {"g", "m/s2", "cm/s2"}) : std::string();
+    o.units = t.has("units") ? t.choice("units", names::record_units) : std::string();
     if (t.has("scale") && t.has("target_pga_g")) t.fail("target_pga_g", "give either scale or target_pga_g, not both");
     if (auto scale = t.optional_number("scale")) {
       if (*scale == 0) t.fail("scale", "must not be 0 (a negative scale reverses the record)");
@@ -1507,7 +1507,7 @@ StudySettings read_study(TableReader& t) {
       param.min = p.number("min");
       param.max = p.number("max");
       if (!(param.max > param.min)) p.fail("max", "must be larger than min");
-      param.log = p.choice("scale", {"linear", "log"}, std::string("linear")) == "log";
+      param.log = p.choice("scale", names::axis_scale, std::string("linear")) == "log";
       if (param.log && !(param.min > 0)) p.fail("min", "must be > 0 on a log scale");
       if (s.sampling == Sampling::grid) param.points = p.integer("points", 2, limits::study_points);
     }
@@ -1629,7 +1629,7 @@ OptimizeSettings read_optimize(TableReader& t) {
       if (seen.key == var.key) v.fail("key", fmt::format("'{}' is a variable twice", var.key));
     }
     var.start = read_range(v, var.min, var.max);
-    var.log = v.choice("scale", {"linear", "log"}, std::string("linear")) == "log";
+    var.log = v.choice("scale", names::axis_scale, std::string("linear")) == "log";
     if (var.log && !(var.min > 0)) v.fail("min", "must be > 0 with scale = \"log\" (NLopt searches log(value))");
     v.finish();
     o.variables.push_back(std::move(var));
@@ -1684,10 +1684,7 @@ EnsembleScaling read_scaling(TableReader& t, int frames) {
   s.period_min = oscillator_period("period_min");
   s.period_max = oscillator_period("period_max");
   if (t.has("design")) {
-    std::vector<std::string_view> designs;
-    for (const auto& [name, type] : eurocode8_type_names) designs.push_back(name);
-    designs.push_back(tabulated_design_name);
-    const std::string design = t.choice("design", designs);
+    const std::string design = t.choice("design", names::design_spectrum);
     if (design == tabulated_design_name) {
       only({"ground_type", "ag_g"}, "only for design = \"ec8_type1\" or \"ec8_type2\"");
       TabulatedSpectrum table;
@@ -1710,9 +1707,7 @@ EnsembleScaling read_scaling(TableReader& t, int frames) {
       for (const auto& [name, type] : eurocode8_type_names) {
         if (name == design) ec8.type = type;
       }
-      std::vector<std::string_view> grounds;
-      for (const auto& [name, ground] : ground_type_names) grounds.push_back(name);
-      const std::string ground = t.choice("ground_type", grounds);
+      const std::string ground = t.choice("ground_type", names::ground_type);
       for (const auto& [name, value] : ground_type_names) {
         if (name == ground) ec8.ground = value;
       }

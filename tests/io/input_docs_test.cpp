@@ -121,12 +121,10 @@ void expect_documented(const std::string& marker, Columns columns = {},
   for_each_field<S>([&](const auto& field) {
     using Field = std::decay_t<decltype(field)>;
     const std::string key(field.key);
-    if constexpr (is_custom_field<Field>) {
-      if (field.is_table) {  // [key], [[key]], [table.key] or [[table.key]]: a section of its own
-        EXPECT_TRUE(text.find("[" + key + "]") != std::string::npos || text.find("." + key + "]") != std::string::npos)
-            << page << " never names the table [….." << key << "]";
-        return;
-      }
+    if constexpr (is_table_field<Field>) {  // [key], [[key]], [table.key] or [[table.key]]: a section of its own
+      EXPECT_TRUE(text.find("[" + key + "]") != std::string::npos || text.find("." + key + "]") != std::string::npos)
+          << page << " never names the table [….." << key << "]";
+      return;
     }
     const auto row = rows.find(key);
     ASSERT_NE(row, rows.end()) << marker << ": " << page << " does not document " << key;
@@ -139,7 +137,7 @@ void expect_documented(const std::string& marker, Columns columns = {},
     } else if (const auto at = required.find("default "); at != std::string::npos) {
       shown_default = required.substr(at + 8);
     }
-    if constexpr (!is_custom_field<Field>) {  // a custom field has its own rules: documented is all
+    if constexpr (!has_own_rules<Field>) {  // a field with its own rules: documented is all
       bool is_required = false;
       if constexpr (is_number_field<Field> || is_choice_field<Field> || is_per_storey_field<Field>) {
         is_required = field.required;
@@ -187,9 +185,7 @@ void expect_exactly_documented(const std::string& marker, const std::string& pag
   std::set<std::string> declared, documented;
   const auto collect = [&](const auto& field) {
     using Field = std::decay_t<decltype(field)>;
-    if constexpr (is_custom_field<Field>) {
-      if (field.is_table) return;
-    }
+    if constexpr (is_table_field<Field>) return;
     declared.insert(std::string(field.key));
   };
   (for_each_field<S>(collect), ...);

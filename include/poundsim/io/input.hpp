@@ -97,36 +97,50 @@ struct Setting {
 /// The model file as parsed, before any setting (opaque: TOML stays inside io).
 struct ParsedInput;
 
+/// The names a string key admits, where its table's reader checks it by rules of its own.
+namespace names {
+inline constexpr std::array<std::string_view, 3> pairing{"floor", "height", "listed"};
+inline constexpr std::array<std::string_view, 3> excitation_kind{"harmonic", "record", "none"};
+inline constexpr std::array<std::string_view, 5> record_format{"auto", "at2", "cosmos", "columns", "single"};
+inline constexpr std::array<std::string_view, 3> record_units{"g", "m/s2", "cm/s2"};
+inline constexpr std::array<std::string_view, 2> axis_scale{"linear", "log"};
+/// The first names of `pairs` (a closed set of named values), then `extra`.
+template <class E, std::size_t N, class... Extra>
+constexpr auto first_names(const std::array<std::pair<std::string_view, E>, N>& pairs, Extra... extra) {
+  std::array<std::string_view, N + sizeof...(Extra)> out{};
+  for (std::size_t i = 0; i < N; ++i) out[i] = pairs[i].first;
+  std::size_t i = N;
+  ((out[i++] = std::string_view(extra)), ...);
+  return out;
+}
+inline constexpr auto design_spectrum = first_names(eurocode8_type_names, tabulated_design_name);
+inline constexpr auto ground_type = first_names(ground_type_names);
+}  // namespace names
+
+/// A key with its own rules that takes one of `names` (fields.hpp's CustomField with a shape).
+template <class S, std::size_t N>
+constexpr CustomField<S> named_field(std::string_view key, const std::array<std::string_view, N>& names,
+                                     std::string_view meaning) {
+  return CustomField<S>{key, meaning, Shape::text, std::span<const std::string_view>(names)};
+}
+
 /// The keys of the model file's tables that are read by rules of their own (arrays with one
 /// value per floor, either-or keys, sub-tables), declared once (fields.hpp): each table's reader
 /// accepts exactly its declared keys (a key it reads without declaring it is a logic_error), and
 /// tests/io/input_docs_test.cpp checks that docs/input.md documents exactly these keys.
 namespace keys {
-/// The top level of the file.
-struct File {
-  static constexpr auto fields() {
-    using C = CustomField<File>;
-    return std::tuple{
-        C{"title", "free text, copied to summary.json"},
-        C{"model", "the dimensionless form", true},
-        C{"frames", "the physical form: one table per frame", true},
-        C{"gap_elements", "the physical form's gap elements", true},
-        C{"initial", "initial displacements and velocities", true},
-        C{"excitation", "the ground acceleration", true},
-        C{"analysis", "what to run", true},
-        C{"frf", "a frequency response", true},
-        C{"study", "a parametric study", true},
-        C{"optimize", "an optimisation", true},
-        C{"ensemble", "the records of an ensemble", true},
-        C{"parameter", "the model parameter a continuation follows", true},
-        C{"output", "what a time history records", true},
-    };
-  }
-};
 /// [output] of a time history.
 struct Output {
   static constexpr auto fields() {
-    return std::tuple{CustomField<Output>{"channels", "the channels history.csv records, as patterns"}};
+    return std::tuple{
+        CustomField<Output>{"channels", "the channels history.csv records, as patterns", Shape::texts}};
+  }
+};
+/// [model.dimensionless]'s key besides the paper's parameters (DimensionlessParameters).
+struct DimensionlessJoint {
+  static constexpr auto fields() {
+    return std::tuple{
+        CustomField<DimensionlessJoint>{"joint_width", "w̄ = w λ²/g, the joint's width", Shape::number}};
   }
 };
 /// [model] of the dimensionless form (its parameters: DimensionlessParameters).
@@ -134,16 +148,11 @@ struct DimensionlessModel {
   static constexpr auto fields() {
     using C = CustomField<DimensionlessModel>;
     return std::tuple{
-        C{"storeys", "the storeys of frames 1 and 2"},
-        C{"storey_height", "h [m] of every storey of both frames"},
-        C{"dimensionless", "the paper's parameters", true},
+        C{"storeys", "the storeys of frames 1 and 2", Shape::integers},
+        C{"storey_height", "h [m] of every storey of both frames", Shape::number},
+        TableField<DimensionlessModel, DimensionlessParameters, DimensionlessJoint>{"dimensionless",
+                                                                                  "the paper's parameters"},
     };
-  }
-};
-/// [model.dimensionless]'s key besides the paper's parameters (DimensionlessParameters).
-struct DimensionlessJoint {
-  static constexpr auto fields() {
-    return std::tuple{CustomField<DimensionlessJoint>{"joint_width", "w̄ = w λ²/g, the joint's width"}};
   }
 };
 /// [[frames]]' keys besides its per-storey values (Frame::fields()) and the parameters of its
@@ -152,25 +161,13 @@ struct Frame {
   static constexpr auto fields() {
     using C = CustomField<Frame>;
     return std::tuple{
-        C{"name", "a label for messages"},
-        C{"storeys", "the number of floors"},
-        C{"damping_ratio", "ζ of stiffness-proportional damping"},
-        C{"rayleigh_ratios", "[ζ_i, ζ_j] of Rayleigh damping C = a₀M + a₁K"},
-        C{"rayleigh_modes", "[i, j], the modes of rayleigh_ratios"},
-        C{"storey_law", "the storeys' law (model/law.hpp's StoreyLawParameters), \"linear\" by default"},
-    };
-  }
-};
-/// [gap_elements]' keys besides the parameters of the element's law (its Parameters' fields).
-struct GapElements {
-  static constexpr auto fields() {
-    using C = CustomField<GapElements>;
-    return std::tuple{
-        C{"law", "the gap elements' law (model/law.hpp's GapLaw), \"paper\" by default"},
-        C{"joint_width", "w [m], the joint's width"},
-        C{"override", "changes to single elements", true},
-        C{"pairing", "which floors the elements join: \"floor\" (same number), \"height\" or \"listed\""},
-        C{"pair", "with pairing = \"listed\": one table per pair of floors", true},
+        C{"name", "a label for messages", Shape::text},
+        C{"storeys", "the number of floors", Shape::integer},
+        C{"damping_ratio", "ζ of stiffness-proportional damping", Shape::number},
+        C{"rayleigh_ratios", "[ζ_i, ζ_j] of Rayleigh damping C = a₀M + a₁K", Shape::numbers},
+        C{"rayleigh_modes", "[i, j], the modes of rayleigh_ratios", Shape::integers},
+        LawField<Frame, StoreyLawParameters>{
+            "storey_law", "the storeys' law (model/law.hpp's StoreyLawParameters), \"linear\" by default"},
     };
   }
 };
@@ -179,9 +176,10 @@ struct GapPair {
   static constexpr auto fields() {
     using C = CustomField<GapPair>;
     return std::tuple{
-        C{"frames", "the two neighbouring frames, e.g. [1, 2]"},
-        C{"floors", "the floor of each, from 1: [left, right]"},
-        C{"slab", "instead of floors: [frame, floor] of a slab that strikes the other frame's column"},
+        C{"frames", "the two neighbouring frames, e.g. [1, 2]", Shape::integers},
+        C{"floors", "the floor of each, from 1: [left, right]", Shape::integers},
+        C{"slab", "instead of floors: [frame, floor] of a slab that strikes the other frame's column",
+          Shape::integers},
     };
   }
 };
@@ -190,11 +188,26 @@ struct GapOverride {
   static constexpr auto fields() {
     using C = CustomField<GapOverride>;
     return std::tuple{
-        C{"law", "the element's law; [gap_elements]' by default"},
-        C{"frames", "the two neighbouring frames"},
-        C{"floor", "the floor, from 1"},
-        C{"right_floor", "the element's floor in the right frame, when elements share the left floor"},
-        C{"joint_width", "w [m], the joint's width"},
+        LawField<GapOverride, GapLaw>{"law", "the element's law; [gap_elements]' by default", true},
+        C{"frames", "the two neighbouring frames", Shape::integers},
+        C{"floor", "the floor, from 1", Shape::integer},
+        C{"right_floor", "the element's floor in the right frame, when elements share the left floor",
+          Shape::integer},
+        C{"joint_width", "w [m], the joint's width", Shape::number},
+    };
+  }
+};
+/// [gap_elements]' keys besides the parameters of the element's law (its Parameters' fields).
+struct GapElements {
+  static constexpr auto fields() {
+    using G = GapElements;
+    return std::tuple{
+        LawField<G, GapLaw>{"law", "the gap elements' law (model/law.hpp's GapLaw), \"paper\" by default"},
+        CustomField<G>{"joint_width", "w [m], the joint's width", Shape::number},
+        TableField<G, GapOverride>{"override", "changes to single elements", true},
+        named_field<G>("pairing", names::pairing,
+                       "which floors the elements join: \"floor\" (same number), \"height\" or \"listed\""),
+        TableField<G, GapPair>{"pair", "with pairing = \"listed\": one table per pair of floors", true},
     };
   }
 };
@@ -203,72 +216,86 @@ struct Initial {
   static constexpr auto fields() {
     using C = CustomField<Initial>;
     return std::tuple{
-        C{"displacement", "u [m] per frame and floor"},
-        C{"velocity", "u̇ [m/s] per frame and floor"},
+        C{"displacement", "u [m] per frame and floor", Shape::rows},
+        C{"velocity", "u̇ [m/s] per frame and floor", Shape::rows},
     };
   }
 };
 /// [excitation].
 struct Excitation {
   static constexpr auto fields() {
-    using C = CustomField<Excitation>;
+    using E = Excitation;
+    using C = CustomField<E>;
     return std::tuple{
-        C{"kind", "harmonic, record or none"},
-        C{"amplitude_g", "A [g]"},
-        C{"ratio", "ω̄/ω₁"},
-        C{"omega", "ω̄ [rad/s]"},
-        C{"frequency_hz", "ω̄/(2π) [Hz]"},
-        C{"file", "the record file"},
-        C{"format", "the record's format"},
-        C{"units", "the record's units"},
-        C{"scale", "a factor on the accelerations"},
-        C{"target_pga_g", "the peak to scale the record to [g]"},
-        C{"dt", "the sampling interval of a one-column file or of acceleration [s]"},
-        C{"column", "the acceleration column"},
-        C{"acceleration", "the record's samples, every dt seconds (instead of a file)"},
+        named_field<E>("kind", names::excitation_kind, "harmonic, record or none"),
+        C{"amplitude_g", "A [g]", Shape::number},
+        C{"ratio", "ω̄/ω₁", Shape::number},
+        C{"omega", "ω̄ [rad/s]", Shape::number},
+        C{"frequency_hz", "ω̄/(2π) [Hz]", Shape::number},
+        C{"file", "the record file", Shape::text},
+        named_field<E>("format", names::record_format, "the record's format"),
+        named_field<E>("units", names::record_units, "the record's units"),
+        C{"scale", "a factor on the accelerations", Shape::number},
+        C{"target_pga_g", "the peak to scale the record to [g]", Shape::number},
+        C{"dt", "the sampling interval of a one-column file or of acceleration [s]", Shape::number},
+        C{"column", "the acceleration column", Shape::integer},
+        C{"acceleration", "the record's samples, every dt seconds (instead of a file)", Shape::numbers},
     };
   }
 };
 /// [[study.parameter]].
 struct StudyParameter {
   static constexpr auto fields() {
-    using C = CustomField<StudyParameter>;
-    return std::tuple{C{"key", "any input key"}, C{"values", "the values"}, C{"min", "the range's start"},
-                      C{"max", "the range's end"}, C{"points", "a grid's points"}, C{"scale", "linear or log"}};
+    using S = StudyParameter;
+    using C = CustomField<S>;
+    return std::tuple{C{"key", "any input key", Shape::text},
+                      C{"values", "the values", Shape::scalars},
+                      C{"min", "the range's start", Shape::number},
+                      C{"max", "the range's end", Shape::number},
+                      C{"points", "a grid's points", Shape::integer},
+                      named_field<S>("scale", names::axis_scale, "linear or log")};
   }
 };
 /// [[optimize.constraint]].
 struct OptimizeConstraint {
   static constexpr auto fields() {
     using C = CustomField<OptimizeConstraint>;
-    return std::tuple{C{"metric", "a figure of each evaluation (a study column)"}, C{"min", "its lower limit"},
-                      C{"max", "its upper limit"}};
+    return std::tuple{C{"metric", "a figure of each evaluation (a study column)", Shape::text},
+                      C{"min", "its lower limit", Shape::number}, C{"max", "its upper limit", Shape::number}};
   }
 };
 /// [optimize.pareto].
 struct ParetoFront {
   static constexpr auto fields() {
     using C = CustomField<ParetoFront>;
-    return std::tuple{C{"objective", "the figure minimised along the front (default: optimize.objective)"},
-                      C{"metric", "the second objective, bounded in turn"}, C{"limits", "its upper limits"},
-                      C{"points", "points of the front between the two objectives' optima"}};
+    return std::tuple{
+        C{"objective", "the figure minimised along the front (default: optimize.objective)", Shape::text},
+        C{"metric", "the second objective, bounded in turn", Shape::text},
+        C{"limits", "its upper limits", Shape::number_or_numbers},
+        C{"points", "points of the front between the two objectives' optima", Shape::integer}};
   }
 };
 /// [[optimize.variable]].
 struct OptimizeVariable {
   static constexpr auto fields() {
-    using C = CustomField<OptimizeVariable>;
-    return std::tuple{C{"key", "any input key"}, C{"min", "the lower bound"}, C{"max", "the upper bound"},
-                      C{"start", "the starting value"},
-                      C{"scale", "\"linear\" or \"log\": NLopt searches the value or its logarithm"}};
+    using V = OptimizeVariable;
+    using C = CustomField<V>;
+    return std::tuple{C{"key", "any input key", Shape::text},
+                      C{"min", "the lower bound", Shape::number},
+                      C{"max", "the upper bound", Shape::number},
+                      C{"start", "the starting value", Shape::number},
+                      named_field<V>("scale", names::axis_scale,
+                                     "\"linear\" or \"log\": NLopt searches the value or its logarithm")};
   }
 };
 /// [parameter] of a continuation.
 struct ContinuedParameter {
   static constexpr auto fields() {
     using C = CustomField<ContinuedParameter>;
-    return std::tuple{C{"key", "a numeric key of the model"}, C{"min", "the range's start"}, C{"max", "the range's end"},
-                      C{"start", "where the orbit is seeded (default min)"}};
+    return std::tuple{C{"key", "a numeric key of the model", Shape::text},
+                      C{"min", "the range's start", Shape::number},
+                      C{"max", "the range's end", Shape::number},
+                      C{"start", "where the orbit is seeded (default min)", Shape::number}};
   }
 };
 }  // namespace keys
@@ -330,15 +357,15 @@ struct EnsembleScaling {
     using C = CustomField<S>;
     return std::tuple{
         ChoiceField{"kind", &S::kind, scaling_kind_names, "what each record is scaled to", true},
-        C{"target_g", "the target PGA or S_a [g]"},
-        C{"design", "the design spectrum: \"ec8_type1\", \"ec8_type2\" or \"table\""},
-        C{"ground_type", "Eurocode 8 ground type A … E"},
-        C{"ag_g", "Eurocode 8 design ground acceleration a_g on type A ground [g]"},
-        C{"table", "rows [T, S_a in g] of a tabulated design spectrum"},
-        C{"period", "the period of S_a [s] (sa)"},
+        C{"target_g", "the target PGA or S_a [g]", Shape::number},
+        named_field<S>("design", names::design_spectrum, "the design spectrum: \"ec8_type1\", \"ec8_type2\" or \"table\""),
+        named_field<S>("ground_type", names::ground_type, "Eurocode 8 ground type A … E"),
+        C{"ag_g", "Eurocode 8 design ground acceleration a_g on type A ground [g]", Shape::number},
+        C{"table", "rows [T, S_a in g] of a tabulated design spectrum", Shape::rows},
+        C{"period", "the period of S_a [s] (sa)", Shape::number},
         IntegerField{"frame", &S::frame, 1, limits::frames, "the frame whose T₁ sets the period or the range"},
-        C{"period_min", "the range's shortest period [s] (spectrum)"},
-        C{"period_max", "the range's longest period [s] (spectrum)"},
+        C{"period_min", "the range's shortest period [s] (spectrum)", Shape::number},
+        C{"period_max", "the range's longest period [s] (spectrum)", Shape::number},
         ChoiceField{"match", &S::match, suite_match_names, "how the suite's factor is chosen (spectrum)"},
         NumberField{"fraction", &S::fraction, "", Interval{.lo = 0.0, .hi = 1.0, .lo_open = true},
                     "not_below: the fraction of the target the mean may not fall below"},
@@ -359,12 +386,12 @@ struct EnsembleSettings {
     using E = EnsembleSettings;
     using C = CustomField<E>;
     return std::tuple{
-        C{"records", "the record files"},
-        C{"folder", "a folder of records"},
-        C{"pattern", "the names of its files to run (* and ?)"},
+        C{"records", "the record files", Shape::texts},
+        C{"folder", "a folder of records", Shape::text},
+        C{"pattern", "the names of its files to run (* and ?)", Shape::text},
         threads_field(&E::threads, "records run in parallel"),
         BoolField{"baseline", &E::baseline, "also run bare pounding for each record"},
-        C{"scaling", "how each record is scaled (a table of its own)", true},
+        TableField<E, EnsembleScaling, SpectrumOptions>{"scaling", "how each record is scaled (a table of its own)"},
     };
   }
 };
@@ -415,9 +442,9 @@ struct AnalysisSettings {
     using C = CustomField<A>;
     return std::tuple{
         ChoiceField{"kind", &A::kind, analysis_kind_names, "the analysis", true},
-        C{"duration", "simulated time; a record's length when absent"},
-        C{"dt", "the Newmark step of a time history"},
-        C{"output_dt", "the spacing of history rows, a multiple of dt (default dt)"},
+        C{"duration", "simulated time; a record's length when absent", Shape::number},
+        C{"dt", "the Newmark step of a time history", Shape::number},
+        C{"output_dt", "the spacing of history rows, a multiple of dt (default dt)", Shape::number},
         NumberField{"max_steps", &A::max_steps, "", Interval{.lo = 1.0, .hi = limits::max_steps_limit},
                     "the most steps (and history rows) a run may take"},
     };
@@ -442,15 +469,15 @@ struct FrfSettings {
     using F = FrfSettings;
     return std::tuple{
         NumberField{"amplitude_g", &F::amplitude_g, "g", any_finite, "A of a_g = A g sin(ω̄t)", true},
-        CustomField<F>{"ratios", "the list of ω̄/ω₁"},
-        CustomField<F>{"ratio_min", "the first of `points` evenly spaced ratios"},
-        CustomField<F>{"ratio_max", "the last of them"},
-        CustomField<F>{"points", "how many"},
+        CustomField<F>{"ratios", "the list of ω̄/ω₁", Shape::number_or_numbers},
+        CustomField<F>{"ratio_min", "the first of `points` evenly spaced ratios", Shape::number},
+        CustomField<F>{"ratio_max", "the last of them", Shape::number},
+        CustomField<F>{"points", "how many", Shape::integer},
         ChoiceField{"method", &F::method, frf_method_names,
                     "simulate until the response repeats, or shoot and continue every periodic branch"},
         ChoiceField{"sweep", &F::sweep, sweep_mode_names,
                     "simulation: every point from rest, or a sweep up, down or both ways through the ratios"},
-        CustomField<F>{"continuation", "the continuation's options (method = \"continuation\")"},
+        TableField<F, ContinuationOptions, ShootingOptions>{"continuation", "the continuation's options (method = \"continuation\")"},
         threads_field(&F::threads, "worker threads"),
         IntegerField{"lanes", &F::lanes, 1, 8,
                      "simulation from rest with Newmark: points each thread steps together (1: one at a time)"},
@@ -486,10 +513,10 @@ struct StudySettings {
     return std::tuple{
         ChoiceField{"each", &S::each, point_run_names, "what each point runs", true},
         ChoiceField{"sampling", &S::sampling, sampling_names, "grid, list or random"},
-        C{"samples", "random sampling: the number of points"},
-        C{"seed", "random sampling: the seed"},
-        C{"band", "the frequency band of the peak metrics"},
-        C{"parameter", "a varied key", true},
+        C{"samples", "random sampling: the number of points", Shape::integer},
+        C{"seed", "random sampling: the seed", Shape::integer},
+        C{"band", "the frequency band of the peak metrics", Shape::numbers},
+        TableField<S, keys::StudyParameter>{"parameter", "a varied key", true},
         BoolField{"baseline", &S::baseline, "also run bare pounding for the ratio_to_bare metrics"},
         threads_field(&S::threads, "points run in parallel"),
     };
@@ -564,15 +591,15 @@ struct OptimizeSettings {
     using C = CustomField<O>;
     return std::tuple{
         ChoiceField{"each", &O::each, point_run_names, "what each evaluation runs", true},
-        C{"objective", "the figure minimised (a study column; max_peak: max_peak_V_W)"},
-        C{"constraint", "a limit on a figure", true},
-        C{"pareto", "a trade-off with a second figure", true},
+        C{"objective", "the figure minimised (a study column; max_peak: max_peak_V_W)", Shape::text},
+        TableField<O, keys::OptimizeConstraint>{"constraint", "a limit on a figure", true},
+        TableField<O, keys::ParetoFront>{"pareto", "a trade-off with a second figure"},
         NumberField{"constraint_tolerance", &O::constraint_tolerance, "", positive,
                     "a constraint holds when broken by at most this share of its limit"},
-        C{"band", "the frequency band of the objective"},
-        C{"global", "the global NLopt algorithm, or none"},
-        C{"local", "the local NLopt algorithm, or none"},
-        C{"variable", "a design variable", true},
+        C{"band", "the frequency band of the objective", Shape::numbers},
+        C{"global", "the global NLopt algorithm, or none", Shape::text},
+        C{"local", "the local NLopt algorithm, or none", Shape::text},
+        TableField<O, keys::OptimizeVariable>{"variable", "a design variable", true},
         IntegerField{"global_evaluations", &O::global_evaluations, 1, limits::evaluations,
                      "the budget of the global stage"},
         IntegerField{"local_evaluations", &O::local_evaluations, 1, limits::evaluations,
@@ -584,6 +611,31 @@ struct OptimizeSettings {
     };
   }
 };
+
+namespace keys {
+/// The top level of the file: its tables and the structs that declare their keys. It is the
+/// root of the input's schema (io/schema.hpp).
+struct File {
+  static constexpr auto fields() {
+    using F = File;
+    return std::tuple{
+        CustomField<F>{"title", "free text, copied to summary.json", Shape::text},
+        TableField<F, DimensionlessModel>{"model", "the dimensionless form"},
+        TableField<F, Frame, poundsim::Frame>{"frames", "the physical form: one table per frame", true},
+        TableField<F, GapElements>{"gap_elements", "the physical form's gap elements"},
+        TableField<F, Initial>{"initial", "initial displacements and velocities"},
+        TableField<F, Excitation>{"excitation", "the ground acceleration"},
+        TableField<F, TimeHistoryOptions, AnalysisSettings>{"analysis", "what to run", false, true},
+        TableField<F, FrfSettings, SteadyStateOptions>{"frf", "a frequency response"},
+        TableField<F, StudySettings>{"study", "a parametric study"},
+        TableField<F, OptimizeSettings>{"optimize", "an optimisation"},
+        TableField<F, EnsembleSettings>{"ensemble", "the records of an ensemble"},
+        TableField<F, ContinuedParameter>{"parameter", "the model parameter a continuation follows"},
+        TableField<F, Output>{"output", "what a time history records"},
+    };
+  }
+};
+}  // namespace keys
 
 /// Everything a run needs, in SI.
 struct RunInput {
