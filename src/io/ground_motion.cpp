@@ -8,9 +8,12 @@
 #include <cstdint>
 #include <fstream>
 #include <limits>
+#include <mutex>
+#include <optional>
 #include <regex>
 #include <string_view>
 #include <system_error>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -612,12 +615,86 @@ double units_to_si(const std::string& units, double gravity) {
   throw InputError(fmt::format("units \"{}\" must be \"g\", \"m/s2\" or \"cm/s2\"", units));
 }
 
+namespace {
+
+GroundMotionRecord parse_unscaled(std::string content, const fs::path& file, const RecordOptions& o);
+
+/// The records read, unscaled, by file (its path, size and modification time) and the options
+/// that read it: a study's points and an ensemble's records read each file once. Bounded, the
+/// oldest dropped first; shared by the threads that read points.
+class RecordCache {
+ public:
+  /// How much it holds at most.
+  struct Options {
+    std::size_t records = 256;
+    std::size_t samples = std::size_t{32} << 20;  ///< 32 Mi samples: 512 MiB of times and accelerations
+  };
+
+  /// The record of `file` read with `o` (before scaling), read now when it is not held.
+  GroundMotionRecord get(const fs::path& file, const RecordOptions& o) {
+    const std::optional<std::string> key = key_of(file, o);
+    if (!key) return parse_unscaled(read_bytes(file), file, o);
+    {
+      const std::lock_guard lock(mutex_);
+      for (const auto& [held, record] : held_) {
+        if (held == *key) return record;
+      }
+    }
+    GroundMotionRecord record = parse_unscaled(read_bytes(file), file, o);
+    const std::lock_guard lock(mutex_);
+    held_.emplace_back(*key, record);
+    samples_ += record.excitation.time.size();
+    while (held_.size() > limits_.records || (samples_ > limits_.samples && held_.size() > 1)) {
+      samples_ -= held_.front().second.excitation.time.size();
+      held_.erase(held_.begin());
+    }
+    return record;
+  }
+
+ private:
+  /// What identifies a reading; none when the file's size or time cannot be known (not cached).
+  static std::optional<std::string> key_of(const fs::path& file, const RecordOptions& o) {
+    std::error_code ec;
+    const fs::path path = fs::absolute(file, ec).lexically_normal();
+    if (ec || !fs::is_regular_file(path, ec)) return std::nullopt;
+    const std::uintmax_t size = fs::file_size(path, ec);
+    if (ec) return std::nullopt;
+    const auto written = fs::last_write_time(path, ec);
+    if (ec) return std::nullopt;
+    return fmt::format("{}\n{}\n{}\n{}\n{}\n{:a}\n{}\n{:a}", path.string(), size, written.time_since_epoch().count(),
+                       static_cast<int>(o.format), o.units, o.dt, o.column, o.gravity);
+  }
+
+  Options limits_;
+  std::mutex mutex_;
+  std::vector<std::pair<std::string, GroundMotionRecord>> held_;
+  std::size_t samples_ = 0;
+};
+
+RecordCache& record_cache() {
+  static RecordCache cache;
+  return cache;
+}
+
+}  // namespace
+
 GroundMotionRecord read_ground_motion(const std::filesystem::path& file, const RecordOptions& options) {
   check(options, file);
-  return parse_ground_motion(read_bytes(file), file, options);
+  GroundMotionRecord r = record_cache().get(file, options);
+  scale_record(r, options, file);
+  return r;
 }
 
 GroundMotionRecord parse_ground_motion(std::string content, const std::filesystem::path& file, const RecordOptions& o) {
+  GroundMotionRecord r = parse_unscaled(std::move(content), file, o);
+  scale_record(r, o, file);
+  return r;
+}
+
+namespace {
+
+/// The record in `content`, in its file's units (scale_record converts and scales it).
+GroundMotionRecord parse_unscaled(std::string content, const fs::path& file, const RecordOptions& o) {
   check(o, file);
   const Lines lines = split_lines(std::move(content), file);
   RecordFormat format = o.format == RecordFormat::automatic ? detect(file, lines) : o.format;
@@ -635,11 +712,8 @@ GroundMotionRecord parse_ground_motion(std::string content, const std::filesyste
     lines.fail(units_line,
                fmt::format("the file says its accelerations are in {}, the input says {}", r.file_units, o.units));
   }
-  scale_record(r, o, file);
   return r;
 }
-
-namespace {
 
 /// Converts `r` (in r.file_units) to m/s², scaled by o.scale or to o.target_pga_g.
 void scale_record(GroundMotionRecord& r, const RecordOptions& o, const std::filesystem::path& file) {

@@ -202,6 +202,30 @@ std::string joined(const std::vector<std::string>& lines) {
   return text;
 }
 
+// A file read again (a study's points, an ensemble's records) comes from the cache with its own
+// scale, to the bit of a fresh reading; a file rewritten since is read again.
+TEST_F(MalformedRecords, ARecordReadAgainIsTheSameAndARewrittenOneIsReadAgain) {
+  const std::string text = at2("NPTS=    4, DT= .0100 SEC", "0.1 -0.2 0.3 -0.4\n");
+  const fs::path file = write("cached.AT2", text);
+  RecordOptions twice;
+  twice.scale = 2.0;
+  const GroundMotionRecord once = read_ground_motion(file, {});
+  const GroundMotionRecord scaled = read_ground_motion(file, twice);
+  EXPECT_EQ(once.excitation.acceleration, parse_ground_motion(text, file, {}).excitation.acceleration);
+  EXPECT_EQ(scaled.excitation.acceleration, parse_ground_motion(text, file, twice).excitation.acceleration);
+  EXPECT_DOUBLE_EQ(scaled.excitation.acceleration[3], -0.8 * 9.81);
+  EXPECT_EQ(scaled.scale, 2.0);
+  // Rewritten with one sample more: its size (and time) change, so it is read again.
+  write("cached.AT2", at2("NPTS=    5, DT= .0100 SEC", "0.1 -0.2 0.3 -0.4 0.5\n"));
+  const GroundMotionRecord rewritten = read_ground_motion(file, twice);
+  ASSERT_EQ(rewritten.points, 5);
+  EXPECT_DOUBLE_EQ(rewritten.excitation.acceleration[4], 1.0 * 9.81);
+  // The same file by another path (a relative one with ..) is the same reading.
+  const fs::path roundabout = file.parent_path() / ".." / file.parent_path().filename() / file.filename();
+  EXPECT_EQ(read_ground_motion(roundabout, twice).excitation.acceleration, rewritten.excitation.acceleration);
+  EXPECT_EQ(read_ground_motion(roundabout, twice).excitation.source, roundabout.string());
+}
+
 TEST_F(MalformedRecords, ParsedFromMemoryAsFromTheFile) {
   std::ifstream in(kRecords / "elCentro.AT2", std::ios::binary);
   std::stringstream s;
