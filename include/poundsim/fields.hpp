@@ -9,6 +9,8 @@
 ///     with the file, line, column and key in its messages),
 ///   - the documentation check (tests/io/input_docs_test.cpp: docs/input.md lists every declared
 ///     key of a table with its default and unit).
+///   - the input's JSON Schema (io/schema.hpp), with the tables' tree (TableField) and the laws
+///     a tag chooses (LawField).
 /// Rules between fields (lock_time ≥ 10 × event_tolerance, max_periods ≥ 2 × max_periodicity + 2)
 /// stay in the struct's validate(), after the fields' own ranges.
 

@@ -39,6 +39,11 @@ def test_the_command_writes_the_modules_schema(tmp_path):
     assert json.loads(printed) == poundsim.input_schema()
 
 
+def test_the_committed_schema_is_current():
+    """docs/poundsim.schema.json, for editors pointed at the repository, is what the program writes."""
+    assert json.loads((SOURCE / "docs" / "poundsim.schema.json").read_text()) == poundsim.input_schema()
+
+
 def test_the_schema_carries_the_declared_ranges_defaults_and_names():
     schema = poundsim.input_schema()
     frf = schema["properties"]["frf"]["properties"]
