@@ -590,7 +590,7 @@ RecordFormat detect(const fs::path& file, const Lines& lines) {
 /// The options, checked before the file is read so that every message names the record.
 void check(const RecordOptions& o, const fs::path& file) {
   const auto fail = [&](const std::string& message) { fail_file(file, message); };
-  if (!o.units.empty() && o.units != "g" && o.units != "m/s2" && o.units != "cm/s2") {
+  if (!o.units.empty() && std::ranges::find(record_unit_names, o.units) == record_unit_names.end()) {
     fail(fmt::format("units \"{}\" must be \"g\", \"m/s2\" or \"cm/s2\"", o.units));
   }
   if (!(std::isfinite(o.gravity) && o.gravity > 0)) fail(fmt::format("gravity {} m/s² must be > 0", o.gravity));
@@ -642,6 +642,8 @@ class RecordCache {
     }
     GroundMotionRecord record = parse_unscaled(read_bytes(file), file, o);
     const std::lock_guard lock(mutex_);
+    // Another thread may have read it meanwhile: hold it once.
+    if (std::ranges::any_of(held_, [&](const auto& entry) { return entry.first == *key; })) return record;
     held_.emplace_back(*key, record);
     samples_ += record.excitation.time.size();
     while (held_.size() > limits_.records || (samples_ > limits_.samples && held_.size() > 1)) {

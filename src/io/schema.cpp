@@ -41,12 +41,13 @@ Json number_in(const Interval& range) {
   return s;
 }
 
-/// A number for every storey, or an array of one each.
-Json per_storey(const Interval& range) {
-  return Json{{"anyOf", Json::array({number_in(range), Json{{"type", "array"}, {"items", number_in(range)}, {"minItems", 1}}})}};
-}
-
 Json array_of(Json items) { return Json{{"type", "array"}, {"items", std::move(items)}, {"minItems", 1}}; }
+
+/// A number for every storey (or floor: `item`), or an array of one each.
+Json per_storey(const Interval& range, std::string_view meaning, std::string_view unit, std::string_view item) {
+  return Json{{"anyOf", Json::array({number_in(range), array_of(number_in(range))})},
+              {"description", description(meaning, unit) + fmt::format(", one per {} or one for all", item)}};
+}
 
 Json shaped(Shape shape, std::span<const std::string_view> names) {
   const Json number{{"type", "number"}}, integer{{"type", "integer"}};
@@ -113,8 +114,7 @@ Json field_schema(const Field& field, const S& defaults) {
     if (!field.required) s["default"] = std::string(field.name_of(defaults.*field.member));
     s["description"] = field.meaning;
   } else if constexpr (is_per_storey_field<Field>) {
-    s = per_storey(field.range);
-    s["description"] = description(field.meaning, field.unit) + fmt::format(", one per {} or one for all", field.item);
+    s = per_storey(field.range, field.meaning, field.unit, field.item);
   } else if constexpr (is_custom_field<Field>) {
     s = shaped(field.shape, field.names);
     s["description"] = field.meaning;
@@ -144,8 +144,7 @@ TableSchema::Law law_schema(const LawField<S, Laws>& field) {
           for_each_field<Parameters>([&](const auto& parameter) {
             Json s = field_schema(parameter, defaults);
             if constexpr (Alt::per_storey && is_number_field<std::decay_t<decltype(parameter)>>) {
-              s = per_storey(parameter.range);
-              s["description"] = description(parameter.meaning, parameter.unit) + ", one per storey or one for all";
+              s = per_storey(parameter.range, parameter.meaning, parameter.unit, "storey");
             }
             choice.properties[std::string(parameter.key)] = std::move(s);
             if constexpr (requires { parameter.required; }) {
@@ -182,13 +181,11 @@ void add_fields(TableSchema& table) {
   });
 }
 
-Json required_list(const std::vector<std::string>& keys) { return Json(keys); }
-
 /// A table whose tag chooses a law: every law's keys are named (for completion), and each choice
 /// of the tag admits the table's own keys and its law's parameters only.
 Json TableSchema::finish() const {
   Json s{{"type", "object"}, {"properties", properties}};
-  if (!required.empty()) s["required"] = required_list(required);
+  if (!required.empty()) s["required"] = required;
   if (!law) {
     s["additionalProperties"] = false;
     return s;
@@ -204,7 +201,7 @@ Json TableSchema::finish() const {
       if (!s["properties"].contains(key)) s["properties"][key] = Json{{"description", value["description"]}};
     }
     Json then{{"properties", choice.properties}, {"propertyNames", Json{{"enum", keys}}}};
-    if (!choice.required.empty()) then["required"] = required_list(choice.required);
+    if (!choice.required.empty()) then["required"] = choice.required;
     branches.push_back(Json{{"if", Json{{"properties", Json{{law->tag, Json{{"const", choice.name}}}}}, {"required", {law->tag}}}},
                             {"then", then}});
     if (i == 0 && !law->inherits) {

@@ -40,6 +40,9 @@ inline constexpr std::array<std::pair<std::string_view, RecordFormat>, 5> record
     {"single", RecordFormat::single},
 }};
 
+/// The units a record's accelerations may be in (RecordOptions::units).
+inline constexpr std::array<std::string_view, 3> record_unit_names{"g", "m/s2", "cm/s2"};
+
 struct RecordOptions {
   RecordFormat format = RecordFormat::automatic;  ///< From the extension and the first line.
   std::string units;           ///< "g", "m/s2" or "cm/s2"; required for column formats; when

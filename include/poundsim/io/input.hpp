@@ -99,11 +99,6 @@ struct ParsedInput;
 
 /// The names a string key admits, where its table's reader checks it by rules of its own.
 namespace names {
-inline constexpr std::array<std::string_view, 3> pairing{"floor", "height", "listed"};
-inline constexpr std::array<std::string_view, 3> excitation_kind{"harmonic", "record", "none"};
-inline constexpr std::array<std::string_view, 5> record_format{"auto", "at2", "cosmos", "columns", "single"};
-inline constexpr std::array<std::string_view, 3> record_units{"g", "m/s2", "cm/s2"};
-inline constexpr std::array<std::string_view, 2> axis_scale{"linear", "log"};
 /// The first names of `pairs` (a closed set of named values), then `extra`.
 template <class E, std::size_t N, class... Extra>
 constexpr auto first_names(const std::array<std::pair<std::string_view, E>, N>& pairs, Extra... extra) {
@@ -113,6 +108,11 @@ constexpr auto first_names(const std::array<std::pair<std::string_view, E>, N>& 
   ((out[i++] = std::string_view(extra)), ...);
   return out;
 }
+inline constexpr std::array<std::string_view, 3> pairing{"floor", "height", "listed"};
+inline constexpr std::array<std::string_view, 3> excitation_kind{"harmonic", "record", "none"};
+inline constexpr auto record_format = first_names(record_format_names);
+inline constexpr const auto& record_units = record_unit_names;
+inline constexpr std::array<std::string_view, 2> axis_scale{"linear", "log"};
 inline constexpr auto design_spectrum = first_names(eurocode8_type_names, tabulated_design_name);
 inline constexpr auto ground_type = first_names(ground_type_names);
 }  // namespace names
