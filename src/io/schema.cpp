@@ -130,32 +130,38 @@ Json table_schema(const TableField<S, Child...>& field) {
   return s;
 }
 
-/// The choices of a law's tag: each law's parameters, required unless the table inherits them.
+/// What choosing the law A admits: its parameters, required unless the table inherits them.
+template <class A>
+TableSchema::Law::Choice law_choice(bool inherits) {
+  using Alt = LawAlternative<A>;
+  using Parameters = typename Alt::Parameters;
+  TableSchema::Law::Choice choice{.name = std::string(Alt::key), .properties = Json::object(), .required = {}};
+  const Parameters defaults{};
+  for_each_field<Parameters>([&](const auto& parameter) {
+    Json s = field_schema(parameter, defaults);
+    if constexpr (Alt::per_storey && is_number_field<std::decay_t<decltype(parameter)>>) {
+      s = per_storey(parameter.range, parameter.meaning, parameter.unit, "storey");
+    }
+    choice.properties[std::string(parameter.key)] = std::move(s);
+    if constexpr (requires { parameter.required; }) {
+      if (parameter.required && !inherits) choice.required.emplace_back(parameter.key);
+    }
+  });
+  return choice;
+}
+
+/// The choices of the closed set of laws Laws (a std::variant), in its order.
+template <class Laws>
+struct LawChoices;
+template <class... A>
+struct LawChoices<std::variant<A...>> {
+  static std::vector<TableSchema::Law::Choice> of(bool inherits) { return {law_choice<A>(inherits)...}; }
+};
+
 template <class S, class Laws>
 TableSchema::Law law_schema(const LawField<S, Laws>& field) {
-  TableSchema::Law law{.tag = std::string(field.key), .inherits = field.inherits, .choices = {}};
-  [&]<class... A>(std::variant<A...>*) {
-    (
-        [&] {
-          using Alt = LawAlternative<A>;
-          using Parameters = typename Alt::Parameters;
-          TableSchema::Law::Choice choice{.name = std::string(Alt::key), .properties = Json::object(), .required = {}};
-          const Parameters defaults{};
-          for_each_field<Parameters>([&](const auto& parameter) {
-            Json s = field_schema(parameter, defaults);
-            if constexpr (Alt::per_storey && is_number_field<std::decay_t<decltype(parameter)>>) {
-              s = per_storey(parameter.range, parameter.meaning, parameter.unit, "storey");
-            }
-            choice.properties[std::string(parameter.key)] = std::move(s);
-            if constexpr (requires { parameter.required; }) {
-              if (parameter.required && !field.inherits) choice.required.emplace_back(parameter.key);
-            }
-          });
-          law.choices.push_back(std::move(choice));
-        }(),
-        ...);
-  }(static_cast<Laws*>(nullptr));
-  return law;
+  return TableSchema::Law{.tag = std::string(field.key), .inherits = field.inherits,
+                          .choices = LawChoices<Laws>::of(field.inherits)};
 }
 
 template <Configuration S>
