@@ -112,6 +112,42 @@ struct PerStoreyField {
   std::string_view item = "storey";  ///< What the i-th value belongs to, in messages: "floor 2: …"
 };
 
+/// A text field. An empty text is refused; `names`, when given, are the texts it admits.
+template <class S>
+struct TextField {
+  std::string_view key;
+  std::string S::*member;
+  std::string_view meaning;
+  bool required = false;                          ///< A file must give it.
+  std::span<const std::string_view> names = {};  ///< The admitted texts (none: any).
+  std::string_view hint = {};                     ///< Added to a message about an empty text.
+};
+
+/// A number that may be absent (no default): std::optional<double>, in an SI unit.
+template <class S>
+struct OptionalNumberField {
+  std::string_view key;
+  std::optional<double> S::*member;
+  std::string_view unit;
+  Interval range;
+  std::string_view meaning;
+};
+
+/// A list of numbers, each in `range`, of min_items to max_items items; `increasing` asks them
+/// to increase strictly. A file may give a single number for a list of one.
+template <class S>
+struct NumberListField {
+  std::string_view key;
+  std::vector<double> S::*member;
+  std::string_view unit;
+  Interval range;
+  std::string_view meaning;
+  std::size_t min_items = 1;
+  std::size_t max_items = std::numeric_limits<std::size_t>::max();
+  bool increasing = false;
+  bool required = false;  ///< A file must give it.
+};
+
 /// The shape of a value a file gives for a key read by its table's own rules (CustomField): what
 /// the input's JSON Schema (io/schema.hpp) admits for it. The table's reader checks the rest.
 enum class Shape : std::uint8_t {
@@ -222,6 +258,18 @@ template <class F>
 inline constexpr bool is_law_field = false;
 template <class S, class L>
 inline constexpr bool is_law_field<LawField<S, L>> = true;
+template <class F>
+inline constexpr bool is_text_field = false;
+template <class S>
+inline constexpr bool is_text_field<TextField<S>> = true;
+template <class F>
+inline constexpr bool is_optional_number_field = false;
+template <class S>
+inline constexpr bool is_optional_number_field<OptionalNumberField<S>> = true;
+template <class F>
+inline constexpr bool is_number_list_field = false;
+template <class S>
+inline constexpr bool is_number_list_field<NumberListField<S>> = true;
 /// A field its table's reader reads by rules of its own, not by the generic reader.
 template <class F>
 inline constexpr bool has_own_rules = is_custom_field<F> || is_table_field<F> || is_law_field<F>;
@@ -312,7 +360,17 @@ std::optional<std::string> first_violation(const S& s) {
                               field.unit, field.range.describe());
         }
       }
-    } else if constexpr (!is_bool_field<Field> && !has_own_rules<Field>) {
+    } else if constexpr (is_optional_number_field<Field>) {
+      const std::optional<double>& v = s.*field.member;
+      if (v && !field.range.contains(*v)) found = fmt::format("{} = {} must be {}", field.key, *v, field.range.describe());
+    } else if constexpr (is_number_list_field<Field>) {
+      const std::vector<double>& values = s.*field.member;
+      for (std::size_t i = 0; i < values.size() && !found; ++i) {
+        if (!field.range.contains(values[i])) {
+          found = fmt::format("{}[{}] = {} must be {}", field.key, i + 1, values[i], field.range.describe());
+        }
+      }
+    } else if constexpr (is_choice_field<Field>) {
       if (field.name_of(s.*field.member).empty()) found = fmt::format("{} has no name", field.key);
     }
   });

@@ -102,7 +102,24 @@ class Table:
         columns = {}
         for k, name in enumerate(header):
             columns[name] = _typed([r[k] for r in body])
-        return cls(columns)
+        return cls(columns, csv_units(path, header))
+
+
+def csv_units(path: str | os.PathLike, header: list[str]) -> Optional[dict[str, str]]:
+    """The units of a CSV file's columns from the metadata poundsim writes beside it
+    (``<file>-metadata.json``, W3C CSV on the Web: each column's ``titles`` and
+    ``schema:unitText``), or None for a file without it (written by an older poundsim).
+
+    Raises ValueError when the metadata does not declare the file's columns in order."""
+    meta_path = os.fspath(path) + "-metadata.json"
+    if not os.path.exists(meta_path):
+        return None
+    with open(meta_path) as f:
+        declared = json.load(f)["tableSchema"]["columns"]
+    titles = [c["titles"] for c in declared]
+    if titles != list(header):
+        raise ValueError(f"{meta_path}: declares the columns {titles}, the file has {list(header)}")
+    return {c["titles"]: c["schema:unitText"] for c in declared}
 
 
 def _typed(fields: list[str]) -> np.ndarray:
@@ -179,6 +196,15 @@ def channel_of_column(column: str) -> tuple[str, str]:
     if channel_unit(column) == "1":
         return column, "1"
     raise KeyError(f"{column!r} is not a history.csv column")
+
+
+def _channel_of(column: str, unit: str) -> tuple[str, str]:
+    """The channel and its unit of a history.csv column whose unit its metadata declares: the name
+    without the unit's suffix (Channel::column in channels.hpp appends it, "/" as "_")."""
+    suffix = "" if unit in ("", "1") else "_" + unit.replace("/", "_")
+    if not column.endswith(suffix):
+        raise ValueError(f"history.csv: column {column!r} does not end in its unit's suffix {suffix!r}")
+    return column[: len(column) - len(suffix)], unit
 
 
 def column_unit(name: str) -> str:
@@ -473,7 +499,8 @@ def read(folder: str | os.PathLike):
         with open(path("history.csv"), newline="") as f:
             header = next(csv.reader(f))
         data = np.loadtxt(path("history.csv"), delimiter=",", skiprows=1, ndmin=2)
-        channels = [channel_of_column(c) for c in header[1:]]
+        units = csv_units(path("history.csv"), header)
+        channels = [channel_of_column(c) if units is None else _channel_of(c, units[c]) for c in header[1:]]
         events = Table.read_csv(path("events.csv")) if os.path.exists(path("events.csv")) else None
         records = _no_events()
         if events is not None and len(events):

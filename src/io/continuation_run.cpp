@@ -39,10 +39,10 @@ ContinuationRunResult analyse_continuation(const RunInput& input) {
   // The ends and the start first: a value the model refuses is the file's error, named where the
   // key is given, before any run.
   ContinuationRunResult result{.input = input, .points = {}, .start_model = {}, .run_time = 0};
-  for (const double p : {c.min, c.start, c.max}) {
+  for (const double p : {c.min, *c.start, c.max}) {
     try {
       Model model = model_with(input, c, p);
-      if (p == c.start) result.start_model = std::move(model);
+      if (p == *c.start) result.start_model = std::move(model);
     } catch (const InputError& e) {
       throw InputError(fmt::format("{}: parameter.key: at {} = {}: {}", c.where, c.key, p, e.what()));
     }
@@ -51,7 +51,7 @@ ContinuationRunResult analyse_continuation(const RunInput& input) {
   // branch's last point is shot on the end itself): the model is held at the end beyond it.
   const auto model_at = [&](double p) { return model_with(input, c, std::clamp(p, c.min, c.max)); };
   try {
-    result.points = parameter_response_by_continuation(model_at, c.min, c.max, c.start, frequency_response_options(input));
+    result.points = parameter_response_by_continuation(model_at, c.min, c.max, *c.start, frequency_response_options(input));
   } catch (const std::invalid_argument& e) {
     throw InputError(fmt::format("{}: {}", input.source.string(), e.what()));
   }
@@ -97,7 +97,7 @@ nlohmann::json to_json(const ContinuationRunResult& result) {
                     {"amplitude_g", f.amplitude_g},
                     {"ratio", f.ratios.front()},
                     {"steps_per_period", f.steady.steps_per_period}}},
-                  {"parameter", {{"key", c.key}, {"min", c.min}, {"max", c.max}, {"start", c.start}}},
+                  {"parameter", {{"key", c.key}, {"min", c.min}, {"max", c.max}, {"start", *c.start}}},
                   {"omega1_rad_s", reference_frequency(result.start_model)},
                   {"weight1_N", reference_weight(result.start_model)},
                   {"points", result.points.size()},
@@ -127,7 +127,7 @@ std::string report(const ContinuationRunResult& result, const std::filesystem::p
 ContinuationRunResult run_continuation(const RunInput& input, const std::filesystem::path& out_dir) {
   ContinuationRunResult result = analyse_continuation(input);
   OutputTransaction out(out_dir);
-  write_csv(out.open("orbits.csv"), continuation_table(result));
+  write_table(out, "orbits.csv", continuation_table(result));
   out.write_json("summary.json", to_json(result));
   // As written: the key names the file's own form (model.dimensionless.…), which to_toml rewrites.
   out.open("input.toml").text(to_toml_as_written(input));

@@ -264,7 +264,7 @@ FrequencyResponseResult run_frequency_response(const RunInput& input, const std:
                                                const std::function<void(int, int)>& progress) {
   FrequencyResponseResult result = analyse_frequency_response(input, progress);
   OutputTransaction out(out_dir);
-  write_csv(out.open("frf.csv"), frf_table(input.model, result.points));
+  write_table(out, "frf.csv", frf_table(input.model, result.points));
   out.write_json("summary.json", to_json(result));
   out.open("input.toml").text(to_toml(input));
   out.commit();

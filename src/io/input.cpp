@@ -243,6 +243,28 @@ class TableReader {
     if (!has(key)) return fallback;
     return string(key);
   }
+  /// A non-empty string, one of `allowed` if any are given; `hint` ends the message about an empty one.
+  std::string text(std::string_view key, std::span<const std::string_view> allowed, std::string_view hint = {}) {
+    if (!allowed.empty()) return choice(key, allowed);
+    std::string value = string(key);
+    if (value.empty()) fail(key, hint.empty() ? "must not be empty" : fmt::format("must not be empty: {}", hint));
+    return value;
+  }
+  /// A number or an array of numbers, each in `range`, of min_items to max_items items, strictly
+  /// increasing if asked.
+  std::vector<double> number_list(std::string_view key, const Interval& range, std::size_t min_items,
+                                  std::size_t max_items, bool increasing) {
+    std::vector<double> values = numbers(key);
+    if (values.size() < min_items) fail(key, fmt::format("{} values: at least {}", values.size(), min_items));
+    if (values.size() > max_items) fail(key, fmt::format("{} values: at most {}", values.size(), max_items));
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      if (!range.contains(values[i])) {
+        fail(key, fmt::format("item {} must be {} (got {})", i + 1, range.describe(), values[i]));
+      }
+      if (increasing && i > 0 && !(values[i] > values[i - 1])) fail(key, "must increase");
+    }
+    return values;
+  }
   /// A string that must be one of `allowed`.
   std::string choice(std::string_view key, std::initializer_list<std::string_view> allowed,
                      std::optional<std::string> fallback = std::nullopt) {
@@ -393,7 +415,7 @@ void read_fields(TableReader& t, S& s, Presence presence = Presence::as_declared
     using Field = std::decay_t<decltype(field)>;
     if constexpr (!has_own_rules<Field>) {  // read by the table's own rules
       if (!t.has(field.key)) {
-        if constexpr (is_number_field<Field> || is_choice_field<Field>) {
+        if constexpr (requires { field.required; }) {
           if (field.required && presence == Presence::as_declared) t.require(field.key);
         }
         return;
@@ -412,7 +434,15 @@ void read_fields(TableReader& t, S& s, Presence presence = Presence::as_declared
       });
     } else if constexpr (is_bool_field<Field>) {
       s.*field.member = t.boolean_or(field.key, s.*field.member);
-    } else if constexpr (!has_own_rules<Field>) {
+    } else if constexpr (is_text_field<Field>) {
+      s.*field.member = t.text(field.key, field.names, field.hint);
+    } else if constexpr (is_optional_number_field<Field>) {
+      const double v = t.number(field.key);
+      if (!field.range.contains(v)) t.fail(field.key, fmt::format("must be {} (got {})", field.range.describe(), v));
+      s.*field.member = v;
+    } else if constexpr (is_number_list_field<Field>) {
+      s.*field.member = t.number_list(field.key, field.range, field.min_items, field.max_items, field.increasing);
+    } else if constexpr (is_choice_field<Field>) {
       const std::string name = t.string(field.key);
       const auto value = field.parse(name);
       if (!value) {
@@ -1455,6 +1485,15 @@ FrfSettings read_frf(TableReader& t, TableReader& analysis, const Model& model, 
   return f;
 }
 
+/// `min` and `max` given, `min` < `max`, and `start` (if given) in [min, max]: a range of a study
+/// axis, of an optimiser's variable or of a continued parameter.
+void check_range(TableReader& t, double min, double max, std::optional<double> start = std::nullopt) {
+  if (!t.has("min")) t.require("min");
+  if (!t.has("max")) t.require("max");
+  if (!(max > min)) t.fail("max", "must be larger than min");
+  if (start && !(*start >= min && *start <= max)) t.fail("start", "must lie in [min, max]");
+}
+
 /// A value of a study axis: a number (finite), a string or a yes/no.
 SettingValue axis_value(TableReader& t, std::string_view key, const toml::node& node) {
   if (node.is_floating_point() && !std::isfinite(*node.value<double>())) t.fail(key, "values must be finite");
@@ -1475,11 +1514,10 @@ StudySettings read_study(TableReader& t) {
   std::size_t list_length = 0;
   double grid_points = 1;
   for (TableReader& p : t.tables("parameter")) {
-    p.declare<keys::StudyParameter>();
+    p.declare<StudyParameter>();
     StudyParameter param;
-    param.key = p.string("key");
+    read_fields(p, param);
     param.where = p.where("key");
-    if (param.key.empty()) p.fail("key", "must not be empty");
     for (const StudyParameter& seen : s.parameters) {
       if (seen.key == param.key) p.fail("key", fmt::format("'{}' is varied twice", param.key));
     }
@@ -1504,12 +1542,9 @@ StudySettings read_study(TableReader& t) {
         list_length = param.values.size();
       }
     } else {
-      param.min = p.number("min");
-      param.max = p.number("max");
-      if (!(param.max > param.min)) p.fail("max", "must be larger than min");
-      param.log = p.choice("scale", names::axis_scale, std::string("linear")) == "log";
+      check_range(p, param.min, param.max);
       if (param.log && !(param.min > 0)) p.fail("min", "must be > 0 on a log scale");
-      if (s.sampling == Sampling::grid) param.points = p.integer("points", 2, limits::study_points);
+      if (s.sampling == Sampling::grid && !p.has("points")) p.require("points");
     }
     // A grid has the product of its axes' points: bounded before study_points() lists them.
     if (s.sampling == Sampling::grid) {
@@ -1528,38 +1563,70 @@ StudySettings read_study(TableReader& t) {
   return s;
 }
 
-/// `min` < `max` and an optional `start` in [min, max]: an optimiser's variable, a continued parameter.
-std::optional<double> read_range(TableReader& t, double& min, double& max) {
-  min = t.number("min");
-  max = t.number("max");
-  if (!(max > min)) t.fail("max", "must be larger than min");
-  const std::optional<double> start = t.optional_number("start");
-  if (start && !(*start >= min && *start <= max)) t.fail("start", "must lie in [min, max]");
-  return start;
-}
-
 /// [parameter]: a key of the model (the continuation rebuilds the model at each value) and its range.
 ContinuedParameter read_continued_parameter(TableReader& t) {
   ContinuedParameter c;
-  c.key = t.string("key");
+  read_fields(t, c);
   c.where = t.where("key");
   const std::string_view root = std::string_view(c.key).substr(0, c.key.find_first_of(".["));
   if (root != "model" && root != "frames" && root != "gap_elements") {
     t.fail("key", fmt::format("'{}' is not a key of the model ([model], [[frames]] or [gap_elements]): the "
                               "continuation follows orbits as the model changes", c.key));
   }
-  const std::optional<double> start = read_range(t, c.min, c.max);
-  c.start = start.value_or(c.min);
+  check_range(t, c.min, c.max, c.start);
+  c.start = c.start.value_or(c.min);
   t.finish();
   return c;
+}
+
+OptimizeConstraint read_constraint(TableReader& c) {
+  c.declare<OptimizeConstraint>();
+  OptimizeConstraint constraint;
+  read_fields(c, constraint);
+  constraint.where = c.where("metric");
+  if (!constraint.min && !constraint.max) c.fail("metric", "needs a limit: min, max or both");
+  if (constraint.min && constraint.max && !(*constraint.max > *constraint.min)) c.fail("max", "must be larger than min");
+  c.finish();
+  return constraint;
+}
+
+/// [optimize.pareto]; its objective defaults to the optimisation's.
+ParetoSettings read_pareto(TableReader& p, const OptimizeSettings& o) {
+  p.declare<ParetoSettings>();
+  ParetoSettings pareto;
+  pareto.objective = o.objective;
+  read_fields(p, pareto);
+  pareto.where = p.where("metric");
+  if (p.has("objective")) {
+    pareto.objective_where = p.where("objective");
+    if (pareto.objective == objective_alias) pareto.objective = "max_peak_V_W";
+  }
+  if (pareto.metric == pareto.objective) {
+    p.fail("metric", fmt::format("is the front's objective, {}: name a second figure", pareto.objective));
+  }
+  if (p.has("limits") == p.has("points")) p.fail("metric", "needs either limits or points");
+  p.finish();
+  return pareto;
+}
+
+OptimizeVariable read_variable(TableReader& v, const std::vector<OptimizeVariable>& seen) {
+  v.declare<OptimizeVariable>();
+  OptimizeVariable var;
+  read_fields(v, var);
+  var.where = v.where("key");
+  for (const OptimizeVariable& other : seen) {
+    if (other.key == var.key) v.fail("key", fmt::format("'{}' is a variable twice", var.key));
+  }
+  check_range(v, var.min, var.max, var.start);
+  if (var.log && !(var.min > 0)) v.fail("min", "must be > 0 with scale = \"log\" (NLopt searches log(value))");
+  v.finish();
+  return var;
 }
 
 OptimizeSettings read_optimize(TableReader& t) {
   OptimizeSettings o;
   read_fields(t, o);
   read_band(t, o.each, o.band_min, o.band_max);
-  o.global_algorithm = t.string_or("global", o.global_algorithm);
-  o.local_algorithm = t.string_or("local", o.local_algorithm);
   if (o.global_algorithm != "none" && o.global_algorithm.rfind("G", 0) != 0) {
     t.fail("global", fmt::format("\"{}\" is not a global NLopt algorithm (GN_… or GD_…) or \"none\"", o.global_algorithm));
   }
@@ -1570,70 +1637,14 @@ OptimizeSettings read_optimize(TableReader& t) {
     t.fail(t.has("local") ? "local" : "global", "both stages are \"none\": nothing would be optimised");
   }
   if (t.has("objective")) {
-    o.objective = t.string("objective");
     o.objective_where = t.where("objective");
     if (o.objective == objective_alias) o.objective = "max_peak_V_W";
-    if (o.objective.empty()) t.fail("objective", "is empty: name a figure (a study column)");
   }
   for (TableReader& c : t.has("constraint") ? t.tables("constraint") : std::vector<TableReader>{}) {
-    c.declare<keys::OptimizeConstraint>();
-    OptimizeConstraint constraint;
-    constraint.metric = c.string("metric");
-    constraint.where = c.where("metric");
-    if (constraint.metric.empty()) c.fail("metric", "is empty: name a figure (a study column)");
-    constraint.min = c.optional_number("min");
-    constraint.max = c.optional_number("max");
-    if (!constraint.min && !constraint.max) c.fail("metric", "needs a limit: min, max or both");
-    if (constraint.min && constraint.max && !(*constraint.max > *constraint.min)) c.fail("max", "must be larger than min");
-    c.finish();
-    o.constraints.push_back(std::move(constraint));
+    o.constraints.push_back(read_constraint(c));
   }
-  if (std::optional<TableReader> p = t.optional_table("pareto")) {
-    p->declare<keys::ParetoFront>();
-    ParetoSettings pareto;
-    pareto.metric = p->string("metric");
-    pareto.where = p->where("metric");
-    pareto.objective = o.objective;
-    if (p->has("objective")) {
-      pareto.objective = p->string("objective");
-      pareto.objective_where = p->where("objective");
-      if (pareto.objective == objective_alias) pareto.objective = "max_peak_V_W";
-    }
-    if (pareto.metric.empty()) p->fail("metric", "is empty: name a figure (a study column)");
-    if (pareto.objective.empty()) p->fail("objective", "is empty: name a figure (a study column)");
-    if (pareto.metric == pareto.objective) {
-      p->fail("metric", fmt::format("is the front's objective, {}: name a second figure", pareto.objective));
-    }
-    if (p->has("limits") == p->has("points")) p->fail("metric", "needs either limits or points");
-    if (p->has("limits")) {
-      pareto.limits = p->numbers("limits");
-      if (pareto.limits.size() > static_cast<std::size_t>(limits::pareto_points)) {
-        p->fail("limits", fmt::format("{} limits: at most {}", pareto.limits.size(), limits::pareto_points));
-      }
-      if (!std::is_sorted(pareto.limits.begin(), pareto.limits.end()) ||
-          std::adjacent_find(pareto.limits.begin(), pareto.limits.end()) != pareto.limits.end()) {
-        p->fail("limits", "must increase");
-      }
-    } else {
-      pareto.points = p->integer("points", 2, limits::pareto_points);
-    }
-    p->finish();
-    o.pareto = std::move(pareto);
-  }
-  for (TableReader& v : t.tables("variable")) {
-    v.declare<keys::OptimizeVariable>();
-    OptimizeVariable var;
-    var.key = v.string("key");
-    var.where = v.where("key");
-    for (const OptimizeVariable& seen : o.variables) {
-      if (seen.key == var.key) v.fail("key", fmt::format("'{}' is a variable twice", var.key));
-    }
-    var.start = read_range(v, var.min, var.max);
-    var.log = v.choice("scale", names::axis_scale, std::string("linear")) == "log";
-    if (var.log && !(var.min > 0)) v.fail("min", "must be > 0 with scale = \"log\" (NLopt searches log(value))");
-    v.finish();
-    o.variables.push_back(std::move(var));
-  }
+  if (std::optional<TableReader> p = t.optional_table("pareto")) o.pareto = read_pareto(*p, o);
+  for (TableReader& v : t.tables("variable")) o.variables.push_back(read_variable(v, o.variables));
   t.finish();
   return o;
 }
@@ -1894,7 +1905,7 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
     run.frf = read_frf(frf, analysis, run.model, run.analysis);
     if (kind == AnalysisKind::continuation) {
       TableReader parameter = top.table("parameter");
-      parameter.declare<keys::ContinuedParameter>();
+      parameter.declare<ContinuedParameter>();
       run.parameter = read_continued_parameter(parameter);
     }
     run.excitation_info.kind = "harmonic";
@@ -2039,6 +2050,12 @@ Setting parse_setting(const std::string& text, const std::string& file) {
 
 namespace {
 
+toml::array number_array(std::span<const double> values) {
+  toml::array a;
+  for (const double v : values) a.push_back(v);
+  return a;
+}
+
 /// Writes every declared field of S (fields.hpp) that is not read by rules of its own.
 template <Configuration S>
 void write_fields(toml::table& t, const S& s) {
@@ -2050,14 +2067,14 @@ void write_fields(toml::table& t, const S& s) {
       t.insert_or_assign(field.key, static_cast<std::int64_t>(s.*field.member));
     } else if constexpr (is_choice_field<Field>) {
       t.insert_or_assign(field.key, std::string(field.name_of(s.*field.member)));
+    } else if constexpr (is_text_field<Field>) {
+      if (!(s.*field.member).empty()) t.insert_or_assign(field.key, s.*field.member);
+    } else if constexpr (is_optional_number_field<Field>) {
+      if (s.*field.member) t.insert_or_assign(field.key, *(s.*field.member));
+    } else if constexpr (is_number_list_field<Field>) {
+      if (!(s.*field.member).empty()) t.insert_or_assign(field.key, number_array(s.*field.member));
     }
   });
-}
-
-toml::array number_array(std::span<const double> values) {
-  toml::array a;
-  for (const double v : values) a.push_back(v);
-  return a;
 }
 
 toml::array number_rows(const std::vector<std::vector<double>>& rows) {
@@ -2310,7 +2327,7 @@ std::string to_toml(const RunInput& in) {
   if (kind == AnalysisKind::optimize && in.optimize) root.insert("optimize", optimize_table(*in.optimize));
   if (kind == AnalysisKind::continuation && in.parameter) {
     root.insert("parameter", toml::table{{"key", in.parameter->key}, {"min", in.parameter->min},
-                                         {"max", in.parameter->max}, {"start", in.parameter->start}});
+                                         {"max", in.parameter->max}, {"start", *in.parameter->start}});
   }
   if (in.ensemble) {
     toml::table t;

@@ -1,6 +1,7 @@
 #include "poundsim/io/schema.hpp"
 
 #include <cmath>
+#include <limits>
 #include <string_view>
 #include <type_traits>
 #include <utility>
@@ -103,7 +104,10 @@ Json field_schema(const Field& field, const S& defaults) {
     if (!field.required && std::isfinite(defaults.*field.member)) s["default"] = defaults.*field.member;
     s["description"] = description(field.meaning, field.unit);
   } else if constexpr (is_integer_field<Field>) {
-    s = Json{{"type", "integer"}, {"minimum", field.lo}, {"maximum", field.hi}, {"default", defaults.*field.member}};
+    s = Json{{"type", "integer"}, {"minimum", field.lo}, {"maximum", field.hi}};
+    // A member outside its range (a grid's points, 0 for a list of values) is no default.
+    const auto value = static_cast<std::int64_t>(defaults.*field.member);
+    if (value >= field.lo && value <= field.hi) s["default"] = defaults.*field.member;
     s["description"] = field.hint.empty() ? std::string(field.meaning) : fmt::format("{} ({})", field.meaning, field.hint);
   } else if constexpr (is_bool_field<Field>) {
     s = Json{{"type", "boolean"}, {"default", defaults.*field.member}, {"description", field.meaning}};
@@ -115,6 +119,23 @@ Json field_schema(const Field& field, const S& defaults) {
     s["description"] = field.meaning;
   } else if constexpr (is_per_storey_field<Field>) {
     s = per_storey(field.range, field.meaning, field.unit, field.item);
+  } else if constexpr (is_text_field<Field>) {
+    s = field.names.empty() ? Json{{"type", "string"}, {"minLength", 1}} : shaped(Shape::text, field.names);
+    if (!field.required && !(defaults.*field.member).empty()) s["default"] = defaults.*field.member;
+    s["description"] = field.meaning;
+  } else if constexpr (is_optional_number_field<Field>) {
+    s = number_in(field.range);
+    s["description"] = description(field.meaning, field.unit);
+  } else if constexpr (is_number_list_field<Field>) {
+    Json list = array_of(number_in(field.range));
+    if (field.max_items != std::numeric_limits<std::size_t>::max()) list["maxItems"] = field.max_items;
+    if (field.min_items > 1) {
+      list["minItems"] = field.min_items;
+      s = std::move(list);
+    } else {
+      s = Json{{"anyOf", Json::array({number_in(field.range), std::move(list)})}};
+    }
+    s["description"] = description(field.meaning, field.unit);
   } else if constexpr (is_custom_field<Field>) {
     s = shaped(field.shape, field.names);
     s["description"] = field.meaning;

@@ -756,13 +756,13 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
   if (scaling != nullptr) {
     result.scaling = to_json(input, *scaling);
     result.spectra = scaled_spectra_table(input, *scaling);
-    write_csv(out.open("spectra.csv"), *result.spectra);
+    write_table(out, "spectra.csv", *result.spectra);
   }
   out.write_json("summary.json", to_json(result));
   // A study's axes name keys of the file's own form (a dimensionless key, excitation.ratio, an
   // inherited gap-element key), which to_toml rewrites: it echoes the file as written.
   out.open("input.toml").text(kind == AnalysisKind::ensemble ? to_toml(input) : to_toml_as_written(input));
-  write_csv(out.open(stem + ".csv"), study_table(parameter_keys, result.rows));
+  write_table(out, stem + ".csv", study_table(parameter_keys, result.rows));
   out.commit();
   return result;
 }
@@ -826,7 +826,7 @@ void export_study(const std::filesystem::path& database, const std::filesystem::
   std::vector<std::string> parameters;
   for (const auto& p : db.definition().value("parameters", json::array())) parameters.push_back(p.get<std::string>());
   OutputTransaction out(folder_of(csv));
-  write_csv(out.open(csv.filename().string()), study_table(parameters, db.rows()));
+  write_table(out, csv.filename().string(), study_table(parameters, db.rows()));
   out.commit();
 }
 

@@ -36,4 +36,34 @@ void write_csv(OutputFile& out, const Table& table) {
   }
 }
 
+nlohmann::ordered_json csv_metadata(std::string_view file, std::span<const CsvColumn> columns) {
+  nlohmann::ordered_json declared = nlohmann::ordered_json::array();
+  for (const CsvColumn& c : columns) {
+    declared.push_back({{"titles", c.title}, {"datatype", c.datatype}, {"schema:unitText", c.unit}});
+  }
+  return {{"@context", "http://www.w3.org/ns/csvw"}, {"url", file}, {"tableSchema", {{"columns", declared}}}};
+}
+
+void write_csv_metadata(OutputTransaction& out, const std::string& file, std::span<const CsvColumn> columns) {
+  OutputFile& f = out.open(file + "-metadata.json");
+  f.text(csv_metadata(file, columns).dump(2));
+  f.character('\n');
+}
+
+std::vector<CsvColumn> csv_columns(const Table& table) {
+  std::vector<CsvColumn> columns;
+  for (const TableColumn& c : table.columns()) {
+    const std::string_view datatype = std::holds_alternative<TableColumn::Numbers>(c.values)    ? "number"
+                                      : std::holds_alternative<TableColumn::Integers>(c.values) ? "integer"
+                                                                                                : "string";
+    columns.push_back({c.name, c.unit, datatype});
+  }
+  return columns;
+}
+
+void write_table(OutputTransaction& out, const std::string& file, const Table& table) {
+  write_csv(out.open(file), table);
+  write_csv_metadata(out, file, csv_columns(table));
+}
+
 }  // namespace poundsim::io

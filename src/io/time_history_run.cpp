@@ -13,6 +13,7 @@
 #include "poundsim/error.hpp"
 #include "poundsim/io/json_fields.hpp"
 #include "poundsim/io/output_files.hpp"
+#include "poundsim/io/table.hpp"
 #include "poundsim/analysis/response_metrics.hpp"
 #include "poundsim/units.hpp"
 
@@ -515,9 +516,11 @@ TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem:
 
   // The channels [output] chose (the default ones without it), in the model's order.
   const HistoryChannels channels(model, input.channels);
-  history.text("t_s");
-  for (const Channel& c : channels.channels()) history.text(c.column());
+  std::vector<CsvColumn> history_columns{{"t_s", "s"}};
+  for (const Channel& c : channels.channels()) history_columns.push_back({c.column(), std::string(c.unit)});
+  for (const CsvColumn& c : history_columns) history.text(c.title);
   history.end_row();
+  write_csv_metadata(out, "history.csv", history_columns);
   std::vector<double> row(channels.size());
 
   // The right floor, when an element joins floors of different numbers (floor and right_floor
@@ -525,9 +528,16 @@ TimeHistoryResult run_time_history(const RunInput& input, const std::filesystem:
   const bool right_floors = std::any_of(model.gaps.begin(), model.gaps.end(), [](const GapElement& g) {
     return g.floor_right() != g.floor || g.column.has_value();
   });
-  events.texts({"t_s", "frame_left", "frame_right", "floor"});
-  if (right_floors) events.text("right_floor");
-  events.texts({"kind", "relative_velocity_before_m_s", "relative_velocity_after_m_s", "impulse_Ns"}).end_row();
+  std::vector<CsvColumn> event_columns{
+      {"t_s", "s"}, {"frame_left", "", "integer"}, {"frame_right", "", "integer"}, {"floor", "", "integer"}};
+  if (right_floors) event_columns.push_back({"right_floor", "", "integer"});
+  event_columns.insert(event_columns.end(), {{"kind", "", "string"},
+                                             {"relative_velocity_before_m_s", "m/s"},
+                                             {"relative_velocity_after_m_s", "m/s"},
+                                             {"impulse_Ns", "N·s"}});
+  for (const CsvColumn& c : event_columns) events.text(c.title);
+  events.end_row();
+  write_csv_metadata(out, "events.csv", event_columns);
   TimeHistoryObserver observer;
   observer.on_event = [&](const Event& e) {
     const GapElement& g = model.gaps[static_cast<std::size_t>(e.gap)];

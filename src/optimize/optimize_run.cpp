@@ -1024,10 +1024,10 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
                             .bare_frf = std::move(against.bare_frf),
                             .pareto = std::move(pareto),
                             .pareto_table = std::move(pareto_table)};
-  if (result.optimum_frf) write_csv(out.open("optimum_frf.csv"), *result.optimum_frf);
-  if (result.bare_frf) write_csv(out.open("bare_frf.csv"), *result.bare_frf);
-  if (result.pareto_table) write_csv(out.open("pareto.csv"), *result.pareto_table);
-  write_csv(out.open("evaluations.csv"), result.evaluation_table);
+  if (result.optimum_frf) write_table(out, "optimum_frf.csv", *result.optimum_frf);
+  if (result.bare_frf) write_table(out, "bare_frf.csv", *result.bare_frf);
+  if (result.pareto_table) write_table(out, "pareto.csv", *result.pareto_table);
+  write_table(out, "evaluations.csv", result.evaluation_table);
   out.write_json("optimize.json", to_json(result));
   // Its variables name keys of the file's own form: the file as written (to_toml_as_written).
   out.open("input.toml").text(to_toml_as_written(input));

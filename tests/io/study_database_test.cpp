@@ -133,11 +133,11 @@ TEST_F(StudyDatabaseFiles, ReadingAndExportingLeaveOnlyTheDatabase) {
   }
   EXPECT_EQ(names(), std::set<std::string>{"study.sqlite"});
   export_study(file, dir_ / "points.csv");
-  EXPECT_EQ(names(), (std::set<std::string>{"points.csv", "study.sqlite"}));
+  EXPECT_EQ(names(), (std::set<std::string>{"points.csv", "points.csv-metadata.json", "study.sqlite"}));
   // An export that cannot write its file: an error, and still nothing beside the database.
   std::ofstream(dir_ / "plain") << "a file where the folder should be\n";
   EXPECT_THROW(export_study(file, dir_ / "plain" / "points.csv"), std::runtime_error);
-  EXPECT_EQ(names(), (std::set<std::string>{"plain", "points.csv", "study.sqlite"}));
+  EXPECT_EQ(names(), (std::set<std::string>{"plain", "points.csv", "points.csv-metadata.json", "study.sqlite"}));
   EXPECT_NE(export_refusal(dir_ / "missing.sqlite").find("missing.sqlite: no such study database"), std::string::npos);
   EXPECT_FALSE(fs::exists(dir_ / "missing.sqlite"));
 }

@@ -216,7 +216,7 @@ TEST_P(Termination, AStudyClosesItsDatabaseAndResumes) {
   const auto rows = StudyDatabase(dir / "out" / "study.sqlite").rows();
   ASSERT_EQ(rows.size(), 9u);
   for (std::size_t i = 0; i < rows.size(); ++i) EXPECT_EQ(rows[i].id, static_cast<long>(i));
-  EXPECT_EQ(names(dir / "out"), (std::set<std::string>{"input.toml", "study.csv", "study.sqlite", "summary.json"}));
+  EXPECT_EQ(names(dir / "out"), (std::set<std::string>{"input.toml", "study.csv", "study.csv-metadata.json", "study.sqlite", "summary.json"}));
   fs::remove_all(dir);
 }
 

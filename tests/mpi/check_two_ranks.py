@@ -74,7 +74,7 @@ def main():
     require(two.returncode == 0, two.stdout + two.stderr)
     require(two.stdout.count("wrote ") == 1, f"one report, from rank 0:\n{two.stdout}")
     require(rows(out("two"), "study") == rows(out("serial"), "study"), "two ranks differ from the serial run")
-    require(sorted(os.listdir(out("two"))) == ["input.toml", "study.csv", "study.sqlite", "summary.json"],
+    require(sorted(os.listdir(out("two"))) == ["input.toml", "study.csv", "study.csv-metadata.json", "study.sqlite", "summary.json"],
             f"files: {sorted(os.listdir(out('two')))}")
 
     # Cut short, then resumed on two ranks: the rest only.

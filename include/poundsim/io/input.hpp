@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <optional>
 #include <span>
 #include <memory>
@@ -97,6 +98,13 @@ struct Setting {
 /// The model file as parsed, before any setting (opaque: TOML stays inside io).
 struct ParsedInput;
 
+/// How an axis or a design variable spans its range: `log` is true on a logarithmic scale.
+inline constexpr std::array<std::pair<std::string_view, bool>, 2> axis_scale_names{
+    {{"linear", false}, {"log", true}}};
+
+/// The text a figure's key rules out: what an empty one is told.
+inline constexpr std::string_view name_a_figure = "name a figure (a study column)";
+
 /// The names a string key admits, where its table's reader checks it by rules of its own.
 namespace names {
 /// The first names of `pairs` (a closed set of named values), then `extra`.
@@ -112,7 +120,7 @@ inline constexpr std::array<std::string_view, 3> pairing{"floor", "height", "lis
 inline constexpr std::array<std::string_view, 3> excitation_kind{"harmonic", "record", "none"};
 inline constexpr auto record_format = first_names(record_format_names);
 inline constexpr const auto& record_units = record_unit_names;
-inline constexpr std::array<std::string_view, 2> axis_scale{"linear", "log"};
+inline constexpr auto axis_scale = first_names(axis_scale_names);
 inline constexpr auto design_spectrum = first_names(eurocode8_type_names, tabulated_design_name);
 inline constexpr auto ground_type = first_names(ground_type_names);
 }  // namespace names
@@ -241,61 +249,6 @@ struct Excitation {
         C{"column", "the acceleration column", Shape::integer},
         C{"acceleration", "the record's samples, every dt seconds (instead of a file)", Shape::numbers},
     };
-  }
-};
-/// [[study.parameter]].
-struct StudyParameter {
-  static constexpr auto fields() {
-    using S = StudyParameter;
-    using C = CustomField<S>;
-    return std::tuple{C{"key", "any input key", Shape::text},
-                      C{"values", "the values", Shape::scalars},
-                      C{"min", "the range's start", Shape::number},
-                      C{"max", "the range's end", Shape::number},
-                      C{"points", "a grid's points", Shape::integer},
-                      named_field<S>("scale", names::axis_scale, "linear or log")};
-  }
-};
-/// [[optimize.constraint]].
-struct OptimizeConstraint {
-  static constexpr auto fields() {
-    using C = CustomField<OptimizeConstraint>;
-    return std::tuple{C{"metric", "a figure of each evaluation (a study column)", Shape::text},
-                      C{"min", "its lower limit", Shape::number}, C{"max", "its upper limit", Shape::number}};
-  }
-};
-/// [optimize.pareto].
-struct ParetoFront {
-  static constexpr auto fields() {
-    using C = CustomField<ParetoFront>;
-    return std::tuple{
-        C{"objective", "the figure minimised along the front (default: optimize.objective)", Shape::text},
-        C{"metric", "the second objective, bounded in turn", Shape::text},
-        C{"limits", "its upper limits", Shape::number_or_numbers},
-        C{"points", "points of the front between the two objectives' optima", Shape::integer}};
-  }
-};
-/// [[optimize.variable]].
-struct OptimizeVariable {
-  static constexpr auto fields() {
-    using V = OptimizeVariable;
-    using C = CustomField<V>;
-    return std::tuple{C{"key", "any input key", Shape::text},
-                      C{"min", "the lower bound", Shape::number},
-                      C{"max", "the upper bound", Shape::number},
-                      C{"start", "the starting value", Shape::number},
-                      named_field<V>("scale", names::axis_scale,
-                                     "\"linear\" or \"log\": NLopt searches the value or its logarithm")};
-  }
-};
-/// [parameter] of a continuation.
-struct ContinuedParameter {
-  static constexpr auto fields() {
-    using C = CustomField<ContinuedParameter>;
-    return std::tuple{C{"key", "a numeric key of the model", Shape::text},
-                      C{"min", "the range's start", Shape::number},
-                      C{"max", "the range's end", Shape::number},
-                      C{"start", "where the orbit is seeded (default min)", Shape::number}};
   }
 };
 }  // namespace keys
@@ -485,14 +438,25 @@ struct FrfSettings {
   }
 };
 
-/// One varied input key of a parametric study.
+/// One varied input key of a parametric study: a list of values, or a range (either–or).
 struct StudyParameter {
   std::string key;                  ///< Any input key, dotted (as --set takes it).
   std::vector<SettingValue> values;  ///< Grid or list: the values, typed as the file gives them.
-  double min = 0.0, max = 0.0;      ///< Range (grid with `points`, or random).
-  int points = 0;
+  /// Range (grid with `points`, or random); not a number for a list of values.
+  double min = std::numeric_limits<double>::quiet_NaN(), max = std::numeric_limits<double>::quiet_NaN();
+  int points = 0;                   ///< A grid's points on the range; 0 for a list of values.
   bool log = false;                 ///< Logarithmic spacing / sampling of the range.
   std::string where;                ///< "file:line:column: study.parameter[i].key", for messages.
+
+  static constexpr auto fields() {
+    using S = StudyParameter;
+    return std::tuple{TextField<S>{"key", &S::key, "any input key", true},
+                      CustomField<S>{"values", "the values", Shape::scalars},
+                      NumberField<S>{"min", &S::min, "", any_finite, "the range's start"},
+                      NumberField<S>{"max", &S::max, "", any_finite, "the range's end"},
+                      IntegerField<S>{"points", &S::points, 2, limits::study_points, "a grid's points"},
+                      ChoiceField{"scale", &S::log, axis_scale_names, "linear or log"}};
+  }
 };
 
 /// [study] (analysis.kind = "study").
@@ -516,7 +480,7 @@ struct StudySettings {
         C{"samples", "random sampling: the number of points", Shape::integer},
         C{"seed", "random sampling: the seed", Shape::integer},
         C{"band", "the frequency band of the peak metrics", Shape::numbers},
-        TableField<S, keys::StudyParameter>{"parameter", "a varied key", true},
+        TableField<S, StudyParameter>{"parameter", "a varied key", true},
         BoolField{"baseline", &S::baseline, "also run bare pounding for the ratio_to_bare metrics"},
         threads_field(&S::threads, "points run in parallel"),
     };
@@ -528,8 +492,16 @@ struct StudySettings {
 struct ContinuedParameter {
   std::string key;                   ///< A numeric key of the model, dotted (as --set takes it).
   double min = 0.0, max = 0.0;
-  double start = 0.0;                ///< Where the seed is shot (default min).
+  std::optional<double> start;       ///< Where the seed is shot; the reader sets it to min if absent.
   std::string where;                 ///< "file:line:column: parameter.key", for messages.
+
+  static constexpr auto fields() {
+    using C = ContinuedParameter;
+    return std::tuple{TextField<C>{"key", &C::key, "a numeric key of the model", true},
+                      NumberField<C>{"min", &C::min, "", any_finite, "the range's start", true},
+                      NumberField<C>{"max", &C::max, "", any_finite, "the range's end", true},
+                      OptionalNumberField<C>{"start", &C::start, "", any_finite, "where the orbit is seeded (default min)"}};
+  }
 };
 
 /// One design variable of the optimiser.
@@ -541,6 +513,16 @@ struct OptimizeVariable {
   /// spread over decades alike, as a study's log axis does.
   bool log = false;
   std::string where;                 ///< "file:line:column: optimize.variable[i].key", for messages.
+
+  static constexpr auto fields() {
+    using V = OptimizeVariable;
+    return std::tuple{TextField<V>{"key", &V::key, "any input key", true},
+                      NumberField<V>{"min", &V::min, "", any_finite, "the lower bound", true},
+                      NumberField<V>{"max", &V::max, "", any_finite, "the upper bound", true},
+                      OptionalNumberField<V>{"start", &V::start, "", any_finite, "the starting value"},
+                      ChoiceField{"scale", &V::log, axis_scale_names,
+                                  "\"linear\" or \"log\": NLopt searches the value or its logarithm"}};
+  }
 };
 
 /// A limit on a figure of each evaluation, min ≤ figure ≤ max (either may be absent, not both).
@@ -548,17 +530,37 @@ struct OptimizeConstraint {
   std::string metric;  ///< A figure's column (docs/studies.md#figures).
   std::optional<double> min, max;
   std::string where;   ///< "file:line:column: optimize.constraint[i].metric", for messages.
+
+  static constexpr auto fields() {
+    using C = OptimizeConstraint;
+    return std::tuple{
+        TextField<C>{"metric", &C::metric, "a figure of each evaluation (a study column)", true, {}, name_a_figure},
+        OptionalNumberField<C>{"min", &C::min, "", any_finite, "its lower limit"},
+        OptionalNumberField<C>{"max", &C::max, "", any_finite, "its upper limit"}};
+  }
 };
 
 /// The trade-off between two figures, by the ε-constraint method: `objective` is minimised with
 /// `metric` ≤ each limit in turn.
 struct ParetoSettings {
-  std::string objective;        ///< The first figure's column (default: optimize.objective).
+  std::string objective;        ///< The first figure's column (the reader defaults it to optimize.objective).
   std::string metric;           ///< The second one's.
   std::vector<double> limits;   ///< Given limits (ascending), or …
   int points = 0;               ///< … this many, spread between the two objectives' own optima.
   std::string where;            ///< "file:line:column: optimize.pareto.metric".
   std::string objective_where;  ///< "file:line:column: optimize.pareto.objective" ("" when defaulted).
+
+  static constexpr auto fields() {
+    using P = ParetoSettings;
+    return std::tuple{
+        TextField<P>{"objective", &P::objective, "the figure minimised along the front (default: optimize.objective)",
+                     false, {}, name_a_figure},
+        TextField<P>{"metric", &P::metric, "the second objective, bounded in turn", true, {}, name_a_figure},
+        NumberListField<P>{"limits", &P::limits, "", any_finite, "its upper limits", 1,
+                           static_cast<std::size_t>(limits::pareto_points), true},
+        IntegerField<P>{"points", &P::points, 2, limits::pareto_points,
+                        "points of the front between the two objectives' optima"}};
+  }
 };
 
 /// What `optimize.objective = "max_peak"` (the first name it had) names: the column max_peak_V_W.
@@ -591,15 +593,16 @@ struct OptimizeSettings {
     using C = CustomField<O>;
     return std::tuple{
         ChoiceField{"each", &O::each, point_run_names, "what each evaluation runs", true},
-        C{"objective", "the figure minimised (a study column; max_peak: max_peak_V_W)", Shape::text},
-        TableField<O, keys::OptimizeConstraint>{"constraint", "a limit on a figure", true},
-        TableField<O, keys::ParetoFront>{"pareto", "a trade-off with a second figure"},
+        TextField<O>{"objective", &O::objective, "the figure minimised (a study column; max_peak: max_peak_V_W)",
+                     false, {}, name_a_figure},
+        TableField<O, OptimizeConstraint>{"constraint", "a limit on a figure", true},
+        TableField<O, ParetoSettings>{"pareto", "a trade-off with a second figure"},
         NumberField{"constraint_tolerance", &O::constraint_tolerance, "", positive,
                     "a constraint holds when broken by at most this share of its limit"},
         C{"band", "the frequency band of the objective", Shape::numbers},
-        C{"global", "the global NLopt algorithm, or none", Shape::text},
-        C{"local", "the local NLopt algorithm, or none", Shape::text},
-        TableField<O, keys::OptimizeVariable>{"variable", "a design variable", true},
+        TextField<O>{"global", &O::global_algorithm, "the global NLopt algorithm, or none"},
+        TextField<O>{"local", &O::local_algorithm, "the local NLopt algorithm, or none"},
+        TableField<O, OptimizeVariable>{"variable", "a design variable", true},
         IntegerField{"global_evaluations", &O::global_evaluations, 1, limits::evaluations,
                      "the budget of the global stage"},
         IntegerField{"local_evaluations", &O::local_evaluations, 1, limits::evaluations,

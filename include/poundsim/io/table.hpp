@@ -10,10 +10,13 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <span>
 #include <string>
 #include <string_view>
 #include <variant>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "poundsim/io/output_files.hpp"
 
@@ -61,5 +64,27 @@ class Table {
 /// Writes `table` as CSV (CsvWriter's rules): a header of the column names, then one row per
 /// row. Throws std::logic_error when the columns differ in length.
 void write_csv(OutputFile& out, const Table& table);
+
+/// A CSV column as its metadata declares it: the header's text, its unit ("1" a ratio, "" text
+/// or a count) and its datatype ("number", "integer" or "string").
+struct CsvColumn {
+  std::string title;
+  std::string unit;
+  std::string_view datatype = "number";
+};
+
+/// The metadata of the CSV file `file` (its name in the folder), in the W3C "CSV on the Web"
+/// form a reader finds by name beside it (`<file>-metadata.json`): the columns in order, each
+/// with its title, datatype and unit (schema:unitText). Units travel here, not in names.
+[[nodiscard]] nlohmann::ordered_json csv_metadata(std::string_view file, std::span<const CsvColumn> columns);
+
+/// Writes csv_metadata(file, columns) as `<file>-metadata.json` in `out`.
+void write_csv_metadata(OutputTransaction& out, const std::string& file, std::span<const CsvColumn> columns);
+
+/// The columns of `table` as its metadata declares them.
+[[nodiscard]] std::vector<CsvColumn> csv_columns(const Table& table);
+
+/// Writes `table` as `file` in `out` (write_csv) and its metadata beside it (csv_metadata).
+void write_table(OutputTransaction& out, const std::string& file, const Table& table);
 
 }  // namespace poundsim::io
