@@ -38,14 +38,31 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
                          ContactConfiguration configuration, double step)
     : configuration_(std::move(configuration)), step_(step) {
   const int n = layout.size();
-
-  // Full system: every link's linear form in its mode, F = k d + c ḋ + f₀ with d = nᵀu (u_a − u_b
-  // between floors, link_dofs), adds k n nᵀ and c n nᵀ to the matrices and −f₀ n to the loads
-  // (−f₀ on floor a, +f₀ on floor b).
   mass_full_.resize(n);
   for (int i = 0; i < n; ++i) {
     mass_full_(i) = model.frames[layout.frame_of(i)].mass[layout.floor_of(i)];
   }
+  make_groups(assemble(model, layout));
+  reduce(model);
+  make_effective();
+  step_solver_.analyzePattern(effective_);
+  substep_solver_.analyzePattern(effective_);
+  if (!smooth_links_.empty()) {
+    make_tangent_slots();
+    tangent_solver_.analyzePattern(effective_);
+  }
+  const auto nr = static_cast<Eigen::Index>(representative_.size());
+  q_work_.resize(nr);
+  qd_work_.resize(nr);
+  rhs_work_.resize(nr);
+  if (smooth_links_.empty()) make_bands();
+}
+
+std::vector<int> LinearPhase::assemble(const Model& model, const DofLayout& layout) {
+  const int n = layout.size();
+  // Full system: every link's linear form in its mode, F = k d + c ḋ + f₀ with d = nᵀu (u_a − u_b
+  // between floors, link_dofs), adds k n nᵀ and c n nᵀ to the matrices and −f₀ n to the loads
+  // (−f₀ on floor a, +f₀ on floor b).
   std::vector<Triplet> k_triplets, c_triplets;
   load_full_ = Eigen::VectorXd::Zero(n);
   // Groups of floors joined by rigid links. Gap elements are ordered by frame pair, so a left
@@ -91,7 +108,11 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
   stiffness_full_.setFromTriplets(k_triplets.begin(), k_triplets.end());
   damping_full_.resize(n, n);
   damping_full_.setFromTriplets(c_triplets.begin(), c_triplets.end());
+  return leader;
+}
 
+void LinearPhase::make_groups(const std::vector<int>& leader) {
+  const auto n = static_cast<int>(leader.size());
   group_of_.assign(static_cast<std::size_t>(n), -1);
   for (int i = 0; i < n; ++i) {
     if (leader[i] == i) {
@@ -114,8 +135,11 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
       }
     }
   }
-  const auto nr = static_cast<Eigen::Index>(representative_.size());
+}
 
+void LinearPhase::reduce(const Model& model) {
+  const auto n = static_cast<int>(mass_full_.size());
+  const auto nr = static_cast<Eigen::Index>(representative_.size());
   offset_ = Eigen::VectorXd::Zero(n);
   if (unreduced_) {
     mass_ = mass_full_;
@@ -139,7 +163,10 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
     }
     set_link_lengths(nominal);
   }
+}
 
+void LinearPhase::make_effective() {
+  const auto nr = static_cast<Eigen::Index>(representative_.size());
   // Effective-matrix pattern: the union of K_r, C_r and the diagonal, upper triangle.
   std::vector<Triplet> pattern;
   for (const SparseMatrix* m : {&stiffness_, &damping_}) {
@@ -172,44 +199,38 @@ LinearPhase::LinearPhase(const Model& model, const DofLayout& layout,
       effective_k_(k) = stiffness_.coeff(it.row(), it.col());
     }
   }
-  step_solver_.analyzePattern(effective_);
-  substep_solver_.analyzePattern(effective_);
-  if (!smooth_links_.empty()) {
-    const auto slot = [&](int row, int col) -> Eigen::Index {
-      if (row > col) std::swap(row, col);
-      const Eigen::Index start = effective_.outerIndexPtr()[col], end = effective_.outerIndexPtr()[col + 1];
-      for (Eigen::Index k = start; k < end; ++k) {
-        if (effective_.innerIndexPtr()[k] == row) return k;
-      }
-      return -1;
-    };
-    // The tangent t adds t n_i n_j at the groups of terms i and j: t on the diagonal of a link
-    // between floors and −t off it; nothing when both floors are in one group (the force is
-    // internal to it).
-    for (SmoothLink& link : smooth_links_) {
-      link.first_slot = static_cast<int>(tangent_slots_.size());
-      const auto groups = link.groups.terms();
-      for (const DofTerm& g : groups) {
-        if (g.coefficient != 0.0) {
-          tangent_slots_.push_back({.slot = slot(g.dof, g.dof), .coefficient = g.coefficient * g.coefficient});
-        }
-      }
-      for (std::size_t i = 0; i < groups.size(); ++i) {
-        for (std::size_t j = i + 1; j < groups.size(); ++j) {
-          const double coefficient = groups[i].coefficient * groups[j].coefficient;
-          if (coefficient != 0.0) {
-            tangent_slots_.push_back({.slot = slot(groups[i].dof, groups[j].dof), .coefficient = coefficient});
-          }
-        }
-      }
-      link.end_slot = static_cast<int>(tangent_slots_.size());
+}
+
+void LinearPhase::make_tangent_slots() {
+  const auto slot = [&](int row, int col) -> Eigen::Index {
+    if (row > col) std::swap(row, col);
+    const Eigen::Index start = effective_.outerIndexPtr()[col], end = effective_.outerIndexPtr()[col + 1];
+    for (Eigen::Index k = start; k < end; ++k) {
+      if (effective_.innerIndexPtr()[k] == row) return k;
     }
-    tangent_solver_.analyzePattern(effective_);
+    return -1;
+  };
+  // The tangent t adds t n_i n_j at the groups of terms i and j: t on the diagonal of a link
+  // between floors and −t off it; nothing when both floors are in one group (the force is
+  // internal to it).
+  for (SmoothLink& link : smooth_links_) {
+    link.first_slot = static_cast<int>(tangent_slots_.size());
+    const auto groups = link.groups.terms();
+    for (const DofTerm& g : groups) {
+      if (g.coefficient != 0.0) {
+        tangent_slots_.push_back({.slot = slot(g.dof, g.dof), .coefficient = g.coefficient * g.coefficient});
+      }
+    }
+    for (std::size_t i = 0; i < groups.size(); ++i) {
+      for (std::size_t j = i + 1; j < groups.size(); ++j) {
+        const double coefficient = groups[i].coefficient * groups[j].coefficient;
+        if (coefficient != 0.0) {
+          tangent_slots_.push_back({.slot = slot(groups[i].dof, groups[j].dof), .coefficient = coefficient});
+        }
+      }
+    }
+    link.end_slot = static_cast<int>(tangent_slots_.size());
   }
-  q_work_.resize(nr);
-  qd_work_.resize(nr);
-  rhs_work_.resize(nr);
-  if (smooth_links_.empty()) make_bands();
 }
 
 void LinearPhase::make_bands() {

@@ -291,32 +291,157 @@ bool PoundingSystem::stop_guard_is_active(const ContactState& c, std::size_t p) 
   });
 }
 
-LinearPhase& PoundingSystem::resolve_impacts(KinematicState& x, ContactState& c, LinearPhase& current,
-                                             EventHandler& handler) const {
-  LinearPhase* phase = &current;
-  Eigen::VectorXd& v = x.v;
-  const double kinetic_before = kinetic_energy(v);
-  // Impacts are between gap elements only: the tracked storeys follow them in c.
-  const auto elements = static_cast<std::size_t>(gaps_);
-  const std::span<const Link> gap_links = contact_links();
-
-  std::vector<double> left_before(elements), right_before(elements), impulse(elements, 0.0);
-  std::vector<char> involved(elements, 0);
-  for (std::size_t p = 0; p < elements; ++p) {
-    left_before[p] = v(gap_links[p].a);
-    right_before[p] = v(gap_links[p].b);
-  }
-  for (const int p : c.impacts) involved[static_cast<std::size_t>(p)] = 1;
-  const auto closing_speed = [&](std::size_t p) {
-    const double vl = v(gap_links[p].a), vr = v(gap_links[p].b);
-    return closes(vl, vr) ? vl - vr : 0.0;
-  };
+/// What resolve_impacts tracks over its rounds at one instant: each gap element's velocities
+/// before, whether it takes part and the impulse it has taken, and the locks it made.
+struct PoundingSystem::ImpactScratch {
   struct Lock {
     int element;
     double left_before, right_before, impulse;
   };
+  std::span<const Link> gap_links;
+  std::vector<double> left_before, right_before, impulse;
+  std::vector<char> involved;
   std::vector<Lock> locks;
+  int sweeps = 0, max_sweeps = 0;
 
+  /// The speed at which element p closes (0 when it opens).
+  [[nodiscard]] double closing_speed(const Eigen::VectorXd& v, std::size_t p) const {
+    const double vl = v(gap_links[p].a), vr = v(gap_links[p].b);
+    return closes(vl, vr) ? vl - vr : 0.0;
+  }
+  /// Whether element p shares a body (a floor's group) with an involved element.
+  [[nodiscard]] bool shares_a_body(std::span<const int> group, std::size_t p) const {
+    const int gl = group[static_cast<std::size_t>(gap_links[p].a)];
+    const int gr = group[static_cast<std::size_t>(gap_links[p].b)];
+    for (std::size_t q = 0; q < involved.size(); ++q) {
+      if (!involved[q]) continue;
+      const int ql = group[static_cast<std::size_t>(gap_links[q].a)];
+      const int qr = group[static_cast<std::size_t>(gap_links[q].b)];
+      if (gl == ql || gl == qr || gr == ql || gr == qr) return true;
+    }
+    return false;
+  }
+};
+
+void PoundingSystem::restitution_sweeps(ImpactScratch& s, Eigen::VectorXd& v, const ContactState& c,
+                                        const LinearPhase& phase, EventHandler& handler) const {
+  const auto group = phase.group_of();
+  const Eigen::VectorXd& group_mass = phase.mass();
+  const std::size_t elements = s.involved.size();
+  for (; s.sweeps < s.max_sweeps; ++s.sweeps) {
+    std::size_t worst = elements;
+    double closing = 0.0;
+    for (std::size_t p = 0; p < elements; ++p) {
+      if (!s.involved[p] || c.rigid[p] != 0) continue;
+      const double w = s.closing_speed(v, p);
+      if (w > closing) {
+        closing = w;
+        worst = p;
+      }
+    }
+    if (worst == elements) break;
+    const int l = s.gap_links[worst].a, r = s.gap_links[worst].b;
+    const int gl = group[static_cast<std::size_t>(l)];
+    const int gr = group[static_cast<std::size_t>(r)];
+    const double rest = rules_.rest_velocity_ratio * (std::abs(v(l)) + std::abs(v(r)));
+    const double restitution =
+        closing <= rest ? 0.0
+                        : with_contact_law<double>(s.gap_links[worst], [](const auto& law) {
+                            return law.restitution();
+                          });
+    const ImpactOutcome o = restitution_impact(group_mass(gl), group_mass(gr), v(l), v(r), restitution);
+    if (o.impulse > 0) handler.on_pair_impact(group, l, r, group_mass(gl), group_mass(gr), restitution);
+    for (Eigen::Index i = 0; i < v.size(); ++i) {
+      const int gi = group[static_cast<std::size_t>(i)];
+      if (gi == gl) v(i) = o.v_left;
+      if (gi == gr) v(i) = o.v_right;
+    }
+    s.impulse[worst] += o.impulse;
+  }
+}
+
+bool PoundingSystem::join_pairs_at_stops(ImpactScratch& s, const KinematicState& x, const ContactState& c,
+                                         std::span<const int> group) const {
+  bool joined = false;
+  for (std::size_t p = 0; p < s.involved.size(); ++p) {
+    if (s.involved[p]) continue;
+    if (!stop_guard_is_active(c, p)) continue;
+    const double w = s.closing_speed(x.v, p);
+    if (!(w > 0) || !s.shares_a_body(group, p)) continue;
+    const LinkKinematics k = kinematics(x, s.gap_links[p]);
+    const double s_noise =
+        with_contact_law<double>(s.gap_links[p], [&](const auto& law) { return law.position_noise(k); });
+    if (stop_guard(x, c, p) < -(w * rules_.event_tolerance + s_noise)) continue;
+    s.involved[p] = 1;
+    joined = true;
+  }
+  return joined;
+}
+
+std::vector<int> PoundingSystem::pairs_to_lock(ImpactScratch& s, const KinematicState& x, const ContactState& c,
+                                               const LinearPhase& phase) const {
+  const auto group = phase.group_of();
+  const Eigen::VectorXd& group_mass = phase.mass();
+  const Eigen::VectorXd& v = x.v;
+  std::vector<int> locking;
+  for (std::size_t p = 0; p < s.involved.size(); ++p) {
+    if (!s.involved[p] || c.rigid[p] != 0) continue;
+    const int l = s.gap_links[p].a, r = s.gap_links[p].b;
+    const int gl = group[static_cast<std::size_t>(l)], gr = group[static_cast<std::size_t>(r)];
+    if (gl == gr) continue;  // already held together through other locked links
+    const double pressing = x.a(l) - x.a(r);
+    const double opening = -(v(l) - v(r));
+    if (pressing > 0 && 2.0 * opening <= pressing * rules_.lock_time) {
+      locking.push_back(static_cast<int>(p));
+      const double ml = group_mass(gl), mr = group_mass(gr);
+      s.locks.push_back({static_cast<int>(p), v(l), v(r), std::abs(v(l) - v(r)) * ml * mr / (ml + mr)});
+    }
+  }
+  return locking;
+}
+
+LinearPhase& PoundingSystem::lock_and_merge(std::span<const int> locking, KinematicState& x, ContactState& c,
+                                            EventHandler& handler) const {
+  const std::span<const Link> gap_links = contact_links();
+  for (const int p : locking) {
+    const auto e = static_cast<std::size_t>(p);
+    c.config[e] = with_contact_law<LinkMode>(gap_links[e], [](const auto& law) { return law.locked_mode(); });
+    // The link keeps the floors where they are (on the stop, to the event tolerance).
+    c.link_length[e] = x.u(gap_links[e].a) - x.u(gap_links[e].b);
+  }
+  LinearPhase& phase = activate(c, handler);
+  // Plastic merge: each new group moves with the velocity of its centre of mass.
+  const auto new_group = phase.group_of();
+  const Eigen::VectorXd& m = phase.full_mass();
+  Eigen::VectorXd momentum = Eigen::VectorXd::Zero(phase.reduced_size());
+  for (Eigen::Index i = 0; i < x.v.size(); ++i) {
+    momentum(new_group[static_cast<std::size_t>(i)]) += m(i) * x.v(i);
+  }
+  const Eigen::VectorXd group_v = momentum.cwiseQuotient(phase.mass());
+  phase.scatter(group_v, x.v, false);
+  handler.on_merge(new_group, m, phase.mass());
+  return phase;
+}
+
+LinearPhase& PoundingSystem::resolve_impacts(KinematicState& x, ContactState& c, LinearPhase& current,
+                                             EventHandler& handler) const {
+  LinearPhase* phase = &current;
+  const double kinetic_before = kinetic_energy(x.v);
+  // Impacts are between gap elements only: the tracked storeys follow them in c.
+  const auto elements = static_cast<std::size_t>(gaps_);
+  ImpactScratch s{.gap_links = contact_links(),
+                  .left_before = std::vector<double>(elements),
+                  .right_before = std::vector<double>(elements),
+                  .impulse = std::vector<double>(elements, 0.0),
+                  .involved = std::vector<char>(elements, 0),
+                  .locks = {},
+                  .sweeps = 0,
+                  .max_sweeps = 10000 * static_cast<int>(elements)};
+  for (std::size_t p = 0; p < elements; ++p) {
+    s.left_before[p] = x.v(s.gap_links[p].a);
+    s.right_before[p] = x.v(s.gap_links[p].b);
+  }
+  for (const int p : c.impacts) s.involved[static_cast<std::size_t>(p)] = 1;
   // Rounds at one instant, until nothing changes:
   // 1. Sequential pairwise restitution until no involved pair approaches: exact for independent
   //    pairs, the Newton's-cradle answer for a chain of frames that share a floor. Floors held
@@ -328,112 +453,24 @@ LinearPhase& PoundingSystem::resolve_impacts(KinematicState& x, ContactState& c,
   // 2. Lock the involved pairs that are pressed together and would only bounce for less than
   //    lock_time. Their plastic merge changes the velocities of the others, which may close
   //    again: back to 1.
-  const int max_sweeps = 10000 * static_cast<int>(elements);
-  int sweeps = 0;
   for (;;) {
-    const auto group = phase->group_of();
-    const Eigen::VectorXd& group_mass = phase->mass();
-    const auto shares_a_body = [&](std::size_t p) {
-      const int gl = group[static_cast<std::size_t>(gap_links[p].a)];
-      const int gr = group[static_cast<std::size_t>(gap_links[p].b)];
-      for (std::size_t q = 0; q < elements; ++q) {
-        if (!involved[q]) continue;
-        const int ql = group[static_cast<std::size_t>(gap_links[q].a)];
-        const int qr = group[static_cast<std::size_t>(gap_links[q].b)];
-        if (gl == ql || gl == qr || gr == ql || gr == qr) return true;
-      }
-      return false;
-    };
-    for (;;) {
-      for (; sweeps < max_sweeps; ++sweeps) {
-        std::size_t worst = elements;
-        double closing = 0.0;
-        for (std::size_t p = 0; p < elements; ++p) {
-          if (!involved[p] || c.rigid[p] != 0) continue;
-          const double w = closing_speed(p);
-          if (w > closing) {
-            closing = w;
-            worst = p;
-          }
-        }
-        if (worst == elements) break;
-        const int l = gap_links[worst].a, r = gap_links[worst].b;
-        const int gl = group[static_cast<std::size_t>(l)];
-        const int gr = group[static_cast<std::size_t>(r)];
-        const double rest = rules_.rest_velocity_ratio * (std::abs(v(l)) + std::abs(v(r)));
-        const double restitution =
-            closing <= rest ? 0.0
-                            : with_contact_law<double>(gap_links[worst], [](const auto& law) {
-                                return law.restitution();
-                              });
-        const ImpactOutcome o = restitution_impact(group_mass(gl), group_mass(gr), v(l), v(r), restitution);
-        if (o.impulse > 0) handler.on_pair_impact(group, l, r, group_mass(gl), group_mass(gr), restitution);
-        for (Eigen::Index i = 0; i < v.size(); ++i) {
-          const int gi = group[static_cast<std::size_t>(i)];
-          if (gi == gl) v(i) = o.v_left;
-          if (gi == gr) v(i) = o.v_right;
-        }
-        impulse[worst] += o.impulse;
-      }
-      bool joined = false;
-      for (std::size_t p = 0; p < elements; ++p) {
-        if (involved[p]) continue;
-        if (!stop_guard_is_active(c, p)) continue;
-        const double w = closing_speed(p);
-        if (!(w > 0) || !shares_a_body(p)) continue;
-        const LinkKinematics k = kinematics(x, gap_links[p]);
-        const double s_noise =
-            with_contact_law<double>(gap_links[p], [&](const auto& law) { return law.position_noise(k); });
-        if (stop_guard(x, c, p) < -(w * rules_.event_tolerance + s_noise)) continue;
-        involved[p] = 1;
-        joined = true;
-      }
-      if (!joined) break;
-    }
-
+    do {
+      restitution_sweeps(s, x.v, c, *phase, handler);
+    } while (join_pairs_at_stops(s, x, c, phase->group_of()));
     equilibrate(*phase, x, c);
-    std::vector<int> locking;
-    for (std::size_t p = 0; p < elements; ++p) {
-      if (!involved[p] || c.rigid[p] != 0) continue;
-      const int l = gap_links[p].a, r = gap_links[p].b;
-      const int gl = group[static_cast<std::size_t>(l)], gr = group[static_cast<std::size_t>(r)];
-      if (gl == gr) continue;  // already held together through other locked links
-      const double pressing = x.a(l) - x.a(r);
-      const double opening = -(v(l) - v(r));
-      if (pressing > 0 && 2.0 * opening <= pressing * rules_.lock_time) {
-        locking.push_back(static_cast<int>(p));
-        const double ml = group_mass(gl), mr = group_mass(gr);
-        locks.push_back({static_cast<int>(p), v(l), v(r), std::abs(v(l) - v(r)) * ml * mr / (ml + mr)});
-      }
-    }
+    const std::vector<int> locking = pairs_to_lock(s, x, c, *phase);
     if (locking.empty()) break;
-    for (const int p : locking) {
-      const auto e = static_cast<std::size_t>(p);
-      c.config[e] = with_contact_law<LinkMode>(gap_links[e], [](const auto& law) { return law.locked_mode(); });
-      // The link keeps the floors where they are (on the stop, to the event tolerance).
-      c.link_length[e] = x.u(gap_links[e].a) - x.u(gap_links[e].b);
-    }
-    phase = &activate(c, handler);
-    // Plastic merge: each new group moves with the velocity of its centre of mass.
-    const auto new_group = phase->group_of();
-    const Eigen::VectorXd& m = phase->full_mass();
-    Eigen::VectorXd momentum = Eigen::VectorXd::Zero(phase->reduced_size());
-    for (Eigen::Index i = 0; i < v.size(); ++i) {
-      momentum(new_group[static_cast<std::size_t>(i)]) += m(i) * v(i);
-    }
-    const Eigen::VectorXd group_v = momentum.cwiseQuotient(phase->mass());
-    phase->scatter(group_v, v, false);
-    handler.on_merge(new_group, m, phase->mass());
+    phase = &lock_and_merge(locking, x, c, handler);
   }
-  handler.on_impact_loss(kinetic_before - kinetic_energy(v));
+  handler.on_impact_loss(kinetic_before - kinetic_energy(x.v));
   for (std::size_t p = 0; p < elements; ++p) {
     // A pair whose guard fired without closing (a touch at equal speeds) took no impulse: it is no
     // impact, though it may have locked.
-    if (involved[p] && impulse[p] > 0) {
-      handler.on_event(x, static_cast<int>(p), EventKind::impact, left_before[p], right_before[p], impulse[p]);
+    if (s.involved[p] && s.impulse[p] > 0) {
+      handler.on_event(x, static_cast<int>(p), EventKind::impact, s.left_before[p], s.right_before[p], s.impulse[p]);
     }
   }
-  for (const Lock& lock : locks) {
+  for (const ImpactScratch::Lock& lock : s.locks) {
     handler.on_event(x, lock.element, EventKind::lock, lock.left_before, lock.right_before, lock.impulse);
   }
   return *phase;

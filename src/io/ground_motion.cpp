@@ -365,6 +365,119 @@ GroundMotionRecord read_at2(const Lines& lines, std::size_t& units_line) {
   return r;
 }
 
+[[noreturn]] void cosmos_expect(const Lines& lines, std::size_t line, const std::string& what) {
+  lines.fail(std::min(line + 1, lines.size()), fmt::format("expected {}", what));
+}
+
+bool begins(std::string_view word, std::string_view prefix) { return word.rfind(prefix, 0) == 0; }
+
+/// The words of line `line`, none past the end of the file.
+std::vector<std::string_view> words_at(const Lines& lines, std::size_t line) {
+  return line < lines.size() ? words(lines[line]) : std::vector<std::string_view>{};
+}
+
+/// The text lines the first line announces ("… with N text lines"): where the headers begin.
+std::size_t cosmos_text_lines(const Lines& lines) {
+  const std::vector<std::string_view> w = words(lines[0]);
+  std::size_t k = 0;
+  while (k + 3 < w.size() && !(w[k] == "with" && w[k + 2] == "text" && begins(w[k + 3], "lines"))) ++k;
+  if (k + 3 >= w.size()) cosmos_expect(lines, 0, "'with N text lines' in the first line");
+  const std::size_t line = bounded_count(lines, 0, w[k + 1], "text lines", lines.size() - 1,
+                                         fmt::format("the file has {} lines", lines.size()));
+  if (line == 0) lines.fail(1, "0 text lines announced: the first line is one");
+  return line;
+}
+
+/// A header section at `line`: "<n> Integer-header values follow on <m> lines" (or Real-).
+/// Calls `value(line, token)` for each of its values and checks their count; returns the line
+/// after the section.
+template <class Value>
+std::size_t cosmos_header(const Lines& lines, std::size_t line, const std::string& name, std::string_view label,
+                          const Value& value) {
+  const std::vector<std::string_view> w = words_at(lines, line);
+  if (w.size() < 7 || w[1] != label || w[2] != "values" || w[3] != "follow" || w[4] != "on" || !begins(w[6], "lines")) {
+    cosmos_expect(lines, line, fmt::format("the {}-header line '<n> {} values follow on <m> lines'", name, label));
+  }
+  const std::size_t follow = lines.size() - line - 1;
+  const std::size_t count_lines = bounded_count(lines, line, w[5], name + "-header lines", follow,
+                                                fmt::format("{} lines follow", follow));
+  const std::optional<std::uint64_t> count = parse_count(w[0]);
+  if (!count) lines.fail(line + 1, fmt::format("'{}' is not a count of {}-header values", shown(w[0]), name));
+  std::size_t held = 0;
+  for (std::size_t k = line + 1; k <= line + count_lines; ++k) {
+    for (const std::string_view token : words(lines[k])) value(k, token, ++held);
+  }
+  if (*count != held) {
+    lines.fail(line + 1, fmt::format("{} {}-header values announced: lines {}–{} hold {}", shown(w[0]), name,
+                                     line + 2, line + 1 + count_lines, held));
+  }
+  return line + 1 + count_lines;
+}
+
+/// Real header #62: the sampling interval in ms, found on line `line` as `token`.
+struct CosmosInterval {
+  double ms = 0;
+  std::size_t line = 0;
+  std::string_view token;
+};
+
+/// The comment lines ("<n> Comment line(s) follow", each starting with '|'); returns the line after.
+std::size_t cosmos_comments(const Lines& lines, std::size_t line) {
+  const std::vector<std::string_view> w = words_at(lines, line);
+  if (w.size() < 2 || !begins(w[1], "Comment")) cosmos_expect(lines, line, "the comment-count line '<n> Comment line(s) follow'");
+  const std::size_t follow = lines.size() - line - 1;
+  const std::size_t comments =
+      bounded_count(lines, line, w[0], "comment lines", follow, fmt::format("{} lines follow", follow));
+  for (std::size_t k = 1; k <= comments; ++k) {
+    if (!begins(lines[line + k], "|")) {
+      lines.fail(line + k + 1, fmt::format("comment line {} of {} does not start with '|'", k, comments));
+    }
+  }
+  return line + 1 + comments;
+}
+
+/// The data header's units ("units=cm/sec/sec"), normalised.
+std::string cosmos_units(const Lines& lines, std::size_t line) {
+  const std::string_view header = lines[line];
+  const std::size_t at = header.find("units=");
+  if (at == std::string_view::npos) lines.fail(line + 1, "the data header gives no units=");
+  std::size_t begin = at + 6;
+  while (begin < header.size() && is_blank(header[begin])) ++begin;
+  std::size_t end = begin;
+  while (end < header.size() && header[end] != '(' && header[end] != ',' && !is_blank(header[end])) ++end;
+  const std::string_view units = header.substr(begin, end - begin);
+  std::string normalised = normalise_units(units);
+  if (normalised.empty()) lines.fail(line + 1, fmt::format("unknown units '{}'", shown(units)));
+  return normalised;
+}
+
+/// The data section at `line`: its header, then the accelerations at the interval `dt`.
+void cosmos_data(const Lines& lines, std::size_t line, const CosmosInterval& dt, GroundMotionRecord& r) {
+  const std::vector<std::string_view> w = words_at(lines, line);
+  if (w.size() < 3 || w[1] != "acceleration" || !begins(w[2], "pts")) {
+    cosmos_expect(lines, line, "the data header '<n> acceleration pts, …, units=…'");
+  }
+  r.file_units = cosmos_units(lines, line);
+  const std::size_t capacity = lines.capacity_from(line + 1);
+  const std::size_t points =
+      bounded_count(lines, line, w[0], "acceleration points", std::min<std::size_t>(capacity, INT_MAX),
+                    fmt::format("the {} bytes after this line hold at most {}", lines.bytes_from(line + 1), capacity));
+  if (points < 2) lines.fail(line + 1, "fewer than two points");
+  if (!(std::isfinite(dt.ms) && dt.ms > 0)) {
+    lines.fail(dt.line + 1, fmt::format("no sampling interval: real header #62 is {} ms, not a finite number > 0 "
+                                        "(-999 means unknown)",
+                                        shown(dt.token)));
+  }
+  r.dt = dt.ms / 1000.0;
+  if (!std::isfinite(static_cast<double>(points - 1) * r.dt)) {
+    lines.fail(dt.line + 1, fmt::format("the record's length ({} − 1) × {} ms is not a finite number", points,
+                                        shown(dt.token)));
+  }
+  r.points = static_cast<int>(points);  // ≤ INT_MAX, checked above
+  r.excitation.acceleration = read_values(lines, line + 1, points, "acceleration", "End-of-data");
+  r.excitation.time = uniform_times(points, r.dt);
+}
+
 GroundMotionRecord read_cosmos(const Lines& lines, std::size_t& units_line) {
   GroundMotionRecord r;
   r.format = "cosmos";
@@ -376,130 +489,31 @@ GroundMotionRecord read_cosmos(const Lines& lines, std::size_t& units_line) {
   }
   // Each section announces its own length; every count is checked against the lines that follow
   // before it is used, and each section's values are counted against its count.
-  const auto expect = [&](std::size_t line, const std::string& what) {
-    lines.fail(std::min(line + 1, lines.size()), fmt::format("expected {}", what));
-  };
-  const auto begins = [](std::string_view word, std::string_view prefix) { return word.rfind(prefix, 0) == 0; };
-  std::size_t line = 0;
-  {
-    const std::vector<std::string_view> w = words(first);
-    std::size_t k = 0;
-    while (k + 3 < w.size() && !(w[k] == "with" && w[k + 2] == "text" && begins(w[k + 3], "lines"))) ++k;
-    if (k + 3 >= w.size()) expect(0, "'with N text lines' in the first line");
-    line = bounded_count(lines, 0, w[k + 1], "text lines", lines.size() - 1,
-                         fmt::format("the file has {} lines", lines.size()));
-    if (line == 0) lines.fail(1, "0 text lines announced: the first line is one");
-  }
+  std::size_t line = cosmos_text_lines(lines);
   if (lines.size() > 1) r.description = std::string(lines[1]);
-  // "<n> Integer-header values follow on <m> lines" and the same for the real header.
-  const auto header_counts = [&](const std::string& name, std::string_view label) {
-    const std::vector<std::string_view> w = line < lines.size() ? words(lines[line]) : std::vector<std::string_view>{};
-    if (w.size() < 7 || w[1] != label || w[2] != "values" || w[3] != "follow" || w[4] != "on" || !begins(w[6], "lines")) {
-      expect(line, fmt::format("the {}-header line '<n> {} values follow on <m> lines'", name, label));
+  line = cosmos_header(lines, line, "integer", "Integer-header", [&](std::size_t k, std::string_view token, std::size_t) {
+    long long v = 0;
+    const std::string_view digits = token.substr(token.front() == '+' ? 1 : 0);
+    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v);
+    if (ec != std::errc{} || end != digits.data() + digits.size()) {
+      lines.fail(k + 1, fmt::format("'{}' is not an integer (integer header)", shown(token)));
     }
-    const std::size_t follow = lines.size() - line - 1;
-    const std::size_t count_lines = bounded_count(lines, line, w[5], name + "-header lines", follow,
-                                                  fmt::format("{} lines follow", follow));
-    const std::optional<std::uint64_t> count = parse_count(w[0]);
-    if (!count) lines.fail(line + 1, fmt::format("'{}' is not a count of {}-header values", shown(w[0]), name));
-    return std::pair{*count, count_lines};
-  };
-  const auto check_count = [&](std::uint64_t count, std::size_t held, std::size_t count_lines, const std::string& name,
-                               std::string_view token) {
-    if (count != held) {
-      lines.fail(line + 1, fmt::format("{} {}-header values announced: lines {}–{} hold {}", shown(token), name,
-                                       line + 2, line + 1 + count_lines, held));
-    }
-  };
-  {
-    const auto [count, count_lines] = header_counts("integer", "Integer-header");
-    std::size_t held = 0;
-    for (std::size_t k = line + 1; k <= line + count_lines; ++k) {
-      for (const std::string_view token : words(lines[k])) {
-        long long v = 0;
-        const std::string_view digits = token.substr(token.front() == '+' ? 1 : 0);
-        const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), v);
-        if (ec != std::errc{} || end != digits.data() + digits.size()) {
-          lines.fail(k + 1, fmt::format("'{}' is not an integer (integer header)", shown(token)));
-        }
-        ++held;
-      }
-    }
-    check_count(count, held, count_lines, "integer", words(lines[line])[0]);
-    line += 1 + count_lines;
+  });
+  CosmosInterval dt;
+  std::size_t real_held = 0;
+  const std::size_t real_line = line;
+  line = cosmos_header(lines, line, "real", "Real-header", [&](std::size_t k, std::string_view token, std::size_t held) {
+    double v = 0;
+    if (!parse_number(token, v)) lines.fail(k + 1, fmt::format("'{}' is not a number (real header)", shown(token)));
+    if (held == 62) dt = CosmosInterval{.ms = v, .line = k, .token = token};
+    real_held = held;
+  });
+  if (real_held < 62) {
+    lines.fail(real_line + 1, fmt::format("the real header has {} values: the sampling interval is value #62", real_held));
   }
-  // Real header #62: the sampling interval in ms, found on `dt_line` as `dt_token`.
-  double dt_ms = 0;
-  std::size_t dt_line = 0;
-  std::string_view dt_token;
-  {
-    const auto [count, count_lines] = header_counts("real", "Real-header");
-    std::size_t held = 0;
-    for (std::size_t k = line + 1; k <= line + count_lines; ++k) {
-      for (const std::string_view token : words(lines[k])) {
-        double v = 0;
-        if (!parse_number(token, v)) lines.fail(k + 1, fmt::format("'{}' is not a number (real header)", shown(token)));
-        if (++held == 62) {
-          dt_ms = v;
-          dt_line = k;
-          dt_token = token;
-        }
-      }
-    }
-    check_count(count, held, count_lines, "real", words(lines[line])[0]);
-    if (held < 62) {
-      lines.fail(line + 1, fmt::format("the real header has {} values: the sampling interval is value #62", held));
-    }
-    line += 1 + count_lines;
-  }
-  {
-    const std::vector<std::string_view> w = line < lines.size() ? words(lines[line]) : std::vector<std::string_view>{};
-    if (w.size() < 2 || !begins(w[1], "Comment")) expect(line, "the comment-count line '<n> Comment line(s) follow'");
-    const std::size_t follow = lines.size() - line - 1;
-    const std::size_t comments =
-        bounded_count(lines, line, w[0], "comment lines", follow, fmt::format("{} lines follow", follow));
-    for (std::size_t k = 1; k <= comments; ++k) {
-      if (!begins(lines[line + k], "|")) {
-        lines.fail(line + k + 1, fmt::format("comment line {} of {} does not start with '|'", k, comments));
-      }
-    }
-    line += 1 + comments;
-  }
-  {
-    const std::vector<std::string_view> w = line < lines.size() ? words(lines[line]) : std::vector<std::string_view>{};
-    if (w.size() < 3 || w[1] != "acceleration" || !begins(w[2], "pts")) {
-      expect(line, "the data header '<n> acceleration pts, …, units=…'");
-    }
-    const std::string_view header = lines[line];
-    const std::size_t at = header.find("units=");
-    if (at == std::string_view::npos) lines.fail(line + 1, "the data header gives no units=");
-    std::size_t begin = at + 6;
-    while (begin < header.size() && is_blank(header[begin])) ++begin;
-    std::size_t end = begin;
-    while (end < header.size() && header[end] != '(' && header[end] != ',' && !is_blank(header[end])) ++end;
-    const std::string_view units = header.substr(begin, end - begin);
-    r.file_units = normalise_units(units);
-    if (r.file_units.empty()) lines.fail(line + 1, fmt::format("unknown units '{}'", shown(units)));
-    units_line = line + 1;
-    const std::size_t capacity = lines.capacity_from(line + 1);
-    const std::size_t points =
-        bounded_count(lines, line, w[0], "acceleration points", std::min<std::size_t>(capacity, INT_MAX),
-                      fmt::format("the {} bytes after this line hold at most {}", lines.bytes_from(line + 1), capacity));
-    if (points < 2) lines.fail(line + 1, "fewer than two points");
-    if (!(std::isfinite(dt_ms) && dt_ms > 0)) {
-      lines.fail(dt_line + 1, fmt::format("no sampling interval: real header #62 is {} ms, not a finite number > 0 "
-                                          "(-999 means unknown)",
-                                          shown(dt_token)));
-    }
-    r.dt = dt_ms / 1000.0;
-    if (!std::isfinite(static_cast<double>(points - 1) * r.dt)) {
-      lines.fail(dt_line + 1, fmt::format("the record's length ({} − 1) × {} ms is not a finite number", points,
-                                          shown(dt_token)));
-    }
-    r.points = static_cast<int>(points);  // ≤ INT_MAX, checked above
-    r.excitation.acceleration = read_values(lines, line + 1, points, "acceleration", "End-of-data");
-    r.excitation.time = uniform_times(points, r.dt);
-  }
+  line = cosmos_comments(lines, line);
+  units_line = line + 1;
+  cosmos_data(lines, line, dt, r);
   return r;
 }
 

@@ -892,6 +892,281 @@ void read_rayleigh(TableReader& f, Frame& frame) {
   }
 }
 
+/// The damping keys of a [[frames]] table: storey dashpots (damping, with dashpots to the ground
+/// and modal damping if wanted), or one rule that sets them (damping_ratio, Rayleigh), alone.
+struct DampingKeys {
+  bool damping, ratio, rayleigh, modal;
+};
+
+DampingKeys check_damping_keys(TableReader& f) {
+  const DampingKeys given{.damping = f.has("damping"), .ratio = f.has("damping_ratio"),
+                          .rayleigh = f.has("rayleigh_ratios") || f.has("rayleigh_modes"),
+                          .modal = f.has("modal_damping_ratios")};
+  if (given.damping && given.ratio) f.fail_table("give either damping or damping_ratio, not both");
+  if (!given.damping && !given.ratio && !given.rayleigh && !given.modal) {
+    f.fail_table("missing key: damping (N·s/m per storey), damping_ratio, rayleigh_ratios with rayleigh_modes, "
+                 "or modal_damping_ratios");
+  }
+  for (const auto& [rule, on] : {std::pair{"damping_ratio", given.ratio}, std::pair{"rayleigh_ratios", given.rayleigh}}) {
+    if (!on) continue;
+    for (const char* other : {"damping", "damping_ratio", "rayleigh_ratios", "modal_damping_ratios", "ground_damping"}) {
+      const bool other_given = std::string_view(other) == "rayleigh_ratios" ? given.rayleigh : f.has(other);
+      if (std::string_view(other) != rule && other_given) {
+        f.fail(rule, fmt::format("sets the frame's dashpots by its rule: give it alone, not with {}", other));
+      }
+    }
+  }
+  return given;
+}
+
+/// The storey dashpots a frame's damping rule sets (none when they are given per storey).
+void apply_damping_rule(TableReader& f, const DampingKeys& given, Frame& frame) {
+  if (given.rayleigh) {
+    read_rayleigh(f, frame);
+  } else if (given.modal && !given.damping) {
+    frame.damping.assign(frame.mass.size(), 0.0);  // modal damping alone
+  } else if (!given.damping) {
+    const double ratio = f.number("damping_ratio");
+    if (!(ratio >= 0 && ratio < 1)) f.fail("damping_ratio", fmt::format("must be in [0, 1) (got {})", ratio));
+    frame.damping.assign(frame.mass.size(), 0.0);
+    frame.damping = stiffness_proportional_damping(frame, ratio);
+    if (!std::all_of(frame.damping.begin(), frame.damping.end(), [](double c) { return std::isfinite(c); })) {
+      // Storey stiffnesses spanning ~16 orders of magnitude leave the lowest eigenvalue below the
+      // round-off of the largest: ω₁ comes out 0.
+      const auto [low, high] = std::minmax_element(frame.stiffness.begin(), frame.stiffness.end());
+      f.fail("damping_ratio",
+             fmt::format("the frame's fundamental frequency cannot be resolved in double precision "
+                         "(storey stiffnesses from {} to {} N/m), so stiffness-proportional dampers "
+                         "are not finite; give damping per storey instead",
+                         *low, *high));
+    }
+  }
+}
+
+/// The number of storeys of a frame: `storeys`, or the length of its per-floor arrays.
+int frame_storeys(TableReader& f, const Frame& frame, const std::optional<int>& storeys) {
+  int n = storeys.value_or(0);
+  for_each_field<Frame>([&](const auto& field) {
+    const std::vector<double>& v = frame.*field.member;
+    if (v.size() > static_cast<std::size_t>(limits::storeys)) {
+      f.fail(field.key, fmt::format("has {} values: a frame has at most {} storeys", v.size(), limits::storeys));
+    }
+    if (v.size() > 1 && n == 0) n = static_cast<int>(v.size());
+  });
+  if (n == 0 && !storeys) f.fail_table_missing("storeys", "missing key: storeys (or give per-floor arrays)");
+  return n;
+}
+
+/// One [[frames]] table; `floors` counts the floors of the frames read so far.
+Frame read_frame(TableReader& f, int& floors) {
+  f.declare<keys::Frame, Frame>();
+  Frame frame;
+  frame.name = f.string_or("name", "");
+  const std::optional<int> storeys = f.optional_integer("storeys", 1, limits::storeys);
+  // The declared per-storey values (Frame::fields()), each a number or an array, bottom up.
+  for_each_field<Frame>([&](const auto& field) {
+    if (field.required || f.has(field.key)) frame.*field.member = f.numbers(field.key);
+  });
+  const DampingKeys damping = check_damping_keys(f);
+  const int n = frame_storeys(f, frame, storeys);
+  floors += n;
+  if (floors > limits::floors) {
+    f.fail_table(fmt::format("the frames up to this one have {} floors: at most {} in all", floors,
+                             limits::floors));
+  }
+  const auto broadcast = [&](std::string_view key, std::vector<double>& v) {
+    if (v.size() == 1) v.assign(static_cast<std::size_t>(n), v[0]);
+    if (v.size() != static_cast<std::size_t>(n)) {
+      f.fail(key, fmt::format("has {} values for {} floors", v.size(), n));
+    }
+  };
+  for_each_field<Frame>([&](const auto& field) {
+    std::vector<double>& v = frame.*field.member;
+    if (v.empty()) return;  // not given
+    broadcast(field.key, v);
+    check_each_storey(f, field.key, v, field.range, field.item);
+  });
+  apply_damping_rule(f, damping, frame);
+  frame.storey_law = read_storey_law(f, n, broadcast);
+  f.finish();
+  return frame;
+}
+
+/// pairing = "height": the floors of neighbouring frames that stand at the same height.
+std::vector<FloorPair> pairs_at_equal_heights(TableReader& gaps, const std::vector<Frame>& frames,
+                                              std::vector<TableReader>& frame_tables) {
+  std::vector<FloorPair> pairs = floors_at_equal_heights(frames);
+  for (std::size_t f = 0; f + 1 < frames.size(); ++f) {
+    for (const std::size_t g : {f, f + 1}) {
+      if (frames[g].storey_height.empty()) {
+        frame_tables[g].fail_table(fmt::format(
+            "missing key: storey_height (gap_elements.pairing = \"height\" joins the floors of frames {} "
+            "and {} that stand at the same height)", f + 1, f + 2));
+      }
+    }
+    if (std::none_of(pairs.begin(), pairs.end(), [&](const FloorPair& p) { return p.left_frame == static_cast<int>(f); })) {
+      gaps.fail("pairing", fmt::format("no floor of frame {} stands at the height of a floor of frame {}: list "
+                                       "the floors that strike each other (pairing = \"listed\")", f + 1, f + 2));
+    }
+  }
+  return pairs;
+}
+
+/// pairing = "listed": one [[gap_elements.pair]] table per pair of floors (or slab and column).
+std::vector<FloorPair> listed_pairs(TableReader& gaps, const std::vector<Frame>& frames,
+                                    std::vector<TableReader>& frame_tables) {
+  if (!gaps.has("pair")) gaps.fail("pairing", "\"listed\" needs a [[gap_elements.pair]] table per pair of floors");
+  std::vector<FloorPair> pairs;
+  for (TableReader& t : gaps.tables("pair")) {
+    t.declare<keys::GapPair>();
+    const toml::array* frame_pair = t.require("frames").as_array();
+    if (frame_pair == nullptr || frame_pair->size() != 2) {
+      t.fail("frames", "expected two neighbouring frame numbers, e.g. [1, 2]");
+    }
+    if (t.has("floors") == t.has("slab")) {
+      t.fail_table("give floors = [left floor, right floor] for two floors that strike each other, or "
+                   "slab = [frame, floor] for a slab that strikes the neighbour's column");
+    }
+    const auto frames_count = static_cast<std::int64_t>(frames.size());
+    const int left = bounded_integer((*frame_pair)[0], 1, frames_count, "item 1: ",
+                                     [&](const std::string& m) { t.fail("frames", m); });
+    const int right = bounded_integer((*frame_pair)[1], 1, frames_count, "item 2: ",
+                                      [&](const std::string& m) { t.fail("frames", m); });
+    if (right != left + 1) t.fail("frames", fmt::format("[{}, {}] are not neighbouring frames", left, right));
+    const auto storeys = [&](int frame) { return static_cast<std::int64_t>(frames[static_cast<std::size_t>(frame - 1)].storeys()); };
+    FloorPair pair = t.has("floors") ? read_floor_pair(t, left, right, storeys)
+                                     : read_slab_pair(t, left, frames, frame_tables);
+    for (const FloorPair& seen : pairs) {
+      if (share_a_floor(seen, pair)) {
+        t.fail(t.has("floors") ? "floors" : "slab",
+               fmt::format("a floor of it already has a gap element towards frame {}: a floor meets its neighbour "
+                           "at one place", right));
+      }
+    }
+    pairs.push_back(pair);
+    t.finish();
+  }
+  return pairs;
+}
+
+/// The floors that gap elements join, by [gap_elements].pairing (empty: floor by floor).
+std::vector<FloorPair> read_pairs(TableReader& gaps, const std::vector<Frame>& frames,
+                                  std::vector<TableReader>& frame_tables) {
+  const std::string pairing = gaps.choice("pairing", names::pairing, std::string("floor"));
+  std::vector<FloorPair> pairs;
+  if (pairing == "floor") {
+    check_floor_heights(frames, frame_tables);
+  } else if (pairing == "height") {
+    pairs = pairs_at_equal_heights(gaps, frames, frame_tables);
+  } else {
+    pairs = listed_pairs(gaps, frames, frame_tables);
+  }
+  if (pairing != "listed" && gaps.has("pair")) gaps.fail("pair", "[[gap_elements.pair]] needs pairing = \"listed\"");
+  return pairs;
+}
+
+/// Whether an override (right_floor < 0: any right floor) names the element at a pair's floors.
+bool names_element(int left_frame, int floor, int right_floor, const FloorPair& p) {
+  return p.left_frame == left_frame && p.left_floor == floor && (right_floor < 0 || p.right_floor == right_floor);
+}
+
+/// The element an override names: its left frame, left floor and (or -1) right floor.
+GapOverride read_override_target(TableReader& o, const std::vector<Frame>& frames,
+                                 const std::vector<FloorPair>& pairs) {
+  const toml::array* pair = o.require("frames").as_array();
+  if (pair == nullptr || pair->size() != 2) o.fail("frames", "expected two neighbouring frame numbers, e.g. [1, 2]");
+  const auto frames_count = static_cast<std::int64_t>(frames.size());
+  const auto frame_number = [&](std::size_t i) {
+    return bounded_integer((*pair)[i], 1, frames_count, fmt::format("item {}: ", i + 1), [&](const std::string& m) {
+      o.fail("frames", m + fmt::format(" (the model has {} frames)", frames_count));
+    });
+  };
+  const int left = frame_number(0), right = frame_number(1);
+  if (right != left + 1) {
+    o.fail("frames", fmt::format("[{}, {}] are not neighbouring frames of the {} in the model", left, right,
+                                 frames.size()));
+  }
+  const auto storeys = [&](int frame) { return frames[static_cast<std::size_t>(frame - 1)].storeys(); };
+  const int shared = std::min(storeys(left), storeys(right));
+  const int floor = bounded_integer(o.require("floor"), 1, pairs.empty() ? shared : storeys(left), "",
+                                    [&](const std::string& m) {
+    o.fail("floor", fmt::format("{}: frames {} and {} share floors 1..{}", m, left, right, shared));
+  });
+  // An element is named by its left floor, and by its right floor too when several share
+  // the left one (a slab of the right frame striking the left column below a floor).
+  int right_floor = -1;
+  if (o.has("right_floor")) {
+    if (pairs.empty()) o.fail("right_floor", "only with listed or height pairs (gap_elements.pairing)");
+    const auto right_storeys = static_cast<std::int64_t>(storeys(right));
+    right_floor = bounded_integer(o.require("right_floor"), 1, right_storeys, "", [&](const std::string& m) {
+      o.fail("right_floor", fmt::format("{} (frame {} has {} floors)", m, right, right_storeys));
+    }) - 1;
+  }
+  const auto named = std::count_if(pairs.begin(), pairs.end(), [&](const FloorPair& p) {
+    return names_element(left - 1, floor - 1, right_floor, p);
+  });
+  if (!pairs.empty() && named == 0) {
+    o.fail(right_floor < 0 ? "floor" : "right_floor",
+           fmt::format("no gap element joins floor {} of frame {} to {} (an override names an element by its left "
+                       "floor, and right_floor)", floor, left,
+                       right_floor < 0 ? fmt::format("frame {}", right)
+                                       : fmt::format("floor {} of frame {}", right_floor + 1, right)));
+  }
+  if (named > 1) {
+    o.fail("floor", fmt::format("{} gap elements meet frame {} at floor {} or at its column below it (slabs of "
+                                "frame {} that strike it): give right_floor, the element's floor in frame {}",
+                                named, left, floor, right, right));
+  }
+  return GapOverride{.left_frame = left - 1, .floor = floor - 1, .law = GapLaw{}, .right_floor = right_floor};
+}
+
+/// The [[gap_elements.override]] tables, each with its joint width (absent: the default's).
+struct Overrides {
+  std::vector<GapOverride> elements;
+  std::vector<std::optional<double>> joints;
+};
+
+Overrides read_overrides(TableReader& gaps, const std::vector<Frame>& frames, const std::vector<FloorPair>& pairs,
+                         const GapSpec& defaults) {
+  Overrides overrides;
+  if (!gaps.has("override")) return overrides;
+  for (TableReader& o : gaps.tables("override")) {
+    o.declare<keys::GapOverride>();
+    GapOverride go = read_override_target(o, frames, pairs);
+    const GapSpec spec = read_gap_law(o, &defaults);
+    for (const FloorPair& p : pairs) {
+      if (names_element(go.left_frame, go.floor, go.right_floor, p)) check_law_at_column(o, p, spec.law);
+    }
+    go.law = spec.law;
+    for (const GapOverride& seen : overrides.elements) {
+      if (seen.left_frame == go.left_frame && seen.floor == go.floor &&
+          (seen.right_floor < 0 || go.right_floor < 0 || seen.right_floor == go.right_floor)) {
+        o.fail_table("a second override of the same element");
+      }
+    }
+    overrides.elements.push_back(go);
+    overrides.joints.push_back(spec.joint);
+    o.finish();
+  }
+  return overrides;
+}
+
+/// Each element's joint width w [m]: its override's, else [gap_elements]', else its gap.
+std::vector<double> joint_widths(const Model& model, const GapSpec& defaults, const Overrides& overrides) {
+  std::vector<double> widths;
+  for (const GapElement& g : model.gaps) {
+    std::optional<double> joint = defaults.joint;
+    for (std::size_t k = 0; k < overrides.elements.size(); ++k) {
+      const GapOverride& o = overrides.elements[k];
+      if (o.left_frame == g.left_frame && o.floor == g.floor && (o.right_floor < 0 || o.right_floor == g.floor_right())) {
+        joint = overrides.joints[k];
+      }
+    }
+    widths.push_back(joint.value_or(g.gap()));
+  }
+  return widths;
+}
+
 Model read_physical(TableReader& top, RunInput& run) {
   std::vector<Frame> frames;
   std::vector<TableReader> frame_tables = top.tables("frames");
@@ -899,86 +1174,7 @@ Model read_physical(TableReader& top, RunInput& run) {
     top.fail("frames", fmt::format("{} frames: at most {}", frame_tables.size(), limits::frames));
   }
   int floors = 0;
-  for (TableReader& f : frame_tables) {
-    f.declare<keys::Frame, Frame>();
-    Frame frame;
-    frame.name = f.string_or("name", "");
-    const std::optional<int> storeys = f.optional_integer("storeys", 1, limits::storeys);
-    // The declared per-storey values (Frame::fields()), each a number or an array, bottom up.
-    for_each_field<Frame>([&](const auto& field) {
-      if (field.required || f.has(field.key)) frame.*field.member = f.numbers(field.key);
-    });
-    // The frame's damping: storey dashpots (damping, with dashpots to the ground and modal
-    // damping if wanted), or one rule that sets them (damping_ratio, Rayleigh).
-    const bool has_damping = f.has("damping"), has_ratio = f.has("damping_ratio");
-    const bool has_rayleigh = f.has("rayleigh_ratios") || f.has("rayleigh_modes");
-    const bool has_modal = f.has("modal_damping_ratios");
-    if (has_damping && has_ratio) f.fail_table("give either damping or damping_ratio, not both");
-    if (!has_damping && !has_ratio && !has_rayleigh && !has_modal) {
-      f.fail_table("missing key: damping (N·s/m per storey), damping_ratio, rayleigh_ratios with rayleigh_modes, "
-                   "or modal_damping_ratios");
-    }
-    for (const auto& [rule, given] : {std::pair{"damping_ratio", has_ratio}, std::pair{"rayleigh_ratios", has_rayleigh}}) {
-      if (!given) continue;
-      for (const char* other : {"damping", "damping_ratio", "rayleigh_ratios", "modal_damping_ratios", "ground_damping"}) {
-        const bool other_given = std::string_view(other) == "rayleigh_ratios" ? has_rayleigh : f.has(other);
-        if (std::string_view(other) != rule && other_given) {
-          f.fail(rule, fmt::format("sets the frame's dashpots by its rule: give it alone, not with {}", other));
-        }
-      }
-    }
-    int n = storeys.value_or(0);
-    for_each_field<Frame>([&](const auto& field) {
-      const std::vector<double>& v = frame.*field.member;
-      if (v.size() > static_cast<std::size_t>(limits::storeys)) {
-        f.fail(field.key, fmt::format("has {} values: a frame has at most {} storeys", v.size(), limits::storeys));
-      }
-      if (v.size() > 1 && n == 0) n = static_cast<int>(v.size());
-    });
-    if (n == 0) {
-      if (!storeys) f.fail_table_missing("storeys", "missing key: storeys (or give per-floor arrays)");
-    }
-    floors += n;
-    if (floors > limits::floors) {
-      f.fail_table(fmt::format("the frames up to this one have {} floors: at most {} in all", floors,
-                               limits::floors));
-    }
-    const auto broadcast = [&](std::string_view key, std::vector<double>& v) {
-      if (v.size() == 1) v.assign(static_cast<std::size_t>(n), v[0]);
-      if (v.size() != static_cast<std::size_t>(n)) {
-        f.fail(key, fmt::format("has {} values for {} floors", v.size(), n));
-      }
-    };
-    for_each_field<Frame>([&](const auto& field) {
-      std::vector<double>& v = frame.*field.member;
-      if (v.empty()) return;  // not given
-      broadcast(field.key, v);
-      check_each_storey(f, field.key, v, field.range, field.item);
-    });
-    if (has_rayleigh) {
-      read_rayleigh(f, frame);
-    } else if (has_modal && !has_damping) {
-      frame.damping.assign(frame.mass.size(), 0.0);  // modal damping alone
-    } else if (!has_damping) {
-      const double ratio = f.number("damping_ratio");
-      if (!(ratio >= 0 && ratio < 1)) f.fail("damping_ratio", fmt::format("must be in [0, 1) (got {})", ratio));
-      frame.damping.assign(frame.mass.size(), 0.0);
-      frame.damping = stiffness_proportional_damping(frame, ratio);
-      if (!std::all_of(frame.damping.begin(), frame.damping.end(), [](double c) { return std::isfinite(c); })) {
-        // Storey stiffnesses spanning ~16 orders of magnitude leave the lowest eigenvalue below the
-        // round-off of the largest: ω₁ comes out 0.
-        const auto [low, high] = std::minmax_element(frame.stiffness.begin(), frame.stiffness.end());
-        f.fail("damping_ratio",
-               fmt::format("the frame's fundamental frequency cannot be resolved in double precision "
-                           "(storey stiffnesses from {} to {} N/m), so stiffness-proportional dampers "
-                           "are not finite; give damping per storey instead",
-                           *low, *high));
-      }
-    }
-    frame.storey_law = read_storey_law(f, n, broadcast);
-    f.finish();
-    frames.push_back(std::move(frame));
-  }
+  for (TableReader& f : frame_tables) frames.push_back(read_frame(f, floors));
   if (frames.size() == 1) {
     if (top.has("gap_elements")) {
       top.fail("gap_elements", "the model has a single frame: there are no gap elements");
@@ -987,148 +1183,18 @@ Model read_physical(TableReader& top, RunInput& run) {
   }
   TableReader gaps = top.table("gap_elements");
   gaps.declare<keys::GapElements>();
-  const std::string pairing = gaps.choice("pairing", names::pairing, std::string("floor"));
-  std::vector<FloorPair> pairs;
-  if (pairing == "floor") {
-    check_floor_heights(frames, frame_tables);
-  } else if (pairing == "height") {
-    pairs = floors_at_equal_heights(frames);
-    for (std::size_t f = 0; f + 1 < frames.size(); ++f) {
-      for (const std::size_t g : {f, f + 1}) {
-        if (frames[g].storey_height.empty()) {
-          frame_tables[g].fail_table(fmt::format(
-              "missing key: storey_height (gap_elements.pairing = \"height\" joins the floors of frames {} "
-              "and {} that stand at the same height)", f + 1, f + 2));
-        }
-      }
-      if (std::none_of(pairs.begin(), pairs.end(), [&](const FloorPair& p) { return p.left_frame == static_cast<int>(f); })) {
-        gaps.fail("pairing", fmt::format("no floor of frame {} stands at the height of a floor of frame {}: list "
-                                         "the floors that strike each other (pairing = \"listed\")", f + 1, f + 2));
-      }
-    }
-  } else {
-    if (!gaps.has("pair")) gaps.fail("pairing", "\"listed\" needs a [[gap_elements.pair]] table per pair of floors");
-    for (TableReader& t : gaps.tables("pair")) {
-      t.declare<keys::GapPair>();
-      const toml::array* frame_pair = t.require("frames").as_array();
-      if (frame_pair == nullptr || frame_pair->size() != 2) {
-        t.fail("frames", "expected two neighbouring frame numbers, e.g. [1, 2]");
-      }
-      if (t.has("floors") == t.has("slab")) {
-        t.fail_table("give floors = [left floor, right floor] for two floors that strike each other, or "
-                     "slab = [frame, floor] for a slab that strikes the neighbour's column");
-      }
-      const auto frames_count = static_cast<std::int64_t>(frames.size());
-      const int left = bounded_integer((*frame_pair)[0], 1, frames_count, "item 1: ",
-                                       [&](const std::string& m) { t.fail("frames", m); });
-      const int right = bounded_integer((*frame_pair)[1], 1, frames_count, "item 2: ",
-                                        [&](const std::string& m) { t.fail("frames", m); });
-      if (right != left + 1) t.fail("frames", fmt::format("[{}, {}] are not neighbouring frames", left, right));
-      const auto storeys = [&](int frame) { return static_cast<std::int64_t>(frames[static_cast<std::size_t>(frame - 1)].storeys()); };
-      FloorPair pair = t.has("floors") ? read_floor_pair(t, left, right, storeys)
-                                       : read_slab_pair(t, left, frames, frame_tables);
-      for (const FloorPair& seen : pairs) {
-        if (share_a_floor(seen, pair)) {
-          t.fail(t.has("floors") ? "floors" : "slab",
-                 fmt::format("a floor of it already has a gap element towards frame {}: a floor meets its neighbour "
-                             "at one place", right));
-        }
-      }
-      pairs.push_back(pair);
-      t.finish();
-    }
-  }
-  if (pairing != "listed" && gaps.has("pair")) gaps.fail("pair", "[[gap_elements.pair]] needs pairing = \"listed\"");
+  const std::vector<FloorPair> pairs = read_pairs(gaps, frames, frame_tables);
   const GapSpec defaults = read_gap_law(gaps, nullptr);
-  std::vector<GapOverride> overrides;
-  std::vector<std::optional<double>> override_joints;
-  if (gaps.has("override")) {
-    for (TableReader& o : gaps.tables("override")) {
-      o.declare<keys::GapOverride>();
-      const toml::node& pair_node = o.require("frames");
-      const toml::array* pair = pair_node.as_array();
-      if (pair == nullptr || pair->size() != 2) {
-        o.fail("frames", "expected two neighbouring frame numbers, e.g. [1, 2]");
-      }
-      const auto frames_count = static_cast<std::int64_t>(frames.size());
-      const auto frame_number = [&](std::size_t i) {
-        return bounded_integer((*pair)[i], 1, frames_count, fmt::format("item {}: ", i + 1),
-                               [&](const std::string& m) {
-                                 o.fail("frames", m + fmt::format(" (the model has {} frames)", frames_count));
-                               });
-      };
-      const int left = frame_number(0), right = frame_number(1);
-      if (right != left + 1) {
-        o.fail("frames", fmt::format("[{}, {}] are not neighbouring frames of the {} in the model",
-                                     left, right, frames.size()));
-      }
-      const int shared = std::min(frames[static_cast<std::size_t>(left - 1)].storeys(),
-                                  frames[static_cast<std::size_t>(right - 1)].storeys());
-      const int floor = bounded_integer(o.require("floor"), 1, pairs.empty() ? shared : frames[static_cast<std::size_t>(left - 1)].storeys(), "",
-                                        [&](const std::string& m) {
-        o.fail("floor", fmt::format("{}: frames {} and {} share floors 1..{}", m, left, right, shared));
-      });
-      // An element is named by its left floor, and by its right floor too when several share
-      // the left one (a slab of the right frame striking the left column below a floor).
-      int right_floor = -1;
-      if (o.has("right_floor")) {
-        if (pairs.empty()) o.fail("right_floor", "only with listed or height pairs (gap_elements.pairing)");
-        const auto storeys = static_cast<std::int64_t>(frames[static_cast<std::size_t>(right - 1)].storeys());
-        right_floor = bounded_integer(o.require("right_floor"), 1, storeys, "", [&](const std::string& m) {
-          o.fail("right_floor", fmt::format("{} (frame {} has {} floors)", m, right, storeys));
-        }) - 1;
-      }
-      const auto named = std::count_if(pairs.begin(), pairs.end(), [&](const FloorPair& p) {
-        return p.left_frame == left - 1 && p.left_floor == floor - 1 && (right_floor < 0 || p.right_floor == right_floor);
-      });
-      if (!pairs.empty() && named == 0) {
-        o.fail(right_floor < 0 ? "floor" : "right_floor",
-               fmt::format("no gap element joins floor {} of frame {} to {} (an override names an element by its left "
-                           "floor, and right_floor)", floor, left,
-                           right_floor < 0 ? fmt::format("frame {}", right)
-                                           : fmt::format("floor {} of frame {}", right_floor + 1, right)));
-      }
-      if (named > 1) {
-        o.fail("floor", fmt::format("{} gap elements meet frame {} at floor {} or at its column below it (slabs of "
-                                    "frame {} that strike it): give right_floor, the element's floor in frame {}",
-                                    named, left, floor, right, right));
-      }
-      const GapSpec spec = read_gap_law(o, &defaults);
-      for (const FloorPair& p : pairs) {
-        if (p.left_frame == left - 1 && p.left_floor == floor - 1 && (right_floor < 0 || p.right_floor == right_floor)) {
-          check_law_at_column(o, p, spec.law);
-        }
-      }
-      GapOverride go{.left_frame = left - 1, .floor = floor - 1, .law = spec.law, .right_floor = right_floor};
-      for (const GapOverride& seen : overrides) {
-        if (seen.left_frame == go.left_frame && seen.floor == go.floor &&
-            (seen.right_floor < 0 || go.right_floor < 0 || seen.right_floor == go.right_floor)) {
-          o.fail_table("a second override of the same element");
-        }
-      }
-      overrides.push_back(go);
-      override_joints.push_back(spec.joint);
-      o.finish();
-    }
-  }
+  const Overrides overrides = read_overrides(gaps, frames, pairs, defaults);
   for (const FloorPair& p : pairs) {
-    const bool overridden = std::any_of(overrides.begin(), overrides.end(), [&](const GapOverride& o) {
-      return o.left_frame == p.left_frame && o.floor == p.left_floor && (o.right_floor < 0 || o.right_floor == p.right_floor);
+    const bool overridden = std::any_of(overrides.elements.begin(), overrides.elements.end(), [&](const GapOverride& o) {
+      return names_element(o.left_frame, o.floor, o.right_floor, p);
     });
     if (!overridden) check_law_at_column(gaps, p, defaults.law);
   }
   gaps.finish();
-  Model model = make_model(std::move(frames), defaults.law, overrides, pairs);
-  for (const GapElement& g : model.gaps) {
-    std::optional<double> joint = defaults.joint;
-    for (std::size_t k = 0; k < overrides.size(); ++k) {
-      const GapOverride& o = overrides[k];
-      if (o.left_frame == g.left_frame && o.floor == g.floor && (o.right_floor < 0 || o.right_floor == g.floor_right())) {
-        joint = override_joints[k];
-      }
-    }
-    run.joint_widths.push_back(joint.value_or(g.gap()));
-  }
+  Model model = make_model(std::move(frames), defaults.law, overrides.elements, pairs);
+  run.joint_widths = joint_widths(model, defaults, overrides);
   return model;
 }
 
@@ -1172,145 +1238,168 @@ void read_initial(TableReader& t, const Model& model, InitialConditions& ic) {
   t.finish();
 }
 
+/// The figures of a record read (from samples or a file) that the run reports.
+void set_record_info(const GroundMotionRecord& r, RunInput& run) {
+  ExcitationInfo& info = run.excitation_info;
+  run.excitation = r.excitation;
+  info.record_scale = r.scale;
+  info.record_units = r.file_units;
+  info.record_format = r.format;
+  info.record_points = r.points;
+  info.record_dt = r.dt;
+  info.record_pga_file_g = r.pga_file_g;
+  info.record_pga_g = r.pga_g;
+  info.record_duration = r.duration;
+}
+
+/// kind = "harmonic": ü_g = a g sin ω̄t with ω̄ given as one of ratio, omega or frequency_hz.
+void read_harmonic(TableReader& t, RunInput& run) {
+  ExcitationInfo& info = run.excitation_info;
+  info.amplitude_g = t.number("amplitude_g");
+  const int given = int(t.has("ratio")) + int(t.has("omega")) + int(t.has("frequency_hz"));
+  if (given != 1) {
+    t.fail_table("give exactly one of ratio (ω̄/ω₁), omega (rad/s) or frequency_hz");
+  }
+  if (auto r = t.optional_number("ratio")) info.omega = t.positive("ratio", *r) * info.omega1;
+  if (auto w = t.optional_number("omega")) info.omega = t.positive("omega", *w);
+  if (auto f = t.optional_number("frequency_hz")) {
+    info.omega = 2.0 * std::numbers::pi * t.positive("frequency_hz", *f);
+  }
+  run.excitation = HarmonicExcitation{info.amplitude_g * standard_gravity, info.omega};
+}
+
+/// A record's format, units and factor (scale or target_pga_g), shared by samples and files.
+RecordOptions read_record_scaling(TableReader& t, const Origin& origin, const RunInput& run) {
+  RecordOptions o;
+  o.gravity = standard_gravity;
+  const std::string format = t.choice("format", names::record_format, std::string("auto"));
+  for (const auto& [name, value] : record_format_names) {
+    if (name == format) o.format = value;
+  }
+  o.units = t.has("units") ? t.choice("units", names::record_units) : std::string();
+  if (t.has("scale") && t.has("target_pga_g")) t.fail("target_pga_g", "give either scale or target_pga_g, not both");
+  if (auto scale = t.optional_number("scale")) {
+    if (*scale == 0) t.fail("scale", "must not be 0 (a negative scale reverses the record)");
+    o.scale = *scale;
+  }
+  if (auto target = t.optional_number("target_pga_g")) o.target_pga_g = t.positive("target_pga_g", *target);
+  if (run.ensemble && run.ensemble->scaling) {
+    // Each record's factor comes from [ensemble.scaling], set as the record's own scale (with
+    // its file) when it runs: one given here would be overridden, or fight it.
+    const bool record_point = origin.overrides.contains("excitation.file") && origin.overrides.contains("excitation.scale");
+    if (t.has("target_pga_g")) t.fail("target_pga_g", "not with [ensemble.scaling], which scales every record");
+    if (t.has("scale") && !record_point) t.fail("scale", "not with [ensemble.scaling], which scales every record");
+  }
+  return o;
+}
+
+/// Samples given in the input (the Python module's arrays): no file, its format or column.
+void read_record_samples(TableReader& t, RecordOptions o, RunInput& run) {
+  for (const char* key : {"file", "format", "column"}) {
+    if (t.has(key)) t.fail(key, "not with acceleration (the samples are the record)");
+  }
+  if (run.ensemble) t.fail("acceleration", "an ensemble takes its records from [ensemble]");
+  if (!t.has("units")) t.blame_misspelling("units");
+  if (!t.has("dt")) t.blame_misspelling("dt");
+  if (!t.has("units")) t.fail_table("missing key: units (of the acceleration samples: \"g\", \"m/s2\" or \"cm/s2\")");
+  if (!t.has("dt")) t.fail_table("missing key: dt (the interval of the acceleration samples)");
+  o.dt = t.positive("dt", t.number("dt"));
+  const toml::node& samples = t.require("acceleration");
+  if (!samples.is_array() || samples.as_array()->size() < 2) {
+    t.fail("acceleration", "expected an array of at least two accelerations");
+  }
+  ExcitationInfo& info = run.excitation_info;
+  info.record_options = o;
+  info.record_samples = t.numbers("acceleration");
+  try {
+    set_record_info(record_from_samples(info.record_samples, o, "samples"), run);
+  } catch (const RecordScaleError& e) {  // the samples are fine; the factor overflows them
+    t.fail(t.has("target_pga_g") ? "target_pga_g" : "scale", e.what());
+  } catch (const InputError& e) {
+    t.fail("acceleration", e.what());
+  }
+}
+
+/// A record file that fails to read: blamed on the factor when it reads unscaled, else on the file.
+[[noreturn]] void fail_record_file(TableReader& t, const std::filesystem::path& path, const RecordOptions& o,
+                                   const InputError& e) {
+  if (t.has("scale") || t.has("target_pga_g")) {
+    RecordOptions unscaled = o;
+    unscaled.scale = 1.0;
+    unscaled.target_pga_g.reset();
+    bool reads_unscaled = false;
+    try {
+      (void)read_ground_motion(path, unscaled);
+      reads_unscaled = true;
+    } catch (const InputError&) {
+    }
+    if (reads_unscaled) t.fail(t.has("target_pga_g") ? "target_pga_g" : "scale", e.what());
+  }
+  t.fail("file", e.what());
+}
+
+/// The record file, read with its options (none when an ensemble supplies the records).
+void read_record_file(TableReader& t, RecordOptions o, const std::filesystem::path& base_dir, const Origin& origin,
+                      RunInput& run) {
+  const std::string format = t.choice("format", names::record_format, std::string("auto"));
+  if (t.has("dt")) {
+    if (format != "single") t.fail("dt", "only for format = \"single\" (the other formats carry their times)");
+    o.dt = t.positive("dt", t.number("dt"));
+  } else if (format == "single") {
+    t.fail_table_missing("dt", "missing key: dt (format = \"single\" has no times)");
+  }
+  if (t.has("column")) {
+    if (format != "columns" && format != "auto") t.fail("column", "only for column files");
+    o.column = bounded_integer(t.require("column"), 2, limits::column, "", [&](const std::string& m) {
+      t.fail("column", m + " (the acceleration column; column 1 is time)");
+    });
+  }
+  ExcitationInfo& info = run.excitation_info;
+  // An ensemble names its records in [ensemble]: a file here only comes from one of its points.
+  if (run.ensemble && !(t.has("file") && origin.overrides.contains("excitation.file"))) {
+    if (t.has("file")) t.fail("file", "an ensemble takes its records from [ensemble]");
+    info.record_units = o.units;
+    info.record_options = o;
+    return;
+  }
+  std::filesystem::path path(t.string("file"));
+  if (path.is_relative()) path = base_dir / path;
+  info.record_file = path;
+  info.record_options = o;
+  try {
+    const GroundMotionRecord r = read_ground_motion(path, o);
+    set_record_info(r, run);
+    info.record_description = r.description;
+  } catch (const InputError& e) {
+    fail_record_file(t, path, o, e);
+  }
+  // The reader checks the file's numbers; the factor applied to them is this table's.
+  if (!std::isfinite(info.record_pga_g) || !std::isfinite(info.record_scale)) {
+    const char* key = t.has("target_pga_g") ? "target_pga_g" : t.has("scale") ? "scale" : "file";
+    t.fail(key, fmt::format("{}: the record's peak {} g scaled by {} is beyond the range of a double",
+                            path.string(), info.record_pga_file_g, info.record_scale));
+  }
+}
+
 void read_excitation(TableReader& t, const Model& model, const std::filesystem::path& base_dir,
                      const Origin& origin, RunInput& run) {
   t.declare<keys::Excitation>();
   ExcitationInfo& info = run.excitation_info;
   info.kind = t.choice("kind", names::excitation_kind);
   info.omega1 = reference_frequency(model);
-  const std::string context = fmt::format("for kind = \"{}\"", info.kind);
   if (info.kind == "harmonic") {
-    info.amplitude_g = t.number("amplitude_g");
-    const int given = int(t.has("ratio")) + int(t.has("omega")) + int(t.has("frequency_hz"));
-    if (given != 1) {
-      t.fail_table("give exactly one of ratio (ω̄/ω₁), omega (rad/s) or frequency_hz");
-    }
-    if (auto r = t.optional_number("ratio")) info.omega = t.positive("ratio", *r) * info.omega1;
-    if (auto w = t.optional_number("omega")) info.omega = t.positive("omega", *w);
-    if (auto f = t.optional_number("frequency_hz")) {
-      info.omega = 2.0 * std::numbers::pi * t.positive("frequency_hz", *f);
-    }
-    run.excitation = HarmonicExcitation{info.amplitude_g * standard_gravity, info.omega};
+    read_harmonic(t, run);
   } else if (info.kind == "record") {
-    RecordOptions o;
-    o.gravity = standard_gravity;
-    const std::string format = t.choice("format", names::record_format, std::string("auto"));
-    for (const auto& [name, value] : record_format_names) {
-      if (name == format) o.format = value;
-    }
-    o.units = t.has("units") ? t.choice("units", names::record_units) : std::string();
-    if (t.has("scale") && t.has("target_pga_g")) t.fail("target_pga_g", "give either scale or target_pga_g, not both");
-    if (auto scale = t.optional_number("scale")) {
-      if (*scale == 0) t.fail("scale", "must not be 0 (a negative scale reverses the record)");
-      o.scale = *scale;
-    }
-    if (auto target = t.optional_number("target_pga_g")) o.target_pga_g = t.positive("target_pga_g", *target);
-    if (run.ensemble && run.ensemble->scaling) {
-      // Each record's factor comes from [ensemble.scaling], set as the record's own scale (with
-      // its file) when it runs: one given here would be overridden, or fight it.
-      const bool record_point = origin.overrides.contains("excitation.file") && origin.overrides.contains("excitation.scale");
-      if (t.has("target_pga_g")) t.fail("target_pga_g", "not with [ensemble.scaling], which scales every record");
-      if (t.has("scale") && !record_point) t.fail("scale", "not with [ensemble.scaling], which scales every record");
-    }
+    const RecordOptions o = read_record_scaling(t, origin, run);
     if (t.has("acceleration")) {
-      // Samples given in the input (the Python module's arrays): no file, its format or column.
-      for (const char* key : {"file", "format", "column"}) {
-        if (t.has(key)) t.fail(key, "not with acceleration (the samples are the record)");
-      }
-      if (run.ensemble) t.fail("acceleration", "an ensemble takes its records from [ensemble]");
-      if (!t.has("units")) t.blame_misspelling("units");
-      if (!t.has("dt")) t.blame_misspelling("dt");
-      if (!t.has("units")) t.fail_table("missing key: units (of the acceleration samples: \"g\", \"m/s2\" or \"cm/s2\")");
-      if (!t.has("dt")) t.fail_table("missing key: dt (the interval of the acceleration samples)");
-      o.dt = t.positive("dt", t.number("dt"));
-      const toml::node& samples = t.require("acceleration");
-      if (!samples.is_array() || samples.as_array()->size() < 2) {
-        t.fail("acceleration", "expected an array of at least two accelerations");
-      }
-      info.record_options = o;
-      info.record_samples = t.numbers("acceleration");
-      try {
-        const GroundMotionRecord r = record_from_samples(info.record_samples, o, "samples");
-        run.excitation = r.excitation;
-        info.record_scale = r.scale;
-        info.record_units = r.file_units;
-        info.record_format = r.format;
-        info.record_points = r.points;
-        info.record_dt = r.dt;
-        info.record_pga_file_g = r.pga_file_g;
-        info.record_pga_g = r.pga_g;
-        info.record_duration = r.duration;
-      } catch (const RecordScaleError& e) {  // the samples are fine; the factor overflows them
-        t.fail(t.has("target_pga_g") ? "target_pga_g" : "scale", e.what());
-      } catch (const InputError& e) {
-        t.fail("acceleration", e.what());
-      }
-      t.finish(context);
-      return;
-    }
-    if (t.has("dt")) {
-      if (format != "single") t.fail("dt", "only for format = \"single\" (the other formats carry their times)");
-      o.dt = t.positive("dt", t.number("dt"));
-    } else if (format == "single") {
-      t.fail_table_missing("dt", "missing key: dt (format = \"single\" has no times)");
-    }
-    if (t.has("column")) {
-      if (format != "columns" && format != "auto") t.fail("column", "only for column files");
-      o.column = bounded_integer(t.require("column"), 2, limits::column, "", [&](const std::string& m) {
-        t.fail("column", m + " (the acceleration column; column 1 is time)");
-      });
-    }
-    // An ensemble names its records in [ensemble]: a file here only comes from one of its points.
-    if (run.ensemble && !(t.has("file") && origin.overrides.contains("excitation.file"))) {
-      if (t.has("file")) t.fail("file", "an ensemble takes its records from [ensemble]");
-      info.record_units = o.units;
-      info.record_options = o;
-      t.finish(context);
-      return;
-    }
-    const std::string file = t.string("file");
-    std::filesystem::path path(file);
-    if (path.is_relative()) path = base_dir / path;
-    info.record_file = path;
-    info.record_options = o;
-    try {
-      const GroundMotionRecord r = read_ground_motion(path, o);
-      run.excitation = r.excitation;
-      info.record_scale = r.scale;
-      info.record_units = r.file_units;
-      info.record_format = r.format;
-      info.record_description = r.description;
-      info.record_points = r.points;
-      info.record_dt = r.dt;
-      info.record_pga_file_g = r.pga_file_g;
-      info.record_pga_g = r.pga_g;
-      info.record_duration = r.duration;
-    } catch (const InputError& e) {
-      // A record that reads unscaled fails because of the factor: the message names that key.
-      if (t.has("scale") || t.has("target_pga_g")) {
-        RecordOptions unscaled = o;
-        unscaled.scale = 1.0;
-        unscaled.target_pga_g.reset();
-        bool reads_unscaled = false;
-        try {
-          (void)read_ground_motion(path, unscaled);
-          reads_unscaled = true;
-        } catch (const InputError&) {
-        }
-        if (reads_unscaled) t.fail(t.has("target_pga_g") ? "target_pga_g" : "scale", e.what());
-      }
-      t.fail("file", e.what());
-    }
-    // The reader checks the file's numbers; the factor applied to them is this table's.
-    if (!std::isfinite(info.record_pga_g) || !std::isfinite(info.record_scale)) {
-      const char* key = t.has("target_pga_g") ? "target_pga_g" : t.has("scale") ? "scale" : "file";
-      t.fail(key, fmt::format("{}: the record's peak {} g scaled by {} is beyond the range of a double",
-                              path.string(), info.record_pga_file_g, info.record_scale));
+      read_record_samples(t, o, run);
+    } else {
+      read_record_file(t, o, base_dir, origin, run);
     }
   } else {
     run.excitation = NoExcitation{};
   }
-  t.finish(context);
+  t.finish(fmt::format("for kind = \"{}\"", info.kind));
 }
 
 /// The integration keys shared by every kind of analysis.
@@ -1800,16 +1889,8 @@ EnsembleSettings read_ensemble(TableReader& t, const std::filesystem::path& base
   return e;
 }
 
-RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::path& base_dir,
-                   std::span<const Setting> settings) {
-  for (const Setting& setting : settings) {
-    const std::string path = apply_setting(root, setting, origin);
-    origin.overrides[path] = setting.text;
-  }
-  RunInput run;
-  TableReader top(root, "", origin);
-  top.declare<keys::File>();
-  run.title = top.string_or("title", "");
+/// The structure: [model] (dimensionless form) or [[frames]] with [gap_elements] (physical form).
+void read_structure(TableReader& top, const Origin& origin, RunInput& run) {
   const bool dimensionless = top.has("model"), physical = top.has("frames");
   if (dimensionless && physical) {
     top.fail("frames", "give either [model] (dimensionless form) or [[frames]] (physical form), not both");
@@ -1830,16 +1911,12 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
   } catch (const std::invalid_argument& e) {
     throw InputError(fmt::format("{}: {}", origin.file, e.what()));
   }
-  if (auto initial = top.optional_table("initial")) read_initial(*initial, run.model, run.initial);
-  if (auto output = top.optional_table("output")) read_output(*output, run);
-  TableReader analysis = top.table("analysis");
-  analysis.declare<TimeHistoryOptions, AnalysisSettings>();
-  read_fields(analysis, run.analysis);
+}
+
+/// [study], [optimize], [parameter] and [ensemble], each only for the kinds that read it; returns
+/// what each of the run's points is once the study's or the optimiser's points are unfolded.
+PointRun read_point_tables(TableReader& top, const std::filesystem::path& base_dir, RunInput& run) {
   const AnalysisKind kind = run.analysis.kind;
-  const std::string context = fmt::format("for kind = \"{}\"", to_string(kind));
-  if (!run.channels.empty() && kind != AnalysisKind::time_history) {
-    top.fail("output", fmt::format("only for kind = \"time_history\", whose history.csv it chooses (not {})", context));
-  }
   PointRun each = kind == AnalysisKind::frf || kind == AnalysisKind::continuation ? PointRun::frf
                   : kind == AnalysisKind::ensemble ? PointRun::ensemble
                                                    : PointRun::time_history;
@@ -1869,94 +1946,133 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
   } else if (top.has("ensemble")) {
     top.fail("ensemble", "only for analysis.kind = \"ensemble\" or each = \"ensemble\"");
   }
-  if (each == PointRun::time_history) {
-    read_time_history(analysis, run.analysis);
-    TableReader excitation = top.table("excitation");
-    read_excitation(excitation, run.model, base_dir, origin, run);
-    if (run.ensemble && run.excitation_info.kind != "record") {
-      excitation.fail("kind", "an ensemble runs records: kind = \"record\"");
-    }
-    if (run.analysis.duration == 0) {
-      if (run.excitation_info.kind == "record" && run.excitation_info.record_duration > 0) {
-        run.analysis.duration = run.excitation_info.record_duration;
-      } else if (!run.ensemble) {
-        analysis.fail_missing("duration", "only a record's length can stand in for it");
-      }
-    }
-    if (run.analysis.duration > 0 && run.analysis.options.dt > run.analysis.duration) {
-      analysis.fail("dt", fmt::format("{} s is longer than the duration {} s", run.analysis.options.dt,
-                                      run.analysis.duration));
-    }
-    if (run.analysis.duration > 0) {
-      const bool from_record = !analysis.has("duration");
-      check_time_history_work(analysis, run.analysis,
-                              from_record ? fmt::format(" (the length of {})", run.excitation_info.record_file.string())
-                                          : std::string());
-    }
-    if (top.has("frf")) top.fail("frf", "only for analysis.kind = \"frf\"");
-  } else {
-    read_integration(analysis, run.analysis);
-    if (top.has("excitation")) {
-      top.fail("excitation", "a frequency response sets its own harmonic excitation from [frf]");
-    }
-    if (top.has("initial")) top.fail("initial", "a frequency response starts from rest or from the previous point");
-    TableReader frf = top.table("frf");
-    frf.declare<FrfSettings, SteadyStateOptions>();
-    run.frf = read_frf(frf, analysis, run.model, run.analysis);
-    if (kind == AnalysisKind::continuation) {
-      TableReader parameter = top.table("parameter");
-      parameter.declare<ContinuedParameter>();
-      run.parameter = read_continued_parameter(parameter);
-    }
-    run.excitation_info.kind = "harmonic";
-    run.excitation_info.amplitude_g = run.frf->amplitude_g;
-    run.excitation_info.omega1 = reference_frequency(run.model);
-    // The band of the study and optimiser metrics defaults to the whole response.
-    const auto whole_response_unless_given = [&](double& lo, double& hi) {
-      if (lo == 0.0 && hi == 0.0) {
-        lo = run.frf->ratios.front();
-        hi = run.frf->ratios.back();
-      }
-    };
-    if (run.study) whole_response_unless_given(run.study->band_min, run.study->band_max);
-    if (run.optimize) whole_response_unless_given(run.optimize->band_min, run.optimize->band_max);
-  }
-  analysis.finish(context);
-  top.finish();
+  return each;
+}
 
-  // Cross-checks that need the whole model.
+/// The time-history part of [analysis] and [excitation]; the duration defaults to the record's.
+void read_time_history_run(TableReader& top, TableReader& analysis, const std::filesystem::path& base_dir,
+                           const Origin& origin, RunInput& run) {
+  read_time_history(analysis, run.analysis);
+  TableReader excitation = top.table("excitation");
+  read_excitation(excitation, run.model, base_dir, origin, run);
+  if (run.ensemble && run.excitation_info.kind != "record") {
+    excitation.fail("kind", "an ensemble runs records: kind = \"record\"");
+  }
+  if (run.analysis.duration == 0) {
+    if (run.excitation_info.kind == "record" && run.excitation_info.record_duration > 0) {
+      run.analysis.duration = run.excitation_info.record_duration;
+    } else if (!run.ensemble) {
+      analysis.fail_missing("duration", "only a record's length can stand in for it");
+    }
+  }
+  if (run.analysis.duration > 0 && run.analysis.options.dt > run.analysis.duration) {
+    analysis.fail("dt", fmt::format("{} s is longer than the duration {} s", run.analysis.options.dt,
+                                    run.analysis.duration));
+  }
+  if (run.analysis.duration > 0) {
+    const bool from_record = !analysis.has("duration");
+    check_time_history_work(analysis, run.analysis,
+                            from_record ? fmt::format(" (the length of {})", run.excitation_info.record_file.string())
+                                        : std::string());
+  }
+  if (top.has("frf")) top.fail("frf", "only for analysis.kind = \"frf\"");
+}
+
+/// [frf] and, for a continuation, [parameter]: the harmonic excitation the response sets itself.
+void read_frequency_response_run(TableReader& top, TableReader& analysis, RunInput& run) {
+  read_integration(analysis, run.analysis);
+  if (top.has("excitation")) {
+    top.fail("excitation", "a frequency response sets its own harmonic excitation from [frf]");
+  }
+  if (top.has("initial")) top.fail("initial", "a frequency response starts from rest or from the previous point");
+  TableReader frf = top.table("frf");
+  frf.declare<FrfSettings, SteadyStateOptions>();
+  run.frf = read_frf(frf, analysis, run.model, run.analysis);
+  if (run.analysis.kind == AnalysisKind::continuation) {
+    TableReader parameter = top.table("parameter");
+    parameter.declare<ContinuedParameter>();
+    run.parameter = read_continued_parameter(parameter);
+  }
+  run.excitation_info.kind = "harmonic";
+  run.excitation_info.amplitude_g = run.frf->amplitude_g;
+  run.excitation_info.omega1 = reference_frequency(run.model);
+  // The band of the study and optimiser metrics defaults to the whole response.
+  const auto whole_response_unless_given = [&](double& lo, double& hi) {
+    if (lo == 0.0 && hi == 0.0) {
+      lo = run.frf->ratios.front();
+      hi = run.frf->ratios.back();
+    }
+  };
+  if (run.study) whole_response_unless_given(run.study->band_min, run.study->band_max);
+  if (run.optimize) whole_response_unless_given(run.optimize->band_min, run.optimize->band_max);
+}
+
+/// The initial displacements against each gap element's law: neighbours may not start overlapping.
+void check_initial_overlap(const RunInput& run, const Origin& origin) {
+  const auto& u0 = run.initial.displacement;
+  for (const GapElement& g : run.model.gaps) {
+    // A struck column's point interpolates the floors around it (the ground below a first floor).
+    const auto at = [&](int frame, int floor, Side side) {
+      const double above = u0[static_cast<std::size_t>(frame)][static_cast<std::size_t>(floor)];
+      if (!g.column || g.column->struck != side) return above;
+      const double below = floor == 0 ? 0.0 : u0[static_cast<std::size_t>(frame)][static_cast<std::size_t>(floor - 1)];
+      return g.column->weight * above + (1 - g.column->weight) * below;
+    };
+    const double d = at(g.left_frame, g.floor, Side::left) - at(g.left_frame + 1, g.floor_right(), Side::right);
+    try {  // the law says whether it can start at d (the simulator asks it the same)
+      std::visit([&](const auto& law) { static_cast<void>(law.initial_mode(d)); }, g.law);
+    } catch (const std::invalid_argument& e) {
+      const std::string where = g.column ? "at the " + describe(g) : fmt::format("at floor {}", g.floor + 1);
+      throw InputError(fmt::format("{}: initial.displacement: frames {} and {} overlap {} {}", origin.file,
+                                   g.left_frame + 1, g.left_frame + 2, where, e.what()));
+    }
+  }
+}
+
+/// Cross-checks that need the whole model: its validation, the integrator's support of every law
+/// (refused here, before the run makes its output folder, rather than by the simulator), the start.
+void check_whole_run(const RunInput& run, const Origin& origin) {
   try {
     validate(run.model);
   } catch (const std::invalid_argument& e) {
     throw InputError(fmt::format("{}: {}", origin.file, e.what()));
   }
-  // Whether the integrator takes every law (the exact one refuses smooth laws): refused here,
-  // before the run makes its output folder, rather than by the simulator.
-  if (run.model.frame_count() > 0) {
-    const DofLayout layout(run.model);
-    const IntegratorSupport support = supports(run.analysis.options.integrator, make_links(run.model, layout), layout);
-    if (!support) throw InputError(fmt::format("{}: analysis.integrator: {}", origin.file, support.reason));
+  if (run.model.frame_count() == 0) return;
+  const DofLayout layout(run.model);
+  const IntegratorSupport support = supports(run.analysis.options.integrator, make_links(run.model, layout), layout);
+  if (!support) throw InputError(fmt::format("{}: analysis.integrator: {}", origin.file, support.reason));
+  if (!run.initial.displacement.empty()) check_initial_overlap(run, origin);
+}
+
+RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::path& base_dir,
+                   std::span<const Setting> settings) {
+  for (const Setting& setting : settings) {
+    const std::string path = apply_setting(root, setting, origin);
+    origin.overrides[path] = setting.text;
   }
-  if (run.model.frame_count() > 0 && !run.initial.displacement.empty()) {
-    const auto& u0 = run.initial.displacement;
-    for (const GapElement& g : run.model.gaps) {
-      // A struck column's point interpolates the floors around it (the ground below a first floor).
-      const auto at = [&](int frame, int floor, Side side) {
-        const double above = u0[static_cast<std::size_t>(frame)][static_cast<std::size_t>(floor)];
-        if (!g.column || g.column->struck != side) return above;
-        const double below = floor == 0 ? 0.0 : u0[static_cast<std::size_t>(frame)][static_cast<std::size_t>(floor - 1)];
-        return g.column->weight * above + (1 - g.column->weight) * below;
-      };
-      const double d = at(g.left_frame, g.floor, Side::left) - at(g.left_frame + 1, g.floor_right(), Side::right);
-      try {  // the law says whether it can start at d (the simulator asks it the same)
-        std::visit([&](const auto& law) { static_cast<void>(law.initial_mode(d)); }, g.law);
-      } catch (const std::invalid_argument& e) {
-        const std::string where = g.column ? "at the " + describe(g) : fmt::format("at floor {}", g.floor + 1);
-        throw InputError(fmt::format("{}: initial.displacement: frames {} and {} overlap {} {}", origin.file,
-                                     g.left_frame + 1, g.left_frame + 2, where, e.what()));
-      }
-    }
+  RunInput run;
+  TableReader top(root, "", origin);
+  top.declare<keys::File>();
+  run.title = top.string_or("title", "");
+  read_structure(top, origin, run);
+  if (auto initial = top.optional_table("initial")) read_initial(*initial, run.model, run.initial);
+  if (auto output = top.optional_table("output")) read_output(*output, run);
+  TableReader analysis = top.table("analysis");
+  analysis.declare<TimeHistoryOptions, AnalysisSettings>();
+  read_fields(analysis, run.analysis);
+  const AnalysisKind kind = run.analysis.kind;
+  const std::string context = fmt::format("for kind = \"{}\"", to_string(kind));
+  if (!run.channels.empty() && kind != AnalysisKind::time_history) {
+    top.fail("output", fmt::format("only for kind = \"time_history\", whose history.csv it chooses (not {})", context));
   }
+  if (read_point_tables(top, base_dir, run) == PointRun::time_history) {
+    read_time_history_run(top, analysis, base_dir, origin, run);
+  } else {
+    read_frequency_response_run(top, analysis, run);
+  }
+  analysis.finish(context);
+  top.finish();
+  check_whole_run(run, origin);
   return run;
 }
 

@@ -574,165 +574,169 @@ std::vector<RunInput> point_inputs(const RunInput& input, AnalysisKind kind) {
 
 namespace {
 
-StudyResult run_points(const RunInput& input, const std::filesystem::path& out_dir, const StudyRunOptions& options,
-                       AnalysisKind kind, const SuiteScaling* scaling) {
-  const std::string stem(to_string(kind));  // the files' names: study.sqlite, ensemble.csv
-  const StudySettings& study = *input.study;
-  const auto start = std::chrono::steady_clock::now();
-  const std::vector<PointValues> all = study_points(study);
+/// A point to run: its 0-based id (its row), its input and its bare-pounding reference's key.
+struct Todo {
+  long id;
+  RunInput input;
+  std::string baseline;
+};
 
-  // Every point is read (and so validated) before the database is touched or anything runs.
-  struct Todo {
-    long id;
-    RunInput input;
-    std::string baseline;
-  };
-  std::vector<Todo> todo;
-  for (RunInput& point : points_of(input, all, kind)) {
-    std::string key = study.baseline ? baseline_key(point) : std::string();
-    todo.push_back({static_cast<long>(todo.size()), std::move(point), std::move(key)});
+/// What one point (or bare-pounding reference) computes, wherever it runs: a task names it (and
+/// carries its reference's peaks), the result is what the database stores. Both are CBOR, which
+/// keeps every double to the bit.
+std::string compute_task(const std::map<long, const Todo*>& by_id, const std::string& task_bytes) {
+  const json task = json::from_cbor(task_bytes);
+  const Todo& t = *by_id.at(task.at("id").get<long>());
+  if (task.at("phase") == "baseline") return cbor_bytes(json{{"figures", io::to_json(baseline_figures(t.input, 1))}});
+  const auto point_start = std::chrono::steady_clock::now();
+  std::string status = "done", error;
+  json metrics = json::object();
+  try {
+    std::optional<std::vector<FigureColumn>> bare;
+    if (!task.at("bare").is_null()) bare = figure_columns_of(task.at("bare"));
+    metrics = io::to_json(point_figures(t.input, 1, bare ? &*bare : nullptr));
+  } catch (const SimulationError& e) {
+    status = "failed";
+    error = e.what();
   }
-  // What one point (or bare-pounding reference) computes, wherever it runs: a task names it
-  // (and carries its reference's peaks), the result is what the database stores. Both are CBOR,
-  // which keeps every double to the bit.
-  std::map<long, const Todo*> by_id;  // filled once `todo` no longer changes
-  const auto compute = [&](const std::string& task_bytes) -> std::string {
-    const json task = json::from_cbor(task_bytes);
-    const Todo& t = *by_id.at(task.at("id").get<long>());
-    if (task.at("phase") == "baseline") return cbor_bytes(json{{"figures", io::to_json(baseline_figures(t.input, 1))}});
-    const auto point_start = std::chrono::steady_clock::now();
-    std::string status = "done", error;
-    json metrics = json::object();
-    try {
-      std::optional<std::vector<FigureColumn>> bare;
-      if (!task.at("bare").is_null()) bare = figure_columns_of(task.at("bare"));
-      metrics = io::to_json(point_figures(t.input, 1, bare ? &*bare : nullptr));
-    } catch (const SimulationError& e) {
-      status = "failed";
-      error = e.what();
-    }
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - point_start).count();
-    return cbor_bytes(json{{"status", status}, {"error", error}, {"metrics", metrics}, {"seconds", seconds}});
-  };
-  PointDistribution* const ranks = options.distribution != nullptr && options.distribution->ranks() > 1 ? options.distribution : nullptr;
-  if (ranks != nullptr && !ranks->is_coordinator()) {
-    // A worker: the bare-pounding references, then the points, as the coordinator sends them.
-    for (const Todo& t : todo) by_id[t.id] = &t;
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - point_start).count();
+  return cbor_bytes(json{{"status", status}, {"error", error}, {"metrics", metrics}, {"seconds", seconds}});
+}
+
+/// One study or ensemble run on the coordinator (or alone): the points still to run, the
+/// database, and the phases that run the bare-pounding references and then the points.
+class PointsRun {
+ public:
+  PointsRun(const StudySettings& study, const std::vector<PointValues>& all, const StudyRunOptions& options,
+            std::vector<Todo> todo)
+      : study_(study), all_(all), options_(options), todo_(std::move(todo)),
+        ranks_(options.distribution != nullptr && options.distribution->ranks() > 1 ? options.distribution : nullptr) {}
+
+  /// On a worker rank: the bare-pounding references, then the points, as the coordinator sends them.
+  bool serve() {
+    index_todo();
     // Both phases, whatever the first's end: the coordinator ends the second too.
-    const bool baselines_stopped = ranks->run_phase({}, compute, {}, {});
-    const bool points_stopped = ranks->run_phase({}, compute, {}, {});
-    if (baselines_stopped || points_stopped) throw RunStopped();
-    StudyResult result;
-    result.kind = kind;
-    result.worker = true;
-    return result;
+    const bool baselines_stopped = ranks_->run_phase({}, compute(), {}, {});
+    const bool points_stopped = ranks_->run_phase({}, compute(), {}, {});
+    return baselines_stopped || points_stopped;
   }
-  OutputTransaction out(out_dir);  // creates the folder for the database too
-  std::vector<std::string> parameter_keys;
-  for (const StudyParameter& p : study.parameters) parameter_keys.push_back(p.key);
-  const json definition{{"input", input.source.string()}, {"each", to_string(study.each)}, {"sampling", to_string(study.sampling)},
-                        {"points", all.size()}, {"parameters", parameter_keys}};
-  StudyDatabase db(out_dir / (stem + ".sqlite"), fingerprint(input), definition);
-  const std::set<long> finished = db.finished();
+  [[nodiscard]] bool is_worker() const { return ranks_ != nullptr && !ranks_->is_coordinator(); }
 
-  std::erase_if(todo, [&](const Todo& t) { return finished.contains(t.id); });
-  if (options.max_points && static_cast<long>(todo.size()) > *options.max_points) {
-    todo.resize(static_cast<std::size_t>(*options.max_points));
-  }
-
-  for (const Todo& t : todo) by_id[t.id] = &t;
-
-  // Bare-pounding references, each computed once and stored.
-  std::map<std::string, json> baselines;
-  std::vector<const Todo*> missing;
-  for (const Todo& t : todo) {
-    if (t.baseline.empty() || baselines.contains(t.baseline)) continue;
-    if (auto stored = db.baseline(t.baseline)) {
-      baselines[t.baseline] = *stored;
-    } else {
-      baselines[t.baseline] = json();
-      missing.push_back(&t);
+  /// Drops the points the database holds (and those beyond max_points), then runs the rest.
+  void run(StudyDatabase& db, const std::set<long>& finished) {
+    std::erase_if(todo_, [&](const Todo& t) { return finished.contains(t.id); });
+    if (options_.max_points && static_cast<long>(todo_.size()) > *options_.max_points) {
+      todo_.resize(static_cast<std::size_t>(*options_.max_points));
     }
+    index_todo();
+    run_baselines(db);
+    run_todo(db);
   }
-  std::mutex baseline_mutex;
-  const auto check_stop = [&] {
-    if (options.stop_requested && options.stop_requested()) throw RunStopped();
-  };
-  if (ranks != nullptr) {
-    std::vector<std::string> tasks;
-    for (const Todo* t : missing) tasks.push_back(cbor_bytes(json{{"phase", "baseline"}, {"id", t->id}}));
-    const auto store = [&](std::size_t k, const std::string& result) {
-      const json m = json::from_cbor(result).at("figures");
-      db.record_baseline(missing[k]->baseline, m);
-      baselines[missing[k]->baseline] = m;
-    };
-    if (ranks->run_phase(tasks, compute, store, [&] { return options.stop_requested && options.stop_requested(); })) {
-      // The workers wait for the points' phase, which they learn is stopped too.
-      ranks->run_phase({}, compute, {}, [] { return true; });
-      throw RunStopped();
+  [[nodiscard]] int run_this_time() const { return static_cast<int>(todo_.size()); }
+
+ private:
+  void index_todo() {
+    for (const Todo& t : todo_) by_id_[t.id] = &t;
+  }
+  [[nodiscard]] std::function<std::string(const std::string&)> compute() const {
+    return [this](const std::string& bytes) { return compute_task(by_id_, bytes); };
+  }
+  [[nodiscard]] bool stop_requested() const { return options_.stop_requested && options_.stop_requested(); }
+
+  /// Bare-pounding references, each computed once and stored.
+  void run_baselines(StudyDatabase& db) {
+    std::vector<const Todo*> missing;
+    for (const Todo& t : todo_) {
+      if (t.baseline.empty() || baselines_.contains(t.baseline)) continue;
+      if (auto stored = db.baseline(t.baseline)) {
+        baselines_[t.baseline] = *stored;
+      } else {
+        baselines_[t.baseline] = json();
+        missing.push_back(&t);
+      }
     }
-  } else {
-    parallel_for(static_cast<int>(missing.size()), study.threads, [&](int k) {
-      check_stop();
+    if (ranks_ != nullptr) {
+      std::vector<std::string> tasks;
+      for (const Todo* t : missing) tasks.push_back(cbor_bytes(json{{"phase", "baseline"}, {"id", t->id}}));
+      const auto store = [&](std::size_t k, const std::string& result) {
+        const json m = json::from_cbor(result).at("figures");
+        db.record_baseline(missing[k]->baseline, m);
+        baselines_[missing[k]->baseline] = m;
+      };
+      if (ranks_->run_phase(tasks, compute(), store, [&] { return stop_requested(); })) {
+        // The workers wait for the points' phase, which they learn is stopped too.
+        ranks_->run_phase({}, compute(), {}, [] { return true; });
+        throw RunStopped();
+      }
+      return;
+    }
+    std::mutex baseline_mutex;
+    parallel_for(static_cast<int>(missing.size()), study_.threads, [&](int k) {
+      if (stop_requested()) throw RunStopped();
       const Todo& t = *missing[static_cast<std::size_t>(k)];
       const json m = io::to_json(baseline_figures(t.input, 1));
       db.record_baseline(t.baseline, m);
       const std::lock_guard lock(baseline_mutex);
-      baselines[t.baseline] = m;
+      baselines_[t.baseline] = m;
     });
   }
 
-  std::atomic<int> done{0};
-  std::atomic<int> failed{0};
-  const int total = static_cast<int>(todo.size());
-  // The run begins: a progress bar's clock and rate start here, not at the first point's end.
-  if (options.progress) options.progress(0, total);
-  const auto parameters_of = [&](const Todo& t) {
-    json parameters = json::object();
-    for (const Setting& s : all[static_cast<std::size_t>(t.id)]) parameters[s.key] = to_json(s.value);
-    return parameters;
-  };
-  std::vector<std::string> tasks;
-  for (const Todo& t : todo) {
-    tasks.push_back(cbor_bytes(json{{"phase", "point"}, {"id", t.id},
-                                  {"bare", t.baseline.empty() ? json() : baselines.at(t.baseline)}}));
-  }
-  // Called by the thread or the rank that ran the point (a worker thread: the database and the
-  // counts are safe to share).
-  const auto store = [&](std::size_t k, const std::string& bytes) {
-    const Todo& t = todo[k];
-    const json r = json::from_cbor(bytes);
-    if (r.at("status") != "done") ++failed;
-    db.record(t.id, parameters_of(t), r.at("status").get<std::string>(), r.at("error").get<std::string>(),
-              r.at("metrics"), r.at("seconds").get<double>());
-    const int count = ++done;
-    if (options.progress) options.progress(count, total);
-  };
-  if (ranks != nullptr) {
-    if (ranks->run_phase(tasks, compute, store, [&] { return options.stop_requested && options.stop_requested(); })) {
-      throw RunStopped();
+  /// The points, each stored by the thread or the rank that ran it as it ends.
+  void run_todo(StudyDatabase& db) {
+    std::atomic<int> done{0};
+    const int total = run_this_time();
+    // The run begins: a progress bar's clock and rate start here, not at the first point's end.
+    if (options_.progress) options_.progress(0, total);
+    std::vector<std::string> tasks;
+    for (const Todo& t : todo_) {
+      tasks.push_back(cbor_bytes(json{{"phase", "point"}, {"id", t.id},
+                                    {"bare", t.baseline.empty() ? json() : baselines_.at(t.baseline)}}));
     }
-  } else {
-    parallel_for(total, study.threads, [&](int k) {
-      check_stop();
+    // Called by a worker thread too: the database and the counts are safe to share.
+    const auto store = [&](std::size_t k, const std::string& bytes) {
+      const Todo& t = todo_[k];
+      const json r = json::from_cbor(bytes);
+      json parameters = json::object();
+      for (const Setting& s : all_[static_cast<std::size_t>(t.id)]) parameters[s.key] = to_json(s.value);
+      db.record(t.id, parameters, r.at("status").get<std::string>(), r.at("error").get<std::string>(),
+                r.at("metrics"), r.at("seconds").get<double>());
+      const int count = ++done;
+      if (options_.progress) options_.progress(count, total);
+    };
+    if (ranks_ != nullptr) {
+      if (ranks_->run_phase(tasks, compute(), store, [&] { return stop_requested(); })) throw RunStopped();
+      return;
+    }
+    parallel_for(total, study_.threads, [&](int k) {
+      if (stop_requested()) throw RunStopped();
       const auto i = static_cast<std::size_t>(k);
-      store(i, compute(tasks[i]));
+      store(i, compute_task(by_id_, tasks[i]));
     });
   }
 
-  const double run_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  StudyResult result;
-  result.kind = kind;
-  result.source = input.source;
-  result.title = input.title;
-  result.study = study;
-  result.parameters = parameter_keys;
-  result.points = static_cast<long>(all.size());
-  result.skipped_as_finished = static_cast<long>(finished.size());
-  result.run_this_time = total;
-  result.database = out_dir / (stem + ".sqlite");
-  result.run_time = run_time;
-  result.rows = db.rows();  // the whole database, earlier runs included
+  const StudySettings& study_;
+  const std::vector<PointValues>& all_;  ///< Every point's settings, by id.
+  const StudyRunOptions& options_;
+  std::vector<Todo> todo_;
+  PointDistribution* ranks_;
+  std::map<long, const Todo*> by_id_;  ///< Filled once `todo_` no longer changes.
+  std::map<std::string, json> baselines_;
+};
+
+/// Every point, read (and so validated) before the database is touched or anything runs.
+std::vector<Todo> todo_of(const RunInput& input, const std::vector<PointValues>& all, AnalysisKind kind) {
+  std::vector<Todo> todo;
+  for (RunInput& point : points_of(input, all, kind)) {
+    std::string key = input.study->baseline ? baseline_key(point) : std::string();
+    todo.push_back({static_cast<long>(todo.size()), std::move(point), std::move(key)});
+  }
+  return todo;
+}
+
+/// The run's result from the whole database, earlier runs included: counts, the point with the
+/// lowest larger peak, and an ensemble's mean and maximum over its records.
+void collect_rows(const StudyDatabase& db, AnalysisKind kind, StudyResult& result) {
+  result.rows = db.rows();
   std::vector<json> done_metrics;
   for (const StudyDatabase::Row& r : result.rows) {
     ++result.finished;
@@ -753,6 +757,43 @@ StudyResult run_points(const RunInput& input, const std::filesystem::path& out_d
     result.mean = std::move(all_records.mean);
     result.max = std::move(all_records.max);
   }
+}
+
+StudyResult run_points(const RunInput& input, const std::filesystem::path& out_dir, const StudyRunOptions& options,
+                       AnalysisKind kind, const SuiteScaling* scaling) {
+  const std::string stem(to_string(kind));  // the files' names: study.sqlite, ensemble.csv
+  const StudySettings& study = *input.study;
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<PointValues> all = study_points(study);
+  PointsRun points(study, all, options, todo_of(input, all, kind));
+  if (points.is_worker()) {
+    if (points.serve()) throw RunStopped();
+    StudyResult result;
+    result.kind = kind;
+    result.worker = true;
+    return result;
+  }
+  OutputTransaction out(out_dir);  // creates the folder for the database too
+  std::vector<std::string> parameter_keys;
+  for (const StudyParameter& p : study.parameters) parameter_keys.push_back(p.key);
+  const json definition{{"input", input.source.string()}, {"each", to_string(study.each)}, {"sampling", to_string(study.sampling)},
+                        {"points", all.size()}, {"parameters", parameter_keys}};
+  StudyDatabase db(out_dir / (stem + ".sqlite"), fingerprint(input), definition);
+  const std::set<long> finished = db.finished();
+  points.run(db, finished);
+
+  StudyResult result;
+  result.kind = kind;
+  result.source = input.source;
+  result.title = input.title;
+  result.study = study;
+  result.parameters = parameter_keys;
+  result.points = static_cast<long>(all.size());
+  result.skipped_as_finished = static_cast<long>(finished.size());
+  result.run_this_time = points.run_this_time();
+  result.database = out_dir / (stem + ".sqlite");
+  result.run_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  collect_rows(db, kind, result);
   if (scaling != nullptr) {
     result.scaling = to_json(input, *scaling);
     result.spectra = scaled_spectra_table(input, *scaling);

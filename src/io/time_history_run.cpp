@@ -290,14 +290,14 @@ std::vector<FloorSeparation> separations(const TimeHistoryResult& result) {
   return poundsim::separations(result.model, result.layout, *result.free);
 }
 
-json to_json(const TimeHistoryResult& result) {
-  const RunInput& input = result.input;
+namespace {
+
+/// The peaks of each floor (with the free frames' and the amplification when they ran).
+json floor_peaks_json(const TimeHistoryResult& result) {
   const DofLayout& layout = result.layout;
   const ResponseStatistics& st = result.statistics;
   const ResponseStatistics* free = result.free ? &*result.free : nullptr;
   const Model& model = result.model;
-  const double weight1 = reference_weight(model);
-
   json floors = json::array();
   const std::vector<Link> links = make_links(model, layout);
   const bool rigid_impacts = model.has_rigid_impacts();
@@ -330,9 +330,17 @@ json to_json(const TimeHistoryResult& result) {
       floors.push_back(std::move(entry));
     }
   }
+  return floors;
+}
+
+/// The peak base shear of each frame, over the first frame's weight and its own.
+json base_shears_json(const TimeHistoryResult& result) {
+  const Model& model = result.model;
+  const ResponseStatistics* free = result.free ? &*result.free : nullptr;
+  const double weight1 = reference_weight(model);
   json shears = json::array();
   for (int f = 0; f < model.frame_count(); ++f) {
-    const Peak& p = st.base_shear[static_cast<std::size_t>(f)];
+    const Peak& p = result.statistics.base_shear[static_cast<std::size_t>(f)];
     json entry{{"frame", f + 1},
                {"value_N", p.value},
                {"time", p.time},
@@ -345,79 +353,94 @@ json to_json(const TimeHistoryResult& result) {
     }
     shears.push_back(std::move(entry));
   }
-  // Separation distances: the smallest gap that avoids contact next to the code rules.
-  json separation = json::array();
-  std::vector<double> min_gap(st.neighbours.size(), 0.0);
-  for (const FloorSeparation& sep : separations(result)) {
-    const NeighbourResponse& nb = *sep.neighbour;
-    const int f = nb.left_frame, i = nb.floor;
-    min_gap[sep.index] = sep.min_gap;
-    const json same_levels = sep.srss_same_levels ? json(*sep.srss_same_levels) : json(nullptr);
-    json rules{{"absolute_sum_m", sep.absolute_sum}, {"srss_m", sep.srss}, {"srss_same_floor_levels_m", same_levels},
-               {"ddc_m", sep.ddc}};
-    json over{{"absolute_sum", ratio(sep.absolute_sum, sep.min_gap)}, {"srss", ratio(sep.srss, sep.min_gap)},
-              {"srss_same_floor_levels", sep.srss_same_levels ? json(ratio(*sep.srss_same_levels, sep.min_gap)) : json(nullptr)},
-              {"ddc", ratio(sep.ddc, sep.min_gap)}};
-    json entry{{"frames", {f + 1, f + 2}}, {"floor", i + 1},
-               {"min_gap_m", sep.min_gap}, {"min_gap_time_s", nb.max_approach_time},
-               {"free_peak_displacement_m", {sep.left_peak, sep.right_peak}},
-               {"ddc_correlation", sep.correlation},
-               {"rules", rules},
-               {"rule_over_min_gap", over}};
-    if (nb.right_floor != i) entry["right_floor"] = nb.right_floor + 1;
-    if (nb.column) entry["struck_column"] = struck_column_json(*nb.column, f, i, nb.right_floor);
-    for (int p = 0; p < model.gap_count(); ++p) {
-      const GapElement& g = model.gaps[static_cast<std::size_t>(p)];
-      if (g.facing() == FloorPair{f, i, nb.right_floor, nb.column}) {
-        const GapResponse& gr = st.gaps[static_cast<std::size_t>(p)];
-        entry["gap_m"] = g.gap();
-        entry["gap_over_min_gap"] = ratio(g.gap(), sep.min_gap);
-        entry["contact"] = gr.contacts + gr.impacts + gr.locks > 0;
-      }
-    }
-    separation.push_back(std::move(entry));
-  }
-  json gaps = json::array();
-  double max_impact_velocity = 0;
+  return shears;
+}
+
+/// One neighbour's separation distance: the smallest gap that avoids contact, beside the code rules.
+json separation_json(const TimeHistoryResult& result, const FloorSeparation& sep) {
+  const Model& model = result.model;
+  const NeighbourResponse& nb = *sep.neighbour;
+  const int f = nb.left_frame, i = nb.floor;
+  const json same_levels = sep.srss_same_levels ? json(*sep.srss_same_levels) : json(nullptr);
+  json rules{{"absolute_sum_m", sep.absolute_sum}, {"srss_m", sep.srss}, {"srss_same_floor_levels_m", same_levels},
+             {"ddc_m", sep.ddc}};
+  json over{{"absolute_sum", ratio(sep.absolute_sum, sep.min_gap)}, {"srss", ratio(sep.srss, sep.min_gap)},
+            {"srss_same_floor_levels", sep.srss_same_levels ? json(ratio(*sep.srss_same_levels, sep.min_gap)) : json(nullptr)},
+            {"ddc", ratio(sep.ddc, sep.min_gap)}};
+  json entry{{"frames", {f + 1, f + 2}}, {"floor", i + 1},
+             {"min_gap_m", sep.min_gap}, {"min_gap_time_s", nb.max_approach_time},
+             {"free_peak_displacement_m", {sep.left_peak, sep.right_peak}},
+             {"ddc_correlation", sep.correlation},
+             {"rules", rules},
+             {"rule_over_min_gap", over}};
+  if (nb.right_floor != i) entry["right_floor"] = nb.right_floor + 1;
+  if (nb.column) entry["struck_column"] = struck_column_json(*nb.column, f, i, nb.right_floor);
   for (int p = 0; p < model.gap_count(); ++p) {
-    const GapResponse& g = st.gaps[static_cast<std::size_t>(p)];
-    const GapElement& e = model.gaps[static_cast<std::size_t>(p)];
-    max_impact_velocity = std::max(max_impact_velocity, g.impact_velocity.value);
-    gaps.push_back({{"frames", {e.left_frame + 1, e.left_frame + 2}},
-                    {"floor", e.floor + 1},
-                    {"contacts", g.contacts},
-                    {"separations", g.separations},
-                    {"impacts", g.impacts},
-                    {"locks", g.locks},
-                    {"unlocks", g.unlocks},
-                    {"max_force_N", peak(g.force)},
-                    {"max_impact_velocity_m_s", peak(g.impact_velocity)},
-                    {"max_impulse_Ns", peak(g.impulse)},
-                    {"max_shortening_m", peak(g.shortening)},
-                    {"locked_time_s", g.locked_time},
-                    {"contact_time_s", g.contact_time},
-                    {"completed_contacts", g.completed_contacts},
-                    {"longest_contact_s", peak(g.longest_contact)}});
-    if (e.floor_right() != e.floor) gaps.back()["right_floor"] = e.floor_right() + 1;
-    if (e.column) gaps.back()["struck_column"] = struck_column_json(*e.column, e.left_frame, e.floor, e.floor_right());
-    // The restitution the law achieved, contact by contact (none without a completed contact),
-    // and what it dissipated (the exact integrator gives the total only, energy.gap_damping_J).
-    gaps.back()["effective_restitution"] =
-        g.restitution_samples > 0
-            ? json{{"mean", g.mean_restitution()}, {"min", g.min_restitution}, {"max", g.max_restitution}}
-            : json(nullptr);
-    gaps.back()["dissipated_J"] = result.element_dissipation.empty()
-                                      ? json(nullptr)
-                                      : json(result.element_dissipation[static_cast<std::size_t>(p)]);
-    if (free != nullptr) {
+    const GapElement& g = model.gaps[static_cast<std::size_t>(p)];
+    if (g.facing() == FloorPair{f, i, nb.right_floor, nb.column}) {
+      const GapResponse& gr = result.statistics.gaps[static_cast<std::size_t>(p)];
+      entry["gap_m"] = g.gap();
+      entry["gap_over_min_gap"] = ratio(g.gap(), sep.min_gap);
+      entry["contact"] = gr.contacts + gr.impacts + gr.locks > 0;
+    }
+  }
+  return entry;
+}
+
+/// One gap element's counts and peaks; `min_gap` is its neighbour's separation distance, if known.
+json gap_element_json(const TimeHistoryResult& result, int p, std::optional<double> min_gap) {
+  const GapResponse& g = result.statistics.gaps[static_cast<std::size_t>(p)];
+  const GapElement& e = result.model.gaps[static_cast<std::size_t>(p)];
+  json entry{{"frames", {e.left_frame + 1, e.left_frame + 2}},
+             {"floor", e.floor + 1},
+             {"contacts", g.contacts},
+             {"separations", g.separations},
+             {"impacts", g.impacts},
+             {"locks", g.locks},
+             {"unlocks", g.unlocks},
+             {"max_force_N", peak(g.force)},
+             {"max_impact_velocity_m_s", peak(g.impact_velocity)},
+             {"max_impulse_Ns", peak(g.impulse)},
+             {"max_shortening_m", peak(g.shortening)},
+             {"locked_time_s", g.locked_time},
+             {"contact_time_s", g.contact_time},
+             {"completed_contacts", g.completed_contacts},
+             {"longest_contact_s", peak(g.longest_contact)}};
+  if (e.floor_right() != e.floor) entry["right_floor"] = e.floor_right() + 1;
+  if (e.column) entry["struck_column"] = struck_column_json(*e.column, e.left_frame, e.floor, e.floor_right());
+  // The restitution the law achieved, contact by contact (none without a completed contact),
+  // and what it dissipated (the exact integrator gives the total only, energy.gap_damping_J).
+  entry["effective_restitution"] =
+      g.restitution_samples > 0
+          ? json{{"mean", g.mean_restitution()}, {"min", g.min_restitution}, {"max", g.max_restitution}}
+          : json(nullptr);
+  entry["dissipated_J"] = result.element_dissipation.empty()
+                              ? json(nullptr)
+                              : json(result.element_dissipation[static_cast<std::size_t>(p)]);
+  if (min_gap) entry["min_gap_m"] = *min_gap;
+  return entry;
+}
+
+/// The gap elements, each with its neighbour's separation distance when the free frames ran.
+json gap_elements_json(const TimeHistoryResult& result, const std::vector<double>& min_gap) {
+  const ResponseStatistics& st = result.statistics;
+  json gaps = json::array();
+  for (int p = 0; p < result.model.gap_count(); ++p) {
+    const GapElement& e = result.model.gaps[static_cast<std::size_t>(p)];
+    std::optional<double> gap;
+    if (result.free) {
       for (std::size_t k = 0; k < st.neighbours.size(); ++k) {
         const NeighbourResponse& nb = st.neighbours[k];
-        if (e.facing() == FloorPair{nb.left_frame, nb.floor, nb.right_floor, nb.column}) {
-          gaps.back()["min_gap_m"] = min_gap[k];
-        }
+        if (e.facing() == FloorPair{nb.left_frame, nb.floor, nb.right_floor, nb.column}) gap = min_gap[k];
       }
     }
+    gaps.push_back(gap_element_json(result, p, gap));
   }
+  return gaps;
+}
+
+/// The energy balance at the end of the run.
+json energy_json(const TimeHistoryResult& result) {
   const EnergyBalance& e = result.energy;
   json energy{{"initial_J", e.initial},
               {"input_J", e.input},
@@ -433,7 +456,13 @@ json to_json(const TimeHistoryResult& result) {
               {"warn_above", EnergyBalanceCheck{}.warn_above}};
   const std::optional<std::string> warning = energy_warning(result);
   energy["warning"] = warning ? json(*warning) : json();
-  if (has_inelastic_storeys(model)) energy["storey_hysteretic_J"] = e.storey_hysteretic;
+  if (has_inelastic_storeys(result.model)) energy["storey_hysteretic_J"] = e.storey_hysteretic;
+  return energy;
+}
+
+/// The analysis that ran: integrator, steps and tolerances.
+json analysis_json(const TimeHistoryResult& result) {
+  const RunInput& input = result.input;
   const TimeHistoryOptions& o = result.options;
   json analysis{{"kind", to_string(input.analysis.kind)},
                 {"integrator", std::string(to_string(input.analysis.options.integrator))},
@@ -443,29 +472,47 @@ json to_json(const TimeHistoryResult& result) {
                 {"event_tolerance_s", o.event_tolerance},
                 {"lock_time_s", o.lock_time},
                 {"separation", to_string(o.separation)}};
-  if (rigid_impacts) {
+  if (result.model.has_rigid_impacts()) {
     // Whether the peak accelerations contain the rigid impacts: they do when spread over a pulse,
     // or when no floor's velocity jumped.
     double jump = 0;
-    for (const FloorResponse& f : st.floors) jump = std::max(jump, f.velocity_jump.value);
+    for (const FloorResponse& f : result.statistics.floors) jump = std::max(jump, f.velocity_jump.value);
     analysis["impact_duration_s"] = o.impact_duration > 0 ? json(o.impact_duration) : json();
     analysis["accelerations_include_impacts"] = o.impact_duration > 0 || jump == 0;
+  }
+  return analysis;
+}
+
+}  // namespace
+
+json to_json(const TimeHistoryResult& result) {
+  const RunInput& input = result.input;
+  const ResponseStatistics& st = result.statistics;
+  json separation = json::array();
+  std::vector<double> min_gap(st.neighbours.size(), 0.0);
+  for (const FloorSeparation& sep : separations(result)) {
+    min_gap[sep.index] = sep.min_gap;
+    separation.push_back(separation_json(result, sep));
+  }
+  double max_impact_velocity = 0;
+  for (int p = 0; p < result.model.gap_count(); ++p) {
+    max_impact_velocity = std::max(max_impact_velocity, st.gaps[static_cast<std::size_t>(p)].impact_velocity.value);
   }
   return json{{"poundsim_version", POUNDSIM_VERSION},
               {"input", input.source.string()},
               {"title", input.title},
-              {"analysis", analysis},
+              {"analysis", analysis_json(result)},
               {"model", describe_model(input)},
               {"excitation", describe_excitation(input.excitation_info)},
               {"end_time_s", result.end_time},
-              {"peaks", {{"floors", floors}, {"base_shear", shears}}},
+              {"peaks", {{"floors", floor_peaks_json(result)}, {"base_shear", base_shears_json(result)}}},
               {"separation", separation},
-              {"gap_elements", gaps},
+              {"gap_elements", gap_elements_json(result, min_gap)},
               {"impacts", result.impacts()},
               {"max_gap_force_N", result.max_gap_force()},
               {"max_impact_impulse_Ns", result.max_impact_impulse()},
               {"max_impact_velocity_m_s", max_impact_velocity},
-              {"energy", energy},
+              {"energy", energy_json(result)},
               {"counts",
                {{"steps", st.steps},
                 {"substeps", st.substeps},

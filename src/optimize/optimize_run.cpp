@@ -885,95 +885,144 @@ json database_definition(const RunInput& input, const OptimizeSettings& s) {
   return json{{"input", input.source.string()}, {"kind", "optimize"}, {"each", to_string(s.each)}, {"variables", keys}};
 }
 
-}  // namespace
+/// The figures the goals ask for (the objective, each constraint's, the front's second one),
+/// and the main goal with its bounds as indices into them.
+struct Goals {
+  std::vector<std::string> metrics;
+  Goal main;
+  std::size_t front_objective = 0, front_metric = 0;
+};
 
-OptimizationResult run_optimization(const RunInput& input, const std::filesystem::path& out_dir,
-                                    const std::function<void(int, int)>& progress, io::PointDistribution* ranks) {
-  if (ranks != nullptr && ranks->ranks() < 2) ranks = nullptr;
+Goals goals_of(const OptimizeSettings& s) {
+  Goals goals{.metrics = {s.objective}, .main = Goal{.objective = 0, .bounds = {}, .label = ""}};
+  const auto metric_index = [&](const std::string& name) {
+    const auto it = std::find(goals.metrics.begin(), goals.metrics.end(), name);
+    if (it != goals.metrics.end()) return static_cast<std::size_t>(it - goals.metrics.begin());
+    goals.metrics.push_back(name);
+    return goals.metrics.size() - 1;
+  };
+  for (const io::OptimizeConstraint& c : s.constraints) {
+    const std::size_t m = metric_index(c.metric);
+    if (c.min) goals.main.bounds.push_back({m, *c.min, false});
+    if (c.max) goals.main.bounds.push_back({m, *c.max, true});
+  }
+  goals.front_objective = s.pareto ? metric_index(s.pareto->objective) : 0;
+  goals.front_metric = s.pareto ? metric_index(s.pareto->metric) : 0;
+  return goals;
+}
+
+/// The evaluations the search may take: the starting point, then each optimisation's stages —
+/// the main one, and for a front its objective's own optimum (unless the main one's), the
+/// second figure's (points) and one per limit.
+int evaluation_budget(const OptimizeSettings& s, const Stages& stages, const Goals& goals) {
+  const int runs = !s.pareto ? 1
+                             : 1 + (goals.front_objective != 0 ? 1 : 0) +
+                                   (s.pareto->limits.empty() ? s.pareto->points : static_cast<int>(s.pareto->limits.size()));
+  return 1 + runs * ((stages.global ? s.global_evaluations : 0) + (stages.local ? s.local_evaluations : 0));
+}
+
+/// Settings the search cannot start without, refused before anything is written.
+void check_search(const RunInput& input) {
   if (!input.optimize) throw InputError(fmt::format("{}: no [optimize] table", input.source.string()));
   const OptimizeSettings& s = *input.optimize;
   if (s.variables.empty()) {
     throw InputError(fmt::format("{}: optimize: no [[optimize.variable]]", input.source.string()));
   }
-  const bool global = s.global_algorithm != "none", local = s.local_algorithm != "none";
-  if (!global && !local) throw InputError(fmt::format("{}: optimize: both stages are \"none\"", input.source.string()));
+  if (s.global_algorithm == "none" && s.local_algorithm == "none") {
+    throw InputError(fmt::format("{}: optimize: both stages are \"none\"", input.source.string()));
+  }
   refuse_accelerations_without_impacts(s, input);
+}
+
+/// The stages that ran and, for a front, the front.
+struct SearchOutcome {
+  std::vector<OptimizationStage> ran;
+  std::optional<ParetoResult> pareto;
+};
+
+/// The whole search, from the start, on NLopt's evaluations, each known or pending (Problem).
+SearchOutcome search(Stages& stages, const RunInput& input, Problem& problem, const Goals& goals,
+                     std::vector<double> x) {
+  const OptimizeSettings& s = *input.optimize;
+  SearchOutcome outcome;
+  const Evaluation& first = problem(x, "start");
+  if (first.status == "rejected") reject_start(first, s, input, x);
+  // The figures named must be figures of an evaluation: of the start, or (when it failed) of the
+  // first evaluation that ran, checked once the search is over.
+  const bool start_ran = first.status == "done";
+  if (start_ran) require_figures(first, s, input);
+  nlopt::srand(s.seed);
+  // Kept by value: the evaluations grow as the front's runs go on.
+  const Evaluation first_optimum = optimise(stages, s, problem, goals.main, x, outcome.ran);
+  if (!start_ran && !problem.waiting()) {
+    const auto done = std::find_if(problem.evaluations().begin(), problem.evaluations().end(),
+                                   [](const Evaluation& e) { return e.status == "done"; });
+    require_figures(*done, s, input);  // optimise found one, or threw
+  }
+  if (s.pareto) {
+    outcome.pareto = trace_front(stages, s, problem, goals.main, first_optimum, goals.front_objective,
+                                 goals.front_metric, outcome.ran);
+  }
+  return outcome;
+}
+
+/// The search replayed on the known evaluations until it needs none it does not have: each pass
+/// computes the designs it waited for (all at once, over the threads or ranks).
+SearchOutcome search_to_end(Stages& stages, const RunInput& input, Problem& problem, const Goals& goals,
+                            const std::vector<double>& x) {
+  // The starting point is computed first, so that a bad key or figure is reported before any search.
+  problem.require(x);
+  for (;;) {
+    problem.replay();
+    try {
+      SearchOutcome outcome = search(stages, input, problem, goals, x);
+      if (!problem.waiting()) return outcome;  // it ran to its end on known evaluations alone
+    } catch (const NeedEvaluations&) {
+    } catch (...) {
+      // An error on the way to a pending design is the guesses', not the search's.
+      if (!problem.waiting()) throw;
+    }
+    problem.evaluate_pending();
+  }
+}
+
+/// The result's files, all or none: the optimum's responses, the front, every evaluation.
+void write_optimization(OutputTransaction& out, const OptimizationResult& result, const RunInput& input) {
+  if (result.optimum_frf) write_table(out, "optimum_frf.csv", *result.optimum_frf);
+  if (result.bare_frf) write_table(out, "bare_frf.csv", *result.bare_frf);
+  if (result.pareto_table) write_table(out, "pareto.csv", *result.pareto_table);
+  write_table(out, "evaluations.csv", result.evaluation_table);
+  out.write_json("optimize.json", to_json(result));
+  // Its variables name keys of the file's own form: the file as written (to_toml_as_written).
+  out.open("input.toml").text(to_toml_as_written(input));
+  out.commit();
+}
+
+}  // namespace
+
+OptimizationResult run_optimization(const RunInput& input, const std::filesystem::path& out_dir,
+                                    const std::function<void(int, int)>& progress, io::PointDistribution* ranks) {
+  if (ranks != nullptr && ranks->ranks() < 2) ranks = nullptr;
+  check_search(input);
+  const OptimizeSettings& s = *input.optimize;
   const auto start = std::chrono::steady_clock::now();
   Stages stages;
-  std::vector<double> x = search_space(s, stages.space);
+  const std::vector<double> x = search_space(s, stages.space);
   // Both algorithms are resolved first, so that a bad name is reported before any evaluation.
-  if (global) stages.global.emplace(algorithm(s.global_algorithm, input, "global"), s.global_algorithm);
-  if (local) stages.local.emplace(algorithm(s.local_algorithm, input, "local"), s.local_algorithm);
-
-  // The figures the goals ask for: the objective, each constraint's, the front's second one.
-  std::vector<std::string> metrics{s.objective};
-  const auto metric_index = [&](const std::string& name) {
-    const auto it = std::find(metrics.begin(), metrics.end(), name);
-    if (it != metrics.end()) return static_cast<std::size_t>(it - metrics.begin());
-    metrics.push_back(name);
-    return metrics.size() - 1;
-  };
-  Goal main_goal{.objective = 0, .bounds = {}, .label = ""};
-  for (const io::OptimizeConstraint& c : s.constraints) {
-    const std::size_t m = metric_index(c.metric);
-    if (c.min) main_goal.bounds.push_back({m, *c.min, false});
-    if (c.max) main_goal.bounds.push_back({m, *c.max, true});
-  }
-  const std::size_t front_objective = s.pareto ? metric_index(s.pareto->objective) : 0;
-  const std::size_t front_metric = s.pareto ? metric_index(s.pareto->metric) : 0;
-  // The starting point, then each optimisation's stages: the main one, and for a front its
-  // objective's own optimum (unless the main one's), the second figure's (points) and one per limit.
-  const int runs = !s.pareto ? 1
-                             : 1 + (front_objective != 0 ? 1 : 0) +
-                                   (s.pareto->limits.empty() ? s.pareto->points : static_cast<int>(s.pareto->limits.size()));
-  const int budget = 1 + runs * ((global ? s.global_evaluations : 0) + (local ? s.local_evaluations : 0));
-  const std::string database_name = "optimize.sqlite";
+  if (s.global_algorithm != "none") stages.global.emplace(algorithm(s.global_algorithm, input, "global"), s.global_algorithm);
+  if (s.local_algorithm != "none") stages.local.emplace(algorithm(s.local_algorithm, input, "local"), s.local_algorithm);
+  const Goals goals = goals_of(s);
+  const int budget = evaluation_budget(s, stages, goals);
   std::error_code absent;
   const bool folder_existed = std::filesystem::exists(out_dir, absent);
   OutputTransaction out(out_dir);  // creates the folder for the database too
-  const json definition = database_definition(input, s);
-  const std::filesystem::path database_path = out_dir / database_name;
+  const std::filesystem::path database_path = out_dir / "optimize.sqlite";
   const bool resuming = std::filesystem::exists(database_path, absent);
-  std::optional<io::StudyDatabase> database(std::in_place, database_path, fingerprint(input), definition);
-  Problem problem(input, metrics, progress, budget, ranks, *database);
-  std::vector<OptimizationStage> ran;
-  std::optional<ParetoResult> pareto;
-  // The whole search, from the start: NLopt's evaluations, each known or pending (Problem).
-  const auto search = [&] {
-    ran.clear();
-    pareto.reset();
-    const Evaluation& first = problem(x, "start");
-    if (first.status == "rejected") reject_start(first, s, input, x);
-    // The figures named must be figures of an evaluation: of the start, or (when it failed) of the
-    // first evaluation that ran, checked once the search is over.
-    const bool start_ran = first.status == "done";
-    if (start_ran) require_figures(first, s, input);
-    nlopt::srand(s.seed);
-    // Kept by value: the evaluations grow as the front's runs go on.
-    const Evaluation first_optimum = optimise(stages, s, problem, main_goal, x, ran);
-    if (!start_ran && !problem.waiting()) {
-      const auto done = std::find_if(problem.evaluations().begin(), problem.evaluations().end(),
-                                     [](const Evaluation& e) { return e.status == "done"; });
-      require_figures(*done, s, input);  // optimise found one, or threw
-    }
-
-    if (s.pareto) pareto = trace_front(stages, s, problem, main_goal, first_optimum, front_objective, front_metric, ran);
-  };
+  std::optional<io::StudyDatabase> database(std::in_place, database_path, fingerprint(input), database_definition(input, s));
+  Problem problem(input, goals.metrics, progress, budget, ranks, *database);
+  SearchOutcome outcome;
   try {
-    // The starting point is computed first, so that a bad key or figure is reported before any search.
-    problem.require(x);
-    for (;;) {
-      problem.replay();
-      try {
-        search();
-        if (!problem.waiting()) break;  // it ran to its end on known evaluations alone
-      } catch (const NeedEvaluations&) {
-      } catch (...) {
-        // An error on the way to a pending design is the guesses', not the search's.
-        if (!problem.waiting()) throw;
-      }
-      problem.evaluate_pending();
-    }
+    outcome = search_to_end(stages, input, problem, goals, x);
   } catch (const InputError&) {
     // Bad input leaves nothing behind: a database this run made goes (its evaluations are of an
     // input that must change, which another database would hold).
@@ -985,36 +1034,36 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
     throw;
   }
   // The optimum: the best design for the main goal of every evaluation, the front's included.
-  const Evaluation& optimum = *problem.best(main_goal);
+  const Evaluation& optimum = *problem.best(goals.main);
   if (ranks != nullptr) ranks->finish();  // the workers are done: bare pounding runs here
 
-  // The optimum's response against bare pounding and the free frames.
+  // The optimum's response against bare pounding and the free frames. They report as the last
+  // evaluation did, so that a caller's progress (which may stop the run: RunStopped) is still
+  // asked while they run.
   const RunInput best_point = with_settings(input, point_values(s, optimum.x));
-  // The responses below report as the last evaluation did, so that a caller's progress (which
-  // may stop the run: RunStopped) is still asked while they run.
   const auto evaluations_done = static_cast<int>(problem.evaluations().size());
   const auto still = [&](int, int) {
     if (progress) progress(evaluations_done, budget);
   };
   still(0, 0);
   OptimumAgainstBare against = against_bare(best_point, s, still);
-  io::Table table = evaluation_table(problem, s, metrics, main_goal);
+  io::Table table = evaluation_table(problem, s, goals.metrics, goals.main);
   std::optional<io::Table> pareto_table;
-  if (pareto) pareto_table = pareto_table_of(*pareto, s);
+  if (outcome.pareto) pareto_table = pareto_table_of(*outcome.pareto, s);
   const double run_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   OptimizationResult result{.source = input.source,
                             .title = input.title,
                             .settings = s,
                             .optimum = optimum.x,
                             .objective = optimum.metrics[0],
-                            .feasible = problem.feasible(optimum, main_goal),
+                            .feasible = problem.feasible(optimum, goals.main),
                             .constraints = constraint_outcomes(s, *optimum.figures),
                             .bare_constraints = constraint_outcomes(s, against.bare_figures),
                             .optimum_figures = *optimum.figures,
                             .bare_figures = std::move(against.bare_figures),
                             .metric = s.objective,
                             .meaning = figure_meaning(s.objective),
-                            .stages = std::move(ran),
+                            .stages = std::move(outcome.ran),
                             .evaluations = static_cast<long>(problem.evaluations().size()),
                             .reused = problem.reused(),
                             .computed = problem.computed(),
@@ -1022,16 +1071,9 @@ OptimizationResult run_optimization(const RunInput& input, const std::filesystem
                             .evaluation_table = std::move(table),
                             .optimum_frf = std::move(against.optimum_frf),
                             .bare_frf = std::move(against.bare_frf),
-                            .pareto = std::move(pareto),
+                            .pareto = std::move(outcome.pareto),
                             .pareto_table = std::move(pareto_table)};
-  if (result.optimum_frf) write_table(out, "optimum_frf.csv", *result.optimum_frf);
-  if (result.bare_frf) write_table(out, "bare_frf.csv", *result.bare_frf);
-  if (result.pareto_table) write_table(out, "pareto.csv", *result.pareto_table);
-  write_table(out, "evaluations.csv", result.evaluation_table);
-  out.write_json("optimize.json", to_json(result));
-  // Its variables name keys of the file's own form: the file as written (to_toml_as_written).
-  out.open("input.toml").text(to_toml_as_written(input));
-  out.commit();
+  write_optimization(out, result, input);
   return result;
 }
 

@@ -173,6 +173,17 @@ class LinearPhase {
   const Solver& substep_solver(double tau) const;
 
  private:
+  /// The full matrices and loads of every link in its mode and of the frames' own damping;
+  /// returns each floor's group leader (floors joined by rigid links share one).
+  std::vector<int> assemble(const Model& model, const DofLayout& layout);
+  /// The groups (one representative each) and the smooth links' terms by group.
+  void make_groups(const std::vector<int>& leader);
+  /// The reduced system M_r, C_r, K_r and its constant load (the full one when no link is rigid).
+  void reduce(const Model& model);
+  /// The effective matrix's pattern and its M, C, K values aligned with it.
+  void make_effective();
+  /// Where each smooth link's tangent adds to the effective matrix.
+  void make_tangent_slots();
   /// Factorises M_r + (τ/2) C_r + (τ²/4) K_r, plus the smooth links' tangents when `smooth`
   /// (by element) is given.
   void factorize(Solver& solver, double tau, std::span<const ForceTangent> smooth = {}) const;

@@ -199,6 +199,20 @@ class PoundingSystem {
   /// stops, then locks the pairs left pressed together.
   LinearPhase& resolve_impacts(KinematicState& x, ContactState& c, LinearPhase& phase,
                                EventHandler& handler) const;
+  struct ImpactScratch;
+  /// resolve_impacts' first step: pairwise restitution of the involved pairs, the most closing
+  /// first, until none approaches.
+  void restitution_sweeps(ImpactScratch& s, Eigen::VectorXd& v, const ContactState& c, const LinearPhase& phase,
+                          EventHandler& handler) const;
+  /// Involves the pairs at their stops that the impulses drive into them; true if any joined.
+  bool join_pairs_at_stops(ImpactScratch& s, const KinematicState& x, const ContactState& c,
+                           std::span<const int> group) const;
+  /// The involved pairs pressed together that would bounce for less than lock_time.
+  std::vector<int> pairs_to_lock(ImpactScratch& s, const KinematicState& x, const ContactState& c,
+                                 const LinearPhase& phase) const;
+  /// Locks `locking` and merges each new group plastically; returns the new phase.
+  LinearPhase& lock_and_merge(std::span<const int> locking, KinematicState& x, ContactState& c,
+                              EventHandler& handler) const;
   /// s minus the stop of element p (ε in contact, the free end when open), minus its bias [m].
   [[nodiscard]] double stop_guard(const KinematicState& x, const ContactState& c, std::size_t p) const;
   [[nodiscard]] bool stop_guard_is_active(const ContactState& c, std::size_t p) const;
