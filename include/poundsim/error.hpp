@@ -8,13 +8,24 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace poundsim {
 
 /// Invalid user input: a model, an option or a file. what() is the complete message.
 class InputError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit InputError(const std::string& message) : std::runtime_error(message) {}
+  /// An error that a setting (`--set key=value`, a study point's or an optimiser variable's
+  /// value) caused: `setting` is its key as given, so that a study can report the error where
+  /// the file defines that parameter.
+  InputError(const std::string& message, std::string setting)
+      : std::runtime_error(message), setting_(std::move(setting)) {}
+  /// The key of the setting the error is blamed on; empty when it is not blamed on one.
+  [[nodiscard]] const std::string& setting() const { return setting_; }
+
+ private:
+  std::string setting_;
 };
 
 /// Why a simulation stopped: at the time it was asked to reach, or the failure that ended it.

@@ -61,16 +61,17 @@ std::string printable(std::string_view text) {
 /// Where a key came from, for messages.
 struct Origin {
   std::string file;
-  /// Key path → "key=value" as typed. An override that creates tables on its way also owns them.
-  std::map<std::string, std::string> overrides;
+  /// Key path → the setting that set it. A setting that creates tables on its way also owns
+  /// them. The settings outlive the reading (read_root's span).
+  std::map<std::string, const Setting*> overrides;
   /// Where each node of the tree being read stands in the file: the tree is a copy of the file
   /// as parsed, and toml++ does not copy positions (see remember_positions).
   std::unordered_map<const toml::node*, toml::source_position> positions;
 
-  /// The override that set `path` (or created a table on its way to it), or null.
-  [[nodiscard]] const std::string* override_of(const std::string& path) const {
-    for (const auto& [key, text] : overrides) {
-      if (path == key || path.starts_with(key + ".") || path.starts_with(key + "[")) return &text;
+  /// The setting that set `path` (or created a table on its way to it), or null.
+  [[nodiscard]] const Setting* override_of(const std::string& path) const {
+    for (const auto& [key, setting] : overrides) {
+      if (path == key || path.starts_with(key + ".") || path.starts_with(key + "[")) return setting;
     }
     return nullptr;
   }
@@ -78,7 +79,7 @@ struct Origin {
   /// The start of a message about `path`: "file: --set key=value: path", "file:line:column: path",
   /// or "file: path" (a key that the file does not hold); "file" alone for the whole file.
   [[nodiscard]] std::string locate(const toml::node* node, const std::string& path) const {
-    if (const std::string* text = override_of(path)) return fmt::format("{}: --set {}: {}", file, printable(*text), path);
+    if (const Setting* s = override_of(path)) return fmt::format("{}: --set {}: {}", file, printable(s->text), path);
     if (path.empty()) return file;
     toml::source_position at{};
     if (node != nullptr) {
@@ -89,9 +90,11 @@ struct Origin {
     return fmt::format("{}: {}", file, path);
   }
 
+  /// Throws the InputError about `path`, blamed on the setting that set it, if any.
   [[noreturn]] void fail(const toml::node* node, const std::string& path,
                          const std::string& message) const {
-    throw InputError(fmt::format("{}: {}", locate(node, path), message));
+    const Setting* s = path.empty() ? nullptr : override_of(path);
+    throw InputError(fmt::format("{}: {}", locate(node, path), message), s != nullptr ? s->key : std::string());
   }
 };
 
@@ -472,20 +475,20 @@ std::vector<KeySegment> split_key(const std::string& key, const std::string& at)
     KeySegment seg;
     const auto bracket = part.find('[');
     if (bracket != std::string::npos) {
-      if (part.back() != ']') throw InputError(at + ": malformed key");
+      if (part.back() != ']') throw InputError(at + ": malformed key", key);
       const std::string number = part.substr(bracket + 1, part.size() - bracket - 2);
       // Digits only, and few enough that the number fits: "2][3", "+2" or "1e3" are not indices.
       if (number.empty() || number.size() > 9 ||
           number.find_first_not_of("0123456789") != std::string::npos) {
-        throw InputError(fmt::format("{}: '{}' is not an index", at, number));
+        throw InputError(fmt::format("{}: '{}' is not an index", at, number), key);
       }
       seg.index = std::stoi(number);
       if (seg.index < 1) {
-        throw InputError(at + ": indices start at 1 (frames are numbered from 1)");
+        throw InputError(at + ": indices start at 1 (frames are numbered from 1)", key);
       }
       part = part.substr(0, bracket);
     }
-    if (part.empty()) throw InputError(at + ": empty key segment");
+    if (part.empty()) throw InputError(at + ": empty key segment", key);
     seg.key = part;
     out.push_back(seg);
     if (dot == std::string::npos) break;
@@ -540,9 +543,10 @@ std::string setting_at(const std::string& file, const std::string& text) {
 
 /// Applies one setting to the parsed file; returns the canonical key path (e.g. "frames[2].mass").
 /// The tables it creates on its way are registered in `origin`, so that a message about them
-/// names the setting.
+/// names the setting; an error is blamed on the setting.
 std::string apply_setting(toml::table& root, const Setting& setting, Origin& origin) {
   const std::string at = setting_at(origin.file, setting.text);
+  const auto fail = [&](const std::string& message) { throw InputError(fmt::format("{}: {}", at, message), setting.key); };
   const std::vector<KeySegment> segments = split_key(setting.key, at);
   toml::table* table = &root;
   std::string path;
@@ -552,14 +556,10 @@ std::string apply_setting(toml::table& root, const Setting& setting, Origin& ori
     path += (path.empty() ? "" : ".") + seg.key;
     if (seg.index > 0) {
       toml::array* array = table->get_as<toml::array>(seg.key);
-      if (array == nullptr || !array->is_array_of_tables()) {
-        throw InputError(fmt::format("{}: '{}' is not an array of tables in the file", at, path));
-      }
-      if (static_cast<std::size_t>(seg.index) > array->size()) {
-        throw InputError(fmt::format("{}: the file has only {} [[{}]]", at, array->size(), path));
-      }
+      if (array == nullptr || !array->is_array_of_tables()) fail(fmt::format("'{}' is not an array of tables in the file", path));
+      if (static_cast<std::size_t>(seg.index) > array->size()) fail(fmt::format("the file has only {} [[{}]]", array->size(), path));
       path += fmt::format("[{}]", seg.index);
-      if (last) throw InputError(at + ": cannot replace a whole table");
+      if (last) fail("cannot replace a whole table");
       table = &static_cast<toml::table&>((*array)[static_cast<std::size_t>(seg.index - 1)]);
       continue;
     }
@@ -570,11 +570,11 @@ std::string apply_setting(toml::table& root, const Setting& setting, Origin& ori
     toml::node* child = table->get(seg.key);
     if (child == nullptr) {
       table = table->insert_or_assign(seg.key, toml::table{}).first->second.as_table();
-      origin.overrides[path] = setting.text;
+      origin.overrides[path] = &setting;
     } else if (child->is_table()) {
       table = child->as_table();
     } else {
-      throw InputError(fmt::format("{}: '{}' is not a table", at, path));
+      fail(fmt::format("'{}' is not a table", path));
     }
   }
   return path;
@@ -2048,7 +2048,7 @@ RunInput read_root(toml::table& root, Origin& origin, const std::filesystem::pat
                    std::span<const Setting> settings) {
   for (const Setting& setting : settings) {
     const std::string path = apply_setting(root, setting, origin);
-    origin.overrides[path] = setting.text;
+    origin.overrides[path] = &setting;
   }
   RunInput run;
   TableReader top(root, "", origin);

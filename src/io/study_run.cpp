@@ -545,17 +545,14 @@ std::vector<RunInput> points_of(const RunInput& input, const std::vector<PointVa
     } catch (const InputError& e) {
       std::string values;
       for (const Setting& s : all[i]) values += fmt::format("{}{} = {}", values.empty() ? "" : ", ", s.key, to_text(s.value));
-      // An error that a parameter's override caused is reported where the file defines that
+      // An error that a parameter's value caused is reported where the file defines that
       // parameter; any other names the file.
-      const std::string message = e.what();
       std::string where = input.source.string();
       for (const StudyParameter& p : study.parameters) {
-        if (!p.where.empty() && message.starts_with(fmt::format("{}: --set {}=", input.source.string(), p.key))) {
-          where = p.where;
-        }
+        if (!p.where.empty() && p.key == e.setting()) where = p.where;
       }
       throw InputError(fmt::format("{}: {} {} ({}): {}", where, kind == AnalysisKind::ensemble ? "ensemble record" : "study point",
-                                   i + 1, values, message));
+                                   i + 1, values, e.what()));
     }
   }
   return points;

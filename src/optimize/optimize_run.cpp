@@ -850,17 +850,28 @@ OptimumAgainstBare against_bare(const RunInput& best_point, const OptimizeSettin
   return out;
 }
 
+/// The variable whose value made reading `x` fail, or "" (the error is not blamed on one, or
+/// came later, from the run). Reading again is cheap and gives the error's typed blame, which the
+/// outcome (kept as text in the database and sent between ranks) does not carry.
+std::string blamed_variable(const RunInput& input, const std::vector<double>& x) {
+  try {
+    (void)with_settings(input, point_values(*input.optimize, x));
+  } catch (const InputError& e) {
+    return e.setting();
+  }
+  return {};
+}
+
 /// The starting point is rejected: reported where the file defines the variable whose value was
 /// rejected, else at the file, with every variable's value.
 [[noreturn]] void reject_start(const Evaluation& first, const OptimizeSettings& s, const RunInput& input,
                                const std::vector<double>& x) {
+  const std::string blamed = blamed_variable(input, x);
   std::string where = input.source.string(), values;
   for (std::size_t i = 0; i < s.variables.size(); ++i) {
     const OptimizeVariable& v = s.variables[i];
     values += fmt::format("{}{} = {}", i == 0 ? "" : ", ", v.key, toml_float(x[i]));
-    if (!v.where.empty() && first.error.starts_with(fmt::format("{}: --set {}=", input.source.string(), v.key))) {
-      where = v.where;
-    }
+    if (!v.where.empty() && v.key == blamed) where = v.where;
   }
   throw InputError(fmt::format("{}: the starting point ({}) is rejected: {}", where, values, first.error));
 }
