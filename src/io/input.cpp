@@ -67,6 +67,8 @@ struct Origin {
   /// Where each node of the tree being read stands in the file: the tree is a copy of the file
   /// as parsed, and toml++ does not copy positions (see remember_positions).
   std::unordered_map<const toml::node*, toml::source_position> positions;
+  /// The settings name one of the ensemble's records.
+  Reading reading = Reading::run;
 
   /// The setting that set `path` (or created a table on its way to it), or null.
   [[nodiscard]] const Setting* override_of(const std::string& path) const {
@@ -1286,7 +1288,7 @@ RecordOptions read_record_scaling(TableReader& t, const Origin& origin, const Ru
   if (run.ensemble && run.ensemble->scaling) {
     // Each record's factor comes from [ensemble.scaling], set as the record's own scale (with
     // its file) when it runs: one given here would be overridden, or fight it.
-    const bool record_point = origin.overrides.contains("excitation.file") && origin.overrides.contains("excitation.scale");
+    const bool record_point = origin.reading == Reading::ensemble_record;
     if (t.has("target_pga_g")) t.fail("target_pga_g", "not with [ensemble.scaling], which scales every record");
     if (t.has("scale") && !record_point) t.fail("scale", "not with [ensemble.scaling], which scales every record");
   }
@@ -1356,7 +1358,7 @@ void read_record_file(TableReader& t, RecordOptions o, const std::filesystem::pa
   }
   ExcitationInfo& info = run.excitation_info;
   // An ensemble names its records in [ensemble]: a file here only comes from one of its points.
-  if (run.ensemble && !(t.has("file") && origin.overrides.contains("excitation.file"))) {
+  if (run.ensemble && !(t.has("file") && origin.reading == Reading::ensemble_record)) {
     if (t.has("file")) t.fail("file", "an ensemble takes its records from [ensemble]");
     info.record_units = o.units;
     info.record_options = o;
@@ -2473,7 +2475,7 @@ namespace {
 /// The file as parsed, with its settings applied and its paths absolute (to_toml_as_written).
 toml::table as_written(const RunInput& in) {
   toml::table root = in.parsed->root;
-  Origin origin{in.source.string(), {}, {}};
+  Origin origin{in.source.string(), {}, {}, Reading::run};
   for (const Setting& setting : in.settings) apply_setting(root, setting, origin);
   // Paths are relative to the file's folder; the echo lives elsewhere, so they become absolute.
   const std::function<void(toml::node*)> absolute = [&](toml::node* node) {
@@ -2608,8 +2610,9 @@ void remember_positions(const toml::node& parsed, const toml::node& copy,
 }
 
 RunInput read_parsed(std::shared_ptr<const ParsedInput> parsed, std::string_view text, const std::string& name,
-                     const std::filesystem::path& base_dir, std::vector<Setting> settings) {
-  Origin origin{name, {}, {}};
+                     const std::filesystem::path& base_dir, std::vector<Setting> settings,
+                     Reading reading = Reading::run) {
+  Origin origin{name, {}, {}, reading};
   toml::table root = parsed->root;  // the settings change a copy
   remember_positions(parsed->root, root, origin.positions);
   RunInput run = read_root(root, origin, base_dir, settings);
@@ -2673,11 +2676,11 @@ RunInput read_input_document(const nlohmann::json& document, const std::string& 
   return read_parsed(std::move(parsed), text.str(), name, base_dir, std::move(settings));
 }
 
-RunInput with_settings(const RunInput& base, std::span<const Setting> settings) {
+RunInput with_settings(const RunInput& base, std::span<const Setting> settings, Reading reading) {
   // The base's own settings first (e.g. --set on the command line), then the new ones.
   std::vector<Setting> all = base.settings;
   all.insert(all.end(), settings.begin(), settings.end());
-  return read_parsed(base.parsed, base.text, base.source.string(), base.base_dir, std::move(all));
+  return read_parsed(base.parsed, base.text, base.source.string(), base.base_dir, std::move(all), reading);
 }
 
 RunInput read_input(const std::filesystem::path& file, std::span<const std::string> overrides) {

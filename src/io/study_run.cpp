@@ -326,7 +326,7 @@ std::vector<double> record_factors(const RunInput& point) {
 TimeHistoryFigures record_figures(const RunInput& point, std::size_t record, std::optional<double> factor) {
   std::vector<Setting> settings{make_setting("excitation.file", {point.ensemble->records.at(record).string()})};
   if (factor) settings.push_back(make_setting("excitation.scale", {*factor}));
-  RunInput one = with_settings(point, settings);
+  RunInput one = with_settings(point, settings, Reading::ensemble_record);
   one.model = point.model;  // the point's model as given (e.g. made bare), the record from the file
   return time_history_figures_of(one);
 }
@@ -541,7 +541,7 @@ std::vector<RunInput> points_of(const RunInput& input, const std::vector<PointVa
   points.reserve(all.size());
   for (std::size_t i = 0; i < all.size(); ++i) {
     try {
-      points.push_back(with_settings(input, all[i]));
+      points.push_back(with_settings(input, all[i], kind == AnalysisKind::ensemble ? Reading::ensemble_record : Reading::run));
     } catch (const InputError& e) {
       std::string values;
       for (const Setting& s : all[i]) values += fmt::format("{}{} = {}", values.empty() ? "" : ", ", s.key, to_text(s.value));

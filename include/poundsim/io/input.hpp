@@ -679,9 +679,17 @@ struct RunInput {
   std::vector<std::string> channels;
 };
 
+/// What a reading of the file with settings is for. An ensemble's record is set as
+/// `excitation.file` (and, for a scaled suite, its factor as `excitation.scale`), which [ensemble]
+/// forbids anywhere else: the reader is told, rather than guessing it from the keys set.
+enum class Reading {
+  run,              ///< The run as given, a study point, an optimiser evaluation.
+  ensemble_record,  ///< One of the ensemble's records, named by the settings.
+};
+
 /// `base` read again with `settings` applied after its own (a study point, an optimiser evaluation,
 /// an ensemble's record): the same checks, on the file as parsed, with typed values.
-RunInput with_settings(const RunInput& base, std::span<const Setting> settings);
+RunInput with_settings(const RunInput& base, std::span<const Setting> settings, Reading reading = Reading::run);
 
 /// Reads and validates `file`, after applying the `--set key=value` overrides (dotted keys,
 /// `frames[2].mass` for the second frame; the value is a TOML value, or a bare string).
